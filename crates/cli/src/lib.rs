@@ -1,0 +1,59 @@
+//! Text the `homospline` command prints, kept in a library so tests and `xtask` share it.
+
+use std::fmt::Write;
+
+use homospline_geom::Scene;
+
+/// A human summary of a valid scene: what `homospline check` prints.
+pub fn summary(scene: &Scene) -> String {
+    let set = scene.circle_set();
+    let topo = scene.topological_obstacles();
+    let circles: usize = scene.obstacles.iter().map(|o| o.circles.len()).sum();
+    let clear = |p| set.clearance(p).map_or(f64::INFINITY, |c| c.distance);
+    let b = &scene.bounds;
+    let mut s = String::new();
+    let _ = writeln!(s, "scene      {}", scene.name);
+    let _ = writeln!(
+        s,
+        "bounds     [{}, {}] .. [{}, {}]  ({} x {})",
+        b.min.x,
+        b.min.y,
+        b.max.x,
+        b.max.y,
+        b.max.x - b.min.x,
+        b.max.y - b.min.y
+    );
+    let _ = writeln!(s, "start      [{}, {}]  clearance {:.3}", scene.start.x, scene.start.y, clear(&scene.start));
+    let _ = writeln!(s, "goal       [{}, {}]  clearance {:.3}", scene.goal.x, scene.goal.y, clear(&scene.goal));
+    let _ = writeln!(s, "robot      radius {}", scene.robot_radius);
+    let _ = writeln!(
+        s,
+        "obstacles  {} listed, {} circles, {} topological (holes in free space)",
+        scene.obstacles.len(),
+        circles,
+        topo.len()
+    );
+    let owners = scene.circle_owners();
+    for (k, t) in topo.iter().enumerate() {
+        let mut names: Vec<&str> = t.circles.iter().map(|&i| scene.obstacles[owners[i]].name.as_str()).collect();
+        names.dedup();
+        let _ = writeln!(
+            s,
+            "  hole {k}: {} circles from {}; representative [{:.3}, {:.3}]",
+            t.circles.len(),
+            names.join(", "),
+            t.representative.x,
+            t.representative.y
+        );
+    }
+    if !scene.danger_points.is_empty() || !scene.critical_points.is_empty() || !scene.hazards.is_empty() {
+        let _ = writeln!(
+            s,
+            "points     {} danger, {} critical, {} hazards",
+            scene.danger_points.len(),
+            scene.critical_points.len(),
+            scene.hazards.len()
+        );
+    }
+    s
+}

@@ -1,0 +1,24 @@
+//! Planar geometry for homospline: circles, compound obstacles, clearance queries and scenes.
+//!
+//! Everything here works in map units with one scalar, [`math::Real`] (`f64`). The crate
+//! knows nothing about grids, graphs or splines; it does no file IO (callers hand it text).
+//!
+//! - [`math`]: `Real`, `Point`, `Vector`.
+//! - [`shape`]: [`Circle`], [`Obstacle`], and the [`TopoObstacle`]s of a circle set
+//!   (connected groups of touching circles).
+//! - [`query`]: clearance, segment distance, intersection, line of sight and ray casts,
+//!   with the [`CircleSet`] entry point that picks a plain loop or parry's BVH by size.
+//! - [`polygon`]: a provable circle cover of simple polygons.
+//! - [`scene`]: the scene file of `shared/docs/formats.md`, validated.
+
+pub mod math;
+pub mod polygon;
+pub mod query;
+pub mod scene;
+pub mod shape;
+
+pub use math::{Point, Real, Vector};
+pub use polygon::{CoverError, Polygon, cover_polygon};
+pub use query::{CircleSet, Clearance, QueryBackend, RayHit};
+pub use scene::{CriticalPoint, DangerPoint, Scene, SceneError};
+pub use shape::{Bounds, Circle, Obstacle, TopoObstacle, topological_obstacles};

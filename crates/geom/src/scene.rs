@@ -1,0 +1,559 @@
+//! Scenes: the scene file of `shared/docs/formats.md` (version 1), read from YAML or JSON,
+//! validated with errors that name the file, the line and the field, and written back.
+//!
+//! JSON is read with the YAML parser too (JSON is YAML 1.2's flow style), so both formats
+//! report lines. Unknown fields are errors: a typo must not pass silently.
+
+use std::collections::HashMap;
+
+use serde::{Deserialize, Serialize};
+use serde_saphyr::Spanned;
+use thiserror::Error;
+
+use crate::math::{Point, Real};
+use crate::query::CircleSet;
+use crate::shape::{Bounds, Circle, Obstacle, TopoObstacle, topological_obstacles};
+
+/// Largest coordinate or length magnitude a scene may hold. Far beyond any map, and small
+/// enough that squared distances stay finite.
+pub const MAX_MAGNITUDE: Real = 1e9;
+
+/// The scene file version this crate reads and writes.
+pub const SCENE_VERSION: u32 = 1;
+
+/// A point the path must keep at least `min_distance` away from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DangerPoint {
+    /// Where it is.
+    pub at: Point,
+    /// Minimal permitted distance.
+    pub min_distance: Real,
+}
+
+/// A point the path must stay within `max_distance` of (a radio router, say).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CriticalPoint {
+    /// Where it is.
+    pub at: Point,
+    /// Maximal permitted distance.
+    pub max_distance: Real,
+}
+
+/// A validated planning problem.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    /// Name (the file stem when the file gives none).
+    pub name: String,
+    /// The robot stays inside; the bounds are walls for the Voronoi graph.
+    pub bounds: Bounds,
+    /// Start `S`.
+    pub start: Point,
+    /// Target `T`.
+    pub goal: Point,
+    /// Robot radius: every circle is inflated by it for planning.
+    pub robot_radius: Real,
+    /// The obstacles as listed (not inflated).
+    pub obstacles: Vec<Obstacle>,
+    /// Points to keep away from.
+    pub danger_points: Vec<DangerPoint>,
+    /// Points to stay near.
+    pub critical_points: Vec<CriticalPoint>,
+    /// Hazard sources the path should hide from.
+    pub hazards: Vec<Point>,
+}
+
+/// A scene that cannot be used, with where and why.
+#[derive(Clone, Debug, PartialEq, Error)]
+#[error("{}", self.render())]
+pub struct SceneError {
+    /// The file (or other source) the scene came from.
+    pub source_name: String,
+    /// 1-based line, when known.
+    pub line: Option<u64>,
+    /// The field, as a path such as `obstacles[1].circles[3]`, when one is to blame.
+    pub field: Option<String>,
+    /// What is wrong.
+    pub problem: String,
+}
+
+impl SceneError {
+    fn render(&self) -> String {
+        let mut s = self.source_name.clone();
+        if let Some(l) = self.line {
+            s.push_str(&format!(":{l}"));
+        }
+        s.push_str(": ");
+        if let Some(f) = &self.field {
+            s.push_str(f);
+            s.push_str(": ");
+        }
+        s.push_str(&self.problem);
+        s
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// The file as written: spans on every value a check may blame.
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawScene {
+    #[serde(default)]
+    version: Option<Spanned<u32>>,
+    #[serde(default)]
+    name: Option<String>,
+    bounds: Spanned<RawBounds>,
+    start: Spanned<[Real; 2]>,
+    goal: Spanned<[Real; 2]>,
+    #[serde(default)]
+    robot_radius: Option<Spanned<Real>>,
+    #[serde(default)]
+    obstacles: Vec<Spanned<RawObstacle>>,
+    #[serde(default)]
+    danger_points: Vec<Spanned<RawDanger>>,
+    #[serde(default)]
+    critical_points: Vec<Spanned<RawCritical>>,
+    #[serde(default)]
+    hazards: Vec<Spanned<[Real; 2]>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawBounds {
+    min: Spanned<[Real; 2]>,
+    max: Spanned<[Real; 2]>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawObstacle {
+    #[serde(default)]
+    name: Option<String>,
+    circles: Vec<Spanned<[Real; 3]>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawDanger {
+    at: [Real; 2],
+    min_distance: Real,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawCritical {
+    at: [Real; 2],
+    max_distance: Real,
+}
+
+/// Where each checked field sits in the file.
+#[derive(Default)]
+struct Lines(HashMap<String, u64>);
+
+impl Lines {
+    fn get(&self, field: &str) -> Option<u64> {
+        self.0.get(field).copied()
+    }
+    fn put<T>(&mut self, field: String, s: &Spanned<T>) {
+        let line = s.referenced.line();
+        if line > 0 {
+            self.0.insert(field, line);
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// The file as written back.
+
+#[derive(Serialize)]
+struct OutScene<'a> {
+    version: u32,
+    name: &'a str,
+    bounds: OutBounds,
+    start: [Real; 2],
+    goal: [Real; 2],
+    robot_radius: Real,
+    obstacles: Vec<OutObstacle<'a>>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    danger_points: Vec<OutDanger>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    critical_points: Vec<OutCritical>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    hazards: Vec<[Real; 2]>,
+}
+
+#[derive(Serialize)]
+struct OutBounds {
+    min: [Real; 2],
+    max: [Real; 2],
+}
+
+#[derive(Serialize)]
+struct OutObstacle<'a> {
+    name: &'a str,
+    circles: Vec<[Real; 3]>,
+}
+
+#[derive(Serialize)]
+struct OutDanger {
+    at: [Real; 2],
+    min_distance: Real,
+}
+
+#[derive(Serialize)]
+struct OutCritical {
+    at: [Real; 2],
+    max_distance: Real,
+}
+
+fn xy(p: &Point) -> [Real; 2] {
+    [p.x, p.y]
+}
+
+fn pt(a: [Real; 2]) -> Point {
+    Point::new(a[0], a[1])
+}
+
+fn stem(source: &str) -> String {
+    std::path::Path::new(source)
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .map(|s| s.strip_suffix(".scene").unwrap_or(s).to_owned())
+        .unwrap_or_else(|| "scene".to_owned())
+}
+
+impl Scene {
+    /// Reads a scene from the bytes of a YAML or JSON file; `source` names the file in errors
+    /// and gives the default name. Rejects empty, binary and non-UTF-8 input clearly.
+    pub fn from_bytes(bytes: &[u8], source: &str) -> Result<Self, SceneError> {
+        let err = |problem: String| SceneError {
+            source_name: source.to_owned(),
+            line: None,
+            field: None,
+            problem,
+        };
+        let text = std::str::from_utf8(bytes).map_err(|e| {
+            err(format!(
+                "not a text file: invalid UTF-8 at byte {} (a scene is YAML or JSON text)",
+                e.valid_up_to()
+            ))
+        })?;
+        if let Some(pos) = text.find('\0') {
+            return Err(err(format!(
+                "not a text file: NUL byte at byte {pos} (a scene is YAML or JSON text)"
+            )));
+        }
+        Self::from_str(text, source)
+    }
+
+    /// Reads a scene from YAML or JSON text; `source` names the file in errors.
+    pub fn from_str(text: &str, source: &str) -> Result<Self, SceneError> {
+        let err = |line: Option<u64>, field: Option<String>, problem: String| SceneError {
+            source_name: source.to_owned(),
+            line,
+            field,
+            problem,
+        };
+        if text.trim().is_empty() {
+            return Err(err(None, None, "the file is empty (expected a scene)".to_owned()));
+        }
+        let raw: RawScene = serde_saphyr::from_str(text).map_err(|e| {
+            let line = e.location().map(|l| l.line()).filter(|&l| l > 0);
+            err(line, None, parse_message(&e))
+        })?;
+        let (scene, lines) = Self::from_raw(raw, source);
+        if let Some(v) = lines.version
+            && v.0 != SCENE_VERSION
+        {
+            return Err(err(
+                Some(v.1),
+                Some("version".to_owned()),
+                format!("version {} is not supported (this build reads version {SCENE_VERSION})", v.0),
+            ));
+        }
+        scene.check(&|field| lines.lines.get(field)).map_err(|(field, problem)| {
+            let line = lines.lines.get(&field);
+            err(line, Some(field), problem)
+        })?;
+        Ok(scene)
+    }
+
+    fn from_raw(raw: RawScene, source: &str) -> (Self, RawLines) {
+        let mut lines = Lines::default();
+        let version = raw.version.as_ref().map(|v| (v.value, v.referenced.line()));
+        lines.put("bounds".into(), &raw.bounds);
+        lines.put("bounds.min".into(), &raw.bounds.value.min);
+        lines.put("bounds.max".into(), &raw.bounds.value.max);
+        lines.put("start".into(), &raw.start);
+        lines.put("goal".into(), &raw.goal);
+        if let Some(r) = &raw.robot_radius {
+            lines.put("robot_radius".into(), r);
+        }
+        let obstacles = raw
+            .obstacles
+            .iter()
+            .enumerate()
+            .map(|(i, o)| {
+                lines.put(format!("obstacles[{i}]"), o);
+                Obstacle {
+                    name: o.value.name.clone().unwrap_or_else(|| format!("obstacle-{i}")),
+                    circles: o
+                        .value
+                        .circles
+                        .iter()
+                        .enumerate()
+                        .map(|(j, c)| {
+                            lines.put(format!("obstacles[{i}].circles[{j}]"), c);
+                            Circle::new(c.value[0], c.value[1], c.value[2])
+                        })
+                        .collect(),
+                }
+            })
+            .collect();
+        let danger_points = raw
+            .danger_points
+            .iter()
+            .enumerate()
+            .map(|(i, d)| {
+                lines.put(format!("danger_points[{i}]"), d);
+                DangerPoint { at: pt(d.value.at), min_distance: d.value.min_distance }
+            })
+            .collect();
+        let critical_points = raw
+            .critical_points
+            .iter()
+            .enumerate()
+            .map(|(i, d)| {
+                lines.put(format!("critical_points[{i}]"), d);
+                CriticalPoint { at: pt(d.value.at), max_distance: d.value.max_distance }
+            })
+            .collect();
+        let hazards = raw
+            .hazards
+            .iter()
+            .enumerate()
+            .map(|(i, h)| {
+                lines.put(format!("hazards[{i}]"), h);
+                pt(h.value)
+            })
+            .collect();
+        let scene = Scene {
+            name: raw.name.unwrap_or_else(|| stem(source)),
+            bounds: Bounds { min: pt(raw.bounds.value.min.value), max: pt(raw.bounds.value.max.value) },
+            start: pt(raw.start.value),
+            goal: pt(raw.goal.value),
+            robot_radius: raw.robot_radius.map_or(0.0, |r| r.value),
+            obstacles,
+            danger_points,
+            critical_points,
+            hazards,
+        };
+        (scene, RawLines { version, lines })
+    }
+
+    /// Checks a scene built in code; the error names the field but no line.
+    pub fn validate(&self, source: &str) -> Result<(), SceneError> {
+        self.check(&|_| None).map_err(|(field, problem)| SceneError {
+            source_name: source.to_owned(),
+            line: None,
+            field: Some(field),
+            problem,
+        })
+    }
+
+    /// Every rule of formats.md; returns the blamed field and the problem.
+    fn check(&self, _line: &dyn Fn(&str) -> Option<u64>) -> Result<(), (String, String)> {
+        fn number(field: &str, what: &str, v: Real) -> Result<(), (String, String)> {
+            if v.is_nan() {
+                Err((field.to_owned(), format!("{what} is NaN")))
+            } else if v.is_infinite() {
+                Err((field.to_owned(), format!("{what} is infinite")))
+            } else if v.abs() > MAX_MAGNITUDE {
+                Err((
+                    field.to_owned(),
+                    format!("{what} = {v:e} is too large (|value| must be at most {MAX_MAGNITUDE:e})"),
+                ))
+            } else {
+                Ok(())
+            }
+        }
+        fn point(field: &str, p: &Point) -> Result<(), (String, String)> {
+            number(field, "x", p.x)?;
+            number(field, "y", p.y)
+        }
+        fn positive(field: &str, what: &str, v: Real) -> Result<(), (String, String)> {
+            number(field, what, v)?;
+            if v > 0.0 { Ok(()) } else { Err((field.to_owned(), format!("{what} must be > 0, got {v}"))) }
+        }
+        let b = &self.bounds;
+        point("bounds.min", &b.min)?;
+        point("bounds.max", &b.max)?;
+        if !(b.min.x < b.max.x && b.min.y < b.max.y) {
+            return Err((
+                "bounds".to_owned(),
+                format!(
+                    "bounds are empty: min [{}, {}] must be below max [{}, {}] in both x and y",
+                    b.min.x, b.min.y, b.max.x, b.max.y
+                ),
+            ));
+        }
+        point("start", &self.start)?;
+        point("goal", &self.goal)?;
+        number("robot_radius", "robot_radius", self.robot_radius)?;
+        if self.robot_radius < 0.0 {
+            return Err((
+                "robot_radius".to_owned(),
+                format!("robot_radius must be >= 0, got {}", self.robot_radius),
+            ));
+        }
+        let mut names: HashMap<&str, usize> = HashMap::new();
+        for (i, o) in self.obstacles.iter().enumerate() {
+            if let Some(first) = names.insert(&o.name, i) {
+                return Err((
+                    format!("obstacles[{i}].name"),
+                    format!("duplicate obstacle name '{}' (also obstacles[{first}])", o.name),
+                ));
+            }
+            if o.circles.is_empty() {
+                return Err((format!("obstacles[{i}].circles"), format!("obstacle '{}' has no circles", o.name)));
+            }
+            for (j, c) in o.circles.iter().enumerate() {
+                let f = format!("obstacles[{i}].circles[{j}]");
+                point(&f, &c.center)?;
+                number(&f, "radius", c.radius)?;
+                if c.radius <= 0.0 {
+                    return Err((f, format!("radius must be > 0, got {} (obstacle '{}')", c.radius, o.name)));
+                }
+            }
+        }
+        for (i, d) in self.danger_points.iter().enumerate() {
+            let f = format!("danger_points[{i}]");
+            point(&f, &d.at)?;
+            positive(&f, "min_distance", d.min_distance)?;
+        }
+        for (i, d) in self.critical_points.iter().enumerate() {
+            let f = format!("critical_points[{i}]");
+            point(&f, &d.at)?;
+            positive(&f, "max_distance", d.max_distance)?;
+        }
+        for (i, h) in self.hazards.iter().enumerate() {
+            point(&format!("hazards[{i}]"), h)?;
+        }
+        for (field, p) in [("start", &self.start), ("goal", &self.goal)] {
+            if !b.contains(p) {
+                return Err((
+                    field.to_owned(),
+                    format!(
+                        "[{}, {}] is outside the bounds [{}, {}] .. [{}, {}]",
+                        p.x, p.y, b.min.x, b.min.y, b.max.x, b.max.y
+                    ),
+                ));
+            }
+            if let Some((o, j, d)) = self.deepest_circle_at(p) {
+                let inflated = if self.robot_radius > 0.0 {
+                    format!(" after inflating by robot_radius {}", self.robot_radius)
+                } else {
+                    String::new()
+                };
+                return Err((
+                    field.to_owned(),
+                    format!(
+                        "[{}, {}] is inside obstacle '{}' (circle {j}, clearance {d:.3}{inflated})",
+                        p.x, p.y, self.obstacles[o].name
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The (obstacle, circle, clearance) of the inflated circle that `p` is on or inside.
+    fn deepest_circle_at(&self, p: &Point) -> Option<(usize, usize, Real)> {
+        let mut hit = None;
+        for (i, o) in self.obstacles.iter().enumerate() {
+            for (j, c) in o.circles.iter().enumerate() {
+                let d = c.inflated(self.robot_radius).signed_distance(p);
+                if d <= 0.0 && hit.is_none_or(|(_, _, best)| d < best) {
+                    hit = Some((i, j, d));
+                }
+            }
+        }
+        hit
+    }
+
+    /// All circles of all obstacles, in listed order, inflated by the robot radius.
+    pub fn circles(&self) -> Vec<Circle> {
+        self.obstacles
+            .iter()
+            .flat_map(|o| o.circles.iter().map(|c| c.inflated(self.robot_radius)))
+            .collect()
+    }
+
+    /// The inflated circles ready for queries.
+    pub fn circle_set(&self) -> CircleSet {
+        CircleSet::new(self.circles())
+    }
+
+    /// For each index of [`Scene::circles`], the obstacle it comes from.
+    pub fn circle_owners(&self) -> Vec<usize> {
+        self.obstacles.iter().enumerate().flat_map(|(i, o)| std::iter::repeat_n(i, o.circles.len())).collect()
+    }
+
+    /// The holes in free space: connected groups of touching (inflated) circles, across
+    /// listed obstacles. Circle indices refer to [`Scene::circles`].
+    pub fn topological_obstacles(&self) -> Vec<TopoObstacle> {
+        topological_obstacles(&self.circles())
+    }
+
+    fn out(&self) -> OutScene<'_> {
+        OutScene {
+            version: SCENE_VERSION,
+            name: &self.name,
+            bounds: OutBounds { min: xy(&self.bounds.min), max: xy(&self.bounds.max) },
+            start: xy(&self.start),
+            goal: xy(&self.goal),
+            robot_radius: self.robot_radius,
+            obstacles: self
+                .obstacles
+                .iter()
+                .map(|o| OutObstacle {
+                    name: &o.name,
+                    circles: o.circles.iter().map(|c| [c.center.x, c.center.y, c.radius]).collect(),
+                })
+                .collect(),
+            danger_points: self
+                .danger_points
+                .iter()
+                .map(|d| OutDanger { at: xy(&d.at), min_distance: d.min_distance })
+                .collect(),
+            critical_points: self
+                .critical_points
+                .iter()
+                .map(|d| OutCritical { at: xy(&d.at), max_distance: d.max_distance })
+                .collect(),
+            hazards: self.hazards.iter().map(xy).collect(),
+        }
+    }
+
+    /// The scene as YAML (version 1); reads back to an equal scene.
+    pub fn to_yaml(&self) -> String {
+        // Serialising plain structs of strings and numbers cannot fail.
+        serde_saphyr::to_string(&self.out()).unwrap_or_default()
+    }
+
+    /// The scene as pretty JSON (version 1); reads back to an equal scene.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(&self.out()).unwrap_or_default()
+    }
+}
+
+struct RawLines {
+    version: Option<(u32, u64)>,
+    lines: Lines,
+}
+
+/// The parser's message without its rendered source snippet.
+fn parse_message(e: &serde_saphyr::Error) -> String {
+    let full = e.to_string();
+    full.lines().next().unwrap_or("malformed scene").trim().to_owned()
+}

@@ -1,0 +1,175 @@
+//! Circles, named obstacles, bounds, and the topological obstacles of a circle set.
+
+use serde::{Deserialize, Serialize};
+
+use crate::math::{Point, Real, Vector};
+
+/// A closed disc: every obstacle is a union of these.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Circle {
+    /// Centre.
+    pub center: Point,
+    /// Radius, strictly positive in a valid scene.
+    pub radius: Real,
+}
+
+impl Circle {
+    /// A circle from its centre coordinates and radius.
+    pub fn new(x: Real, y: Real, radius: Real) -> Self {
+        Self { center: Point::new(x, y), radius }
+    }
+
+    /// Signed distance from `p` to the circle's boundary: negative inside.
+    #[inline]
+    pub fn signed_distance(&self, p: &Point) -> Real {
+        (p - self.center).norm() - self.radius
+    }
+
+    /// Whether the two closed discs share at least one point.
+    #[inline]
+    pub fn touches(&self, other: &Circle) -> bool {
+        let r = self.radius + other.radius;
+        (self.center - other.center).norm_squared() <= r * r
+    }
+
+    /// The same circle grown by `by` (the robot radius).
+    #[inline]
+    pub fn inflated(&self, by: Real) -> Self {
+        Self { center: self.center, radius: self.radius + by }
+    }
+}
+
+/// A named obstacle of a scene: a set of circles that may intersect (a compound, possibly
+/// concave shape).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Obstacle {
+    /// Name from the scene file (`obstacle-N` when the file gives none).
+    pub name: String,
+    /// The circles, as listed.
+    pub circles: Vec<Circle>,
+}
+
+/// An axis-aligned rectangle: the region the robot must stay in.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Bounds {
+    /// Lower-left corner.
+    pub min: Point,
+    /// Upper-right corner.
+    pub max: Point,
+}
+
+impl Bounds {
+    /// Whether `p` lies inside or on the rectangle.
+    pub fn contains(&self, p: &Point) -> bool {
+        p.x >= self.min.x && p.x <= self.max.x && p.y >= self.min.y && p.y <= self.max.y
+    }
+
+    /// Distance from an inside point to the nearest wall (negative outside).
+    pub fn wall_clearance(&self, p: &Point) -> Real {
+        (p.x - self.min.x).min(self.max.x - p.x).min(p.y - self.min.y).min(self.max.y - p.y)
+    }
+
+    /// Width and height.
+    pub fn extent(&self) -> Vector {
+        self.max - self.min
+    }
+}
+
+/// One hole in free space: a maximal connected group of touching circles, possibly drawn
+/// from several listed obstacles.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TopoObstacle {
+    /// Indices into the circle slice the group was computed from, ascending.
+    pub circles: Vec<usize>,
+    /// A point strictly inside the group: the centre of its largest circle (lowest index on
+    /// ties). Homotopy signatures cast their rays from here.
+    pub representative: Point,
+}
+
+/// Groups `circles` into connected components of the "discs touch" relation.
+///
+/// Deterministic: groups are ordered by their lowest circle index. Runs a sweep over the
+/// circles sorted by their left edge, so it is `O(n log n + pairs)`.
+pub fn topological_obstacles(circles: &[Circle]) -> Vec<TopoObstacle> {
+    let n = circles.len();
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn find(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&a, &b| {
+        let ka = circles[a].center.x - circles[a].radius;
+        let kb = circles[b].center.x - circles[b].radius;
+        ka.total_cmp(&kb).then(a.cmp(&b))
+    });
+    for (k, &i) in order.iter().enumerate() {
+        let right = circles[i].center.x + circles[i].radius;
+        for &j in &order[k + 1..] {
+            if circles[j].center.x - circles[j].radius > right {
+                break;
+            }
+            if circles[i].touches(&circles[j]) {
+                let (ri, rj) = (find(&mut parent, i), find(&mut parent, j));
+                if ri != rj {
+                    let (lo, hi) = if ri < rj { (ri, rj) } else { (rj, ri) };
+                    parent[hi] = lo;
+                }
+            }
+        }
+    }
+    let mut group_of_root: Vec<Option<usize>> = vec![None; n];
+    let mut members: Vec<Vec<usize>> = Vec::new();
+    for i in 0..n {
+        let root = find(&mut parent, i);
+        let g = *group_of_root[root].get_or_insert_with(|| {
+            members.push(Vec::new());
+            members.len() - 1
+        });
+        members[g].push(i);
+    }
+    let groups = members
+        .into_iter()
+        .map(|circles_in| {
+            // Largest radius wins; on a tie the lowest index (members are ascending).
+            let mut best = circles_in[0];
+            for &i in &circles_in[1..] {
+                if circles[i].radius > circles[best].radius {
+                    best = i;
+                }
+            }
+            TopoObstacle { representative: circles[best].center, circles: circles_in }
+        })
+        .collect();
+    groups
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn chains_of_touching_circles_form_one_group() {
+        let circles = [
+            Circle::new(0.0, 0.0, 1.0),
+            Circle::new(10.0, 0.0, 1.0),
+            Circle::new(2.0, 0.0, 1.0), // touches circle 0 exactly
+            Circle::new(3.5, 0.0, 1.0), // overlaps circle 2
+        ];
+        let groups = topological_obstacles(&circles);
+        assert_eq!(groups.len(), 2);
+        assert_eq!(groups[0].circles, vec![0, 2, 3]);
+        assert_eq!(groups[1].circles, vec![1]);
+    }
+
+    #[test]
+    fn representative_is_the_largest_circle_centre() {
+        let circles = [Circle::new(0.0, 0.0, 1.0), Circle::new(1.5, 0.0, 2.0)];
+        let groups = topological_obstacles(&circles);
+        assert_eq!(groups.len(), 1);
+        assert_eq!(groups[0].representative, Point::new(1.5, 0.0));
+    }
+}
