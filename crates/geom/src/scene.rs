@@ -70,6 +70,8 @@ pub struct SceneError {
     pub source_name: String,
     /// 1-based line, when known.
     pub line: Option<u64>,
+    /// 1-based column, when known (syntax and type errors).
+    pub column: Option<u64>,
     /// The field, as a path such as `obstacles[1].circles[3]`, when one is to blame.
     pub field: Option<String>,
     /// What is wrong.
@@ -81,6 +83,9 @@ impl SceneError {
         let mut s = self.source_name.clone();
         if let Some(l) = self.line {
             s.push_str(&format!(":{l}"));
+            if let Some(c) = self.column {
+                s.push_str(&format!(":{c}"));
+            }
         }
         s.push_str(": ");
         if let Some(f) = &self.field {
@@ -151,8 +156,16 @@ struct RawCritical {
 struct Lines(HashMap<String, u64>);
 
 impl Lines {
+    /// The line of `field`, or of its nearest enclosing field that has one
+    /// (`obstacles[1].name` falls back to `obstacles[1]`).
     fn get(&self, field: &str) -> Option<u64> {
-        self.0.get(field).copied()
+        let mut f = field;
+        loop {
+            if let Some(&l) = self.0.get(f) {
+                return Some(l);
+            }
+            f = &f[..f.rfind(['.', '['])?];
+        }
     }
     fn put<T>(&mut self, field: String, s: &Spanned<T>) {
         let line = s.referenced.line();
@@ -229,6 +242,7 @@ impl Scene {
         let err = |problem: String| SceneError {
             source_name: source.to_owned(),
             line: None,
+            column: None,
             field: None,
             problem,
         };
@@ -251,6 +265,7 @@ impl Scene {
         let err = |line: Option<u64>, field: Option<String>, problem: String| SceneError {
             source_name: source.to_owned(),
             line,
+            column: None,
             field,
             problem,
         };
@@ -258,8 +273,18 @@ impl Scene {
             return Err(err(None, None, "the file is empty (expected a scene)".to_owned()));
         }
         let raw: RawScene = serde_saphyr::from_str(text).map_err(|e| {
-            let line = e.location().map(|l| l.line()).filter(|&l| l > 0);
-            err(line, None, parse_message(&e))
+            let loc = e.location().filter(|l| l.line() > 0);
+            SceneError {
+                source_name: source.to_owned(),
+                line: loc.map(|l| l.line()),
+                column: loc.map(|l| l.column()).filter(|&c| c > 0),
+                // A missing field is named by the message; any other error is blamed on
+                // the top-level key it sits under.
+                field: loc
+                    .filter(|_| !parse_message(&e).starts_with("missing field"))
+                    .and_then(|l| enclosing_key(text, l.line())),
+                problem: parse_message(&e),
+            }
         })?;
         let (scene, lines) = Self::from_raw(raw, source);
         if let Some(v) = lines.version
@@ -271,7 +296,7 @@ impl Scene {
                 format!("version {} is not supported (this build reads version {SCENE_VERSION})", v.0),
             ));
         }
-        scene.check(&|field| lines.lines.get(field)).map_err(|(field, problem)| {
+        scene.check().map_err(|(field, problem)| {
             let line = lines.lines.get(&field);
             err(line, Some(field), problem)
         })?;
@@ -353,16 +378,17 @@ impl Scene {
 
     /// Checks a scene built in code; the error names the field but no line.
     pub fn validate(&self, source: &str) -> Result<(), SceneError> {
-        self.check(&|_| None).map_err(|(field, problem)| SceneError {
+        self.check().map_err(|(field, problem)| SceneError {
             source_name: source.to_owned(),
             line: None,
+            column: None,
             field: Some(field),
             problem,
         })
     }
 
     /// Every rule of formats.md; returns the blamed field and the problem.
-    fn check(&self, _line: &dyn Fn(&str) -> Option<u64>) -> Result<(), (String, String)> {
+    fn check(&self) -> Result<(), (String, String)> {
         fn number(field: &str, what: &str, v: Real) -> Result<(), (String, String)> {
             if v.is_nan() {
                 Err((field.to_owned(), format!("{what} is NaN")))
@@ -552,8 +578,41 @@ struct RawLines {
     lines: Lines,
 }
 
-/// The parser's message without its rendered source snippet.
+/// The parser's message without its rendered snippet and its own position prefix (the
+/// error's header carries the position).
 fn parse_message(e: &serde_saphyr::Error) -> String {
     let full = e.to_string();
-    full.lines().next().unwrap_or("malformed scene").trim().to_owned()
+    let mut msg = full.lines().next().unwrap_or("malformed scene").trim();
+    msg = msg.strip_prefix("error:").unwrap_or(msg).trim_start();
+    if let Some(rest) = msg.strip_prefix("line ")
+        && let Some((_, tail)) = rest.split_once(": ")
+    {
+        msg = tail;
+    }
+    msg.to_owned()
+}
+
+/// The top-level key whose value holds line `line` (1-based), found by scanning upward for
+/// the nearest `key:` at the outermost indentation of the file. Good for block YAML and
+/// pretty JSON; `None` when no key stands on or above the line.
+fn enclosing_key(text: &str, line: u64) -> Option<String> {
+    let key_of = |l: &str| -> Option<(usize, String)> {
+        let indent = l.len() - l.trim_start().len();
+        let t = l.trim_start().trim_start_matches('{').trim_start();
+        let t = t.strip_prefix('"').unwrap_or(t);
+        let end = t.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))?;
+        let rest = t[end..].strip_prefix('"').unwrap_or(&t[end..]);
+        (end > 0 && rest.starts_with(':')).then(|| (indent, t[..end].to_owned()))
+    };
+    let keys: Vec<(usize, usize, String)> = text
+        .lines()
+        .enumerate()
+        .filter_map(|(i, l)| key_of(l).map(|(ind, k)| (i + 1, ind, k)))
+        .collect();
+    let outer = keys.iter().map(|k| k.1).min()?;
+    let (n, _, key) = keys.iter().rev().find(|(n, ind, _)| *ind == outer && (*n as u64) <= line)?;
+    // On a line that holds several keys (one-line JSON) the key is ambiguous: name none.
+    let same_line = text.lines().nth(n - 1).unwrap_or("");
+    let several = same_line.matches("\":").count() + same_line.matches(": ").count() > 1;
+    (!(*n as u64 == line && several)).then(|| key.clone())
 }
