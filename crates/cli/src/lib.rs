@@ -23,8 +23,20 @@ pub fn summary(scene: &Scene) -> String {
         b.max.x - b.min.x,
         b.max.y - b.min.y
     );
-    let _ = writeln!(s, "start      [{}, {}]  clearance {:.3}", scene.start.x, scene.start.y, clear(&scene.start));
-    let _ = writeln!(s, "goal       [{}, {}]  clearance {:.3}", scene.goal.x, scene.goal.y, clear(&scene.goal));
+    let _ = writeln!(
+        s,
+        "start      [{}, {}]  clearance {:.3}",
+        scene.start.x,
+        scene.start.y,
+        clear(&scene.start)
+    );
+    let _ = writeln!(
+        s,
+        "goal       [{}, {}]  clearance {:.3}",
+        scene.goal.x,
+        scene.goal.y,
+        clear(&scene.goal)
+    );
     let _ = writeln!(s, "robot      radius {}", scene.robot_radius);
     let _ = writeln!(
         s,
@@ -35,7 +47,11 @@ pub fn summary(scene: &Scene) -> String {
     );
     let owners = scene.circle_owners();
     for (k, t) in topo.iter().enumerate() {
-        let mut names: Vec<&str> = t.circles.iter().map(|&i| scene.obstacles[owners[i]].name.as_str()).collect();
+        let mut names: Vec<&str> = t
+            .circles
+            .iter()
+            .map(|&i| scene.obstacles[owners[i]].name.as_str())
+            .collect();
         names.dedup();
         let _ = writeln!(
             s,
@@ -46,7 +62,10 @@ pub fn summary(scene: &Scene) -> String {
             t.representative.y
         );
     }
-    if !scene.danger_points.is_empty() || !scene.critical_points.is_empty() || !scene.hazards.is_empty() {
+    if !scene.danger_points.is_empty()
+        || !scene.critical_points.is_empty()
+        || !scene.hazards.is_empty()
+    {
         let _ = writeln!(
             s,
             "points     {} danger, {} critical, {} hazards",

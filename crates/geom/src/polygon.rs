@@ -50,7 +50,12 @@ impl Polygon {
 
     /// An axis-aligned rectangle.
     pub fn rectangle(min: Point, max: Point) -> Self {
-        Self::new(vec![min, Point::new(max.x, min.y), max, Point::new(min.x, max.y)])
+        Self::new(vec![
+            min,
+            Point::new(max.x, min.y),
+            max,
+            Point::new(min.x, max.y),
+        ])
     }
 
     /// Twice the signed area (positive when counter-clockwise).
@@ -132,7 +137,10 @@ pub fn cover_polygon(
             if out.len() == max_circles {
                 return Err(CoverError::TooManyCircles(max_circles));
             }
-            out.push(Circle { center: c, radius: r });
+            out.push(Circle {
+                center: c,
+                radius: r,
+            });
             continue;
         }
         let q = h / 4.0;
@@ -161,11 +169,24 @@ mod tests {
     #[test]
     fn rejects_bad_input() {
         let tri = Polygon::new(vec![Point::new(0.0, 0.0), Point::new(1.0, 0.0)]);
-        assert_eq!(cover_polygon(&tri, 0.1, 10), Err(CoverError::TooFewVertices(2)));
-        let line = Polygon::new(vec![Point::new(0.0, 0.0), Point::new(1.0, 0.0), Point::new(2.0, 0.0)]);
+        assert_eq!(
+            cover_polygon(&tri, 0.1, 10),
+            Err(CoverError::TooFewVertices(2))
+        );
+        let line = Polygon::new(vec![
+            Point::new(0.0, 0.0),
+            Point::new(1.0, 0.0),
+            Point::new(2.0, 0.0),
+        ]);
         assert_eq!(cover_polygon(&line, 0.1, 10), Err(CoverError::Degenerate));
         let sq = Polygon::rectangle(Point::new(0.0, 0.0), Point::new(1.0, 1.0));
-        assert_eq!(cover_polygon(&sq, 0.0, 10), Err(CoverError::BadTolerance(0.0)));
-        assert_eq!(cover_polygon(&sq, 1e-3, 10), Err(CoverError::TooManyCircles(10)));
+        assert_eq!(
+            cover_polygon(&sq, 0.0, 10),
+            Err(CoverError::BadTolerance(0.0))
+        );
+        assert_eq!(
+            cover_polygon(&sq, 1e-3, 10),
+            Err(CoverError::TooManyCircles(10))
+        );
     }
 }

@@ -270,7 +270,11 @@ impl Scene {
             problem,
         };
         if text.trim().is_empty() {
-            return Err(err(None, None, "the file is empty (expected a scene)".to_owned()));
+            return Err(err(
+                None,
+                None,
+                "the file is empty (expected a scene)".to_owned(),
+            ));
         }
         let raw: RawScene = serde_saphyr::from_str(text).map_err(|e| {
             let loc = e.location().filter(|l| l.line() > 0);
@@ -293,7 +297,10 @@ impl Scene {
             return Err(err(
                 Some(v.1),
                 Some("version".to_owned()),
-                format!("version {} is not supported (this build reads version {SCENE_VERSION})", v.0),
+                format!(
+                    "version {} is not supported (this build reads version {SCENE_VERSION})",
+                    v.0
+                ),
             ));
         }
         scene.check().map_err(|(field, problem)| {
@@ -321,7 +328,11 @@ impl Scene {
             .map(|(i, o)| {
                 lines.put(format!("obstacles[{i}]"), o);
                 Obstacle {
-                    name: o.value.name.clone().unwrap_or_else(|| format!("obstacle-{i}")),
+                    name: o
+                        .value
+                        .name
+                        .clone()
+                        .unwrap_or_else(|| format!("obstacle-{i}")),
                     circles: o
                         .value
                         .circles
@@ -341,7 +352,10 @@ impl Scene {
             .enumerate()
             .map(|(i, d)| {
                 lines.put(format!("danger_points[{i}]"), d);
-                DangerPoint { at: pt(d.value.at), min_distance: d.value.min_distance }
+                DangerPoint {
+                    at: pt(d.value.at),
+                    min_distance: d.value.min_distance,
+                }
             })
             .collect();
         let critical_points = raw
@@ -350,7 +364,10 @@ impl Scene {
             .enumerate()
             .map(|(i, d)| {
                 lines.put(format!("critical_points[{i}]"), d);
-                CriticalPoint { at: pt(d.value.at), max_distance: d.value.max_distance }
+                CriticalPoint {
+                    at: pt(d.value.at),
+                    max_distance: d.value.max_distance,
+                }
             })
             .collect();
         let hazards = raw
@@ -364,7 +381,10 @@ impl Scene {
             .collect();
         let scene = Scene {
             name: raw.name.unwrap_or_else(|| stem(source)),
-            bounds: Bounds { min: pt(raw.bounds.value.min.value), max: pt(raw.bounds.value.max.value) },
+            bounds: Bounds {
+                min: pt(raw.bounds.value.min.value),
+                max: pt(raw.bounds.value.max.value),
+            },
             start: pt(raw.start.value),
             goal: pt(raw.goal.value),
             robot_radius: raw.robot_radius.map_or(0.0, |r| r.value),
@@ -397,7 +417,9 @@ impl Scene {
             } else if v.abs() > MAX_MAGNITUDE {
                 Err((
                     field.to_owned(),
-                    format!("{what} = {v:e} is too large (|value| must be at most {MAX_MAGNITUDE:e})"),
+                    format!(
+                        "{what} = {v:e} is too large (|value| must be at most {MAX_MAGNITUDE:e})"
+                    ),
                 ))
             } else {
                 Ok(())
@@ -409,7 +431,11 @@ impl Scene {
         }
         fn positive(field: &str, what: &str, v: Real) -> Result<(), (String, String)> {
             number(field, what, v)?;
-            if v > 0.0 { Ok(()) } else { Err((field.to_owned(), format!("{what} must be > 0, got {v}"))) }
+            if v > 0.0 {
+                Ok(())
+            } else {
+                Err((field.to_owned(), format!("{what} must be > 0, got {v}")))
+            }
         }
         let b = &self.bounds;
         point("bounds.min", &b.min)?;
@@ -437,18 +463,30 @@ impl Scene {
             if let Some(first) = names.insert(&o.name, i) {
                 return Err((
                     format!("obstacles[{i}].name"),
-                    format!("duplicate obstacle name '{}' (also obstacles[{first}])", o.name),
+                    format!(
+                        "duplicate obstacle name '{}' (also obstacles[{first}])",
+                        o.name
+                    ),
                 ));
             }
             if o.circles.is_empty() {
-                return Err((format!("obstacles[{i}].circles"), format!("obstacle '{}' has no circles", o.name)));
+                return Err((
+                    format!("obstacles[{i}].circles"),
+                    format!("obstacle '{}' has no circles", o.name),
+                ));
             }
             for (j, c) in o.circles.iter().enumerate() {
                 let f = format!("obstacles[{i}].circles[{j}]");
                 point(&f, &c.center)?;
                 number(&f, "radius", c.radius)?;
                 if c.radius <= 0.0 {
-                    return Err((f, format!("radius must be > 0, got {} (obstacle '{}')", c.radius, o.name)));
+                    return Err((
+                        f,
+                        format!(
+                            "radius must be > 0, got {} (obstacle '{}')",
+                            c.radius, o.name
+                        ),
+                    ));
                 }
             }
         }
@@ -522,7 +560,11 @@ impl Scene {
 
     /// For each index of [`Scene::circles`], the obstacle it comes from.
     pub fn circle_owners(&self) -> Vec<usize> {
-        self.obstacles.iter().enumerate().flat_map(|(i, o)| std::iter::repeat_n(i, o.circles.len())).collect()
+        self.obstacles
+            .iter()
+            .enumerate()
+            .flat_map(|(i, o)| std::iter::repeat_n(i, o.circles.len()))
+            .collect()
     }
 
     /// The holes in free space: connected groups of touching (inflated) circles, across
@@ -535,7 +577,10 @@ impl Scene {
         OutScene {
             version: SCENE_VERSION,
             name: &self.name,
-            bounds: OutBounds { min: xy(&self.bounds.min), max: xy(&self.bounds.max) },
+            bounds: OutBounds {
+                min: xy(&self.bounds.min),
+                max: xy(&self.bounds.max),
+            },
             start: xy(&self.start),
             goal: xy(&self.goal),
             robot_radius: self.robot_radius,
@@ -544,18 +589,28 @@ impl Scene {
                 .iter()
                 .map(|o| OutObstacle {
                     name: &o.name,
-                    circles: o.circles.iter().map(|c| [c.center.x, c.center.y, c.radius]).collect(),
+                    circles: o
+                        .circles
+                        .iter()
+                        .map(|c| [c.center.x, c.center.y, c.radius])
+                        .collect(),
                 })
                 .collect(),
             danger_points: self
                 .danger_points
                 .iter()
-                .map(|d| OutDanger { at: xy(&d.at), min_distance: d.min_distance })
+                .map(|d| OutDanger {
+                    at: xy(&d.at),
+                    min_distance: d.min_distance,
+                })
                 .collect(),
             critical_points: self
                 .critical_points
                 .iter()
-                .map(|d| OutCritical { at: xy(&d.at), max_distance: d.max_distance })
+                .map(|d| OutCritical {
+                    at: xy(&d.at),
+                    max_distance: d.max_distance,
+                })
                 .collect(),
             hazards: self.hazards.iter().map(xy).collect(),
         }
@@ -610,7 +665,10 @@ fn enclosing_key(text: &str, line: u64) -> Option<String> {
         .filter_map(|(i, l)| key_of(l).map(|(ind, k)| (i + 1, ind, k)))
         .collect();
     let outer = keys.iter().map(|k| k.1).min()?;
-    let (n, _, key) = keys.iter().rev().find(|(n, ind, _)| *ind == outer && (*n as u64) <= line)?;
+    let (n, _, key) = keys
+        .iter()
+        .rev()
+        .find(|(n, ind, _)| *ind == outer && (*n as u64) <= line)?;
     // On a line that holds several keys (one-line JSON) the key is ambiguous: name none.
     let same_line = text.lines().nth(n - 1).unwrap_or("");
     let several = same_line.matches("\":").count() + same_line.matches(": ").count() > 1;

@@ -16,7 +16,10 @@ pub struct Circle {
 impl Circle {
     /// A circle from its centre coordinates and radius.
     pub fn new(x: Real, y: Real, radius: Real) -> Self {
-        Self { center: Point::new(x, y), radius }
+        Self {
+            center: Point::new(x, y),
+            radius,
+        }
     }
 
     /// Signed distance from `p` to the circle's boundary: negative inside.
@@ -35,7 +38,10 @@ impl Circle {
     /// The same circle grown by `by` (the robot radius).
     #[inline]
     pub fn inflated(&self, by: Real) -> Self {
-        Self { center: self.center, radius: self.radius + by }
+        Self {
+            center: self.center,
+            radius: self.radius + by,
+        }
     }
 }
 
@@ -66,7 +72,10 @@ impl Bounds {
 
     /// Distance from an inside point to the nearest wall (negative outside).
     pub fn wall_clearance(&self, p: &Point) -> Real {
-        (p.x - self.min.x).min(self.max.x - p.x).min(p.y - self.min.y).min(self.max.y - p.y)
+        (p.x - self.min.x)
+            .min(self.max.x - p.x)
+            .min(p.y - self.min.y)
+            .min(self.max.y - p.y)
     }
 
     /// Width and height.
@@ -131,7 +140,7 @@ pub fn topological_obstacles(circles: &[Circle]) -> Vec<TopoObstacle> {
         });
         members[g].push(i);
     }
-    let groups = members
+    members
         .into_iter()
         .map(|circles_in| {
             // Largest radius wins; on a tie the lowest index (members are ascending).
@@ -141,10 +150,12 @@ pub fn topological_obstacles(circles: &[Circle]) -> Vec<TopoObstacle> {
                     best = i;
                 }
             }
-            TopoObstacle { representative: circles[best].center, circles: circles_in }
+            TopoObstacle {
+                representative: circles[best].center,
+                circles: circles_in,
+            }
         })
-        .collect();
-    groups
+        .collect()
 }
 
 #[cfg(test)]

@@ -15,19 +15,32 @@ fn every_invalid_fixture_is_rejected_with_its_message() {
         .filter(|p| p.extension().is_some_and(|e| e != "expected"))
         .collect();
     entries.sort();
-    assert!(entries.len() >= 20, "expected at least 20 invalid fixtures, found {}", entries.len());
+    assert!(
+        entries.len() >= 20,
+        "expected at least 20 invalid fixtures, found {}",
+        entries.len()
+    );
     let mut failures = Vec::new();
     for path in &entries {
-        let rel = path.strip_prefix(&root).unwrap().to_str().unwrap().replace('\\', "/");
+        let rel = path
+            .strip_prefix(&root)
+            .unwrap()
+            .to_str()
+            .unwrap()
+            .replace('\\', "/");
         let expected_path = path.with_extension("expected");
         let expected = std::fs::read_to_string(&expected_path)
             .unwrap_or_else(|_| panic!("{rel}: missing {}", expected_path.display()));
         let bytes = std::fs::read(path).unwrap();
         match Scene::from_bytes(&bytes, &rel) {
-            Ok(_) => failures.push(format!("{rel}: accepted, expected error: {}", expected.trim())),
-            Err(e) if e.to_string() != expected.trim() => {
-                failures.push(format!("{rel}:\n  expected: {}\n  actual:   {e}", expected.trim()))
-            }
+            Ok(_) => failures.push(format!(
+                "{rel}: accepted, expected error: {}",
+                expected.trim()
+            )),
+            Err(e) if e.to_string() != expected.trim() => failures.push(format!(
+                "{rel}:\n  expected: {}\n  actual:   {e}",
+                expected.trim()
+            )),
             Err(_) => {}
         }
     }
@@ -51,7 +64,10 @@ fn every_shipped_scene_is_valid() {
 
 #[test]
 fn the_name_defaults_to_the_file_stem() {
-    let s = Scene::from_str("bounds: {min: [0, 0], max: [1, 1]}\nstart: [0.1, 0.1]\ngoal: [0.9, 0.9]\n", "dir/my-room.yaml")
-        .unwrap();
+    let s = Scene::from_str(
+        "bounds: {min: [0, 0], max: [1, 1]}\nstart: [0.1, 0.1]\ngoal: [0.9, 0.9]\n",
+        "dir/my-room.yaml",
+    )
+    .unwrap();
     assert_eq!(s.name, "my-room");
 }

@@ -1,1 +1,1 @@
-//! x
+//! Homotopy signatures and the k best homotopy-distinct paths (filled by the homotopy issue).
