@@ -10,6 +10,18 @@
 //!   with the [`CircleSet`] entry point that picks a plain loop or parry's BVH by size.
 //! - [`polygon`]: a provable circle cover of simple polygons.
 //! - [`scene`]: the scene file of `shared/docs/formats.md`, validated.
+//!
+//! ```
+//! use homospline_geom::{Point, Scene};
+//!
+//! let text = std::fs::read_to_string("../../fixtures/scenes/convex.yaml").unwrap();
+//! let scene = Scene::from_str(&text, "convex.yaml").unwrap();
+//! let set = scene.circle_set(); // inflated by the robot radius
+//! let c = set.clearance(&Point::new(30.0, 30.0)).unwrap();
+//! assert!(c.distance > 0.0);
+//! assert!(set.line_of_sight(&scene.start, &Point::new(5.0, 50.0)));
+//! assert_eq!(scene.topological_obstacles().len(), 3);
+//! ```
 
 pub mod math;
 pub mod polygon;
