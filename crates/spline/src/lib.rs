@@ -1,1 +1,24 @@
-//! Cubic splines through via-points and the cost criteria of the method (filled by the spline issue).
+//! Cubic splines through via-points and every cost criterion of the method (sections 2-3).
+//!
+//! - [`curve`]: [`Spline`], a parametric cubic spline `q(t)`, `t` in `[0, 1]`, through
+//!   `S, p1 .. pk, T`; natural or clamped ends; uniform or chord-length parameters; built in
+//!   `O(k)` with a tridiagonal (Thomas) solve; arc-length sampling.
+//! - [`field`]: the [`ClearanceModel`] trait through which every obstacle term asks "how far
+//!   is this point from obstacles, and towards where", with [`CircleModel`] (exact).
+//! - [`cost`]: [`CostConfig`] (weights and parameters, the paper's presets), [`evaluate`]
+//!   and [`gradient`] (analytic, with respect to the inner via-points).
+//! - [`certify`]: [`min_clearance`], a certified interval for the minimum clearance along the
+//!   curve, refined where clearance is small.
+//!
+//! This crate knows nothing of grids or graphs; it depends on `geom` only.
+
+pub mod certify;
+pub mod cost;
+pub mod curve;
+pub mod field;
+pub mod quad;
+
+pub use certify::{CertifiedClearance, min_clearance};
+pub use cost::{CostConfig, CostTerms, evaluate, gradient};
+pub use curve::{EndCondition, Parametrization, Spline, SplineError};
+pub use field::{CircleModel, ClearanceModel};

@@ -1,0 +1,91 @@
+//! Certified minimum clearance along a spline, for the collision-free verdict.
+//!
+//! On a parameter interval `[s0, s1]` of one cubic segment the curve stays within
+//! `e = (s1 - s0)^2 / 8 * max |q''|` of its chord (the linear-interpolation error bound;
+//! `q''` is linear on a segment, so its maximum is at an end). Hence the clearance on the
+//! interval is at least `segment_clearance(chord) - e`, and at most the clearance of either
+//! end. Intervals are split until every lower bound is within `tol` of the best upper bound
+//! found; the result brackets the true minimum: `lower <= min clearance <= upper`,
+//! `upper - lower <= tol`.
+
+use homospline_geom::{Point, Real};
+
+use crate::curve::Spline;
+use crate::field::ClearanceModel;
+
+/// A bracket of the minimum clearance along a curve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CertifiedClearance {
+    /// Proven lower bound of the minimum clearance.
+    pub lower: Real,
+    /// Clearance attained at a point of the curve (an upper bound of the minimum).
+    pub upper: Real,
+    /// Parameter `t` where `upper` is attained.
+    pub at: Real,
+    /// Where `upper` is attained.
+    pub point: Point,
+    /// Chord checks done.
+    pub checks: usize,
+}
+
+impl CertifiedClearance {
+    /// Proven collision-free: the lower bound is positive.
+    pub fn collision_free(&self) -> bool {
+        self.lower > 0.0
+    }
+}
+
+/// Brackets the minimum clearance of `spline` to within `tol` (> 0).
+pub fn min_clearance(spline: &Spline, model: &dyn ClearanceModel, tol: Real) -> CertifiedClearance {
+    let tol = if tol > 0.0 && tol.is_finite() {
+        tol
+    } else {
+        1e-6
+    };
+    let knots = spline.knots();
+    let first = spline.points()[0];
+    let mut best = CertifiedClearance {
+        lower: Real::INFINITY,
+        upper: model.clearance(&first).0,
+        at: 0.0,
+        point: first,
+        checks: 0,
+    };
+    let mut stack: Vec<(usize, Real, Real, u32)> = Vec::new();
+    for seg in (0..spline.segments()).rev() {
+        let h = knots[seg + 1] - knots[seg];
+        let n = 8;
+        for k in (0..n).rev() {
+            stack.push((
+                seg,
+                h * k as Real / n as Real,
+                h * (k + 1) as Real / n as Real,
+                0,
+            ));
+        }
+    }
+    while let Some((seg, s0, s1, depth)) = stack.pop() {
+        let (p0, _, a0) = spline.eval_segment(seg, s0);
+        let (p1, _, a1) = spline.eval_segment(seg, s1);
+        for (s, p) in [(s0, p0), (s1, p1)] {
+            let d = model.clearance(&p).0;
+            if d < best.upper {
+                best.upper = d;
+                best.at = knots[seg] + s;
+                best.point = p;
+            }
+        }
+        let e = (s1 - s0).powi(2) / 8.0 * a0.norm().max(a1.norm());
+        let lower = model.segment_clearance(&p0, &p1) - e;
+        best.checks += 1;
+        if lower >= best.upper - tol || depth >= 60 {
+            best.lower = best.lower.min(lower);
+            continue;
+        }
+        let m = 0.5 * (s0 + s1);
+        stack.push((seg, m, s1, depth + 1));
+        stack.push((seg, s0, m, depth + 1));
+    }
+    best.lower = best.lower.min(best.upper);
+    best
+}

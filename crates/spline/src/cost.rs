@@ -1,0 +1,592 @@
+//! The cost of a path: every criterion of the method as a separate weighted term.
+//!
+//! Integrals are taken with Gauss-Legendre quadrature on each spline segment, split into
+//! [`CostConfig::pieces`] equal pieces of [`CostConfig::nodes`] nodes. The minimal clearance
+//! `m(C)` of the safety term is the smallest node clearance refined by a golden-section
+//! search around it. Terms (method.md section 3):
+//!
+//! | term | value |
+//! |---|---|
+//! | topology `T` (2) | `sum_c integral U_c(q) dl`, `U_c = 1 + tanh(alpha (r_c - d_c))` |
+//! | roughness `R` (4) | `integral |q''|^2 dt` |
+//! | length `L` (5) | `integral dl` |
+//! | safety `D` (7) | `omega^(dm - m(C))` |
+//! | maximal clearance | `integral max(0, d(q) - d_max) dl` |
+//! | start / goal visibility (8) | `1 - visible length / L`, from the start / from the end |
+//! | danger points | `sum_i integral max(0, dmin_i - |q - a_i|)^2 dl` |
+//! | critical points | `sum_i integral max(0, |q - a_i| - dmax_i)^2 dl` |
+//! | sheltered | `1 - (length hidden from every hazard) / L` |
+//! | passing time | `integral dl / v`, `v = min(v_max, sqrt(a_lat / kappa))` |
+//!
+//! The analytic [`gradient`] covers every term but the three line-of-sight shares
+//! (visibility and shelter), which are piecewise constant in the node positions of the
+//! quadrature; their weight enters the gradient as zero (say so to a gradient optimiser).
+
+use homospline_geom::{Point, Real, Scene, Vector};
+use thiserror::Error;
+
+use crate::curve::{Parametrization, Spline};
+use crate::field::ClearanceModel;
+use crate::quad::gauss_legendre;
+
+/// Weights and parameters of the cost.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CostConfig {
+    /// `g1`: topology (collision) term.
+    pub w_topology: Real,
+    /// `g2`: roughness.
+    pub w_roughness: Real,
+    /// `g3`: length.
+    pub w_length: Real,
+    /// `g4`: safety.
+    pub w_safety: Real,
+    /// Maximal-clearance term.
+    pub w_max_clearance: Real,
+    /// Start visibility.
+    pub w_start_visibility: Real,
+    /// Goal visibility.
+    pub w_goal_visibility: Real,
+    /// Danger points.
+    pub w_danger: Real,
+    /// Critical points.
+    pub w_critical: Real,
+    /// Sheltered share.
+    pub w_sheltered: Real,
+    /// Passing time.
+    pub w_passing_time: Real,
+    /// `alpha` of the potential (1).
+    pub alpha: Real,
+    /// Required clearance `dm` of the safety term.
+    pub dm: Real,
+    /// Base `omega` of the safety term.
+    pub omega: Real,
+    /// `d_max` of the maximal-clearance term.
+    pub d_max: Real,
+    /// Speed limit on straight parts (passing time).
+    pub v_max: Real,
+    /// Lateral acceleration limit (passing time): `v <= sqrt(a_lat / kappa)`.
+    pub lateral_accel: Real,
+    /// Gauss-Legendre nodes per piece (2 to 64).
+    pub nodes: usize,
+    /// Pieces per spline segment.
+    pub pieces: usize,
+    /// Danger points `(at, min_distance)`.
+    pub danger_points: Vec<(Point, Real)>,
+    /// Critical points `(at, max_distance)`.
+    pub critical_points: Vec<(Point, Real)>,
+    /// Hazard sources.
+    pub hazards: Vec<Point>,
+}
+
+/// Why a cost configuration is unusable.
+#[derive(Debug, Error, PartialEq)]
+pub enum CostConfigError {
+    /// A weight is negative, NaN or infinite.
+    #[error("weight {0} must be finite and >= 0, got {1}")]
+    Weight(&'static str, Real),
+    /// A parameter is out of its range.
+    #[error("parameter {0} {1}, got {2}")]
+    Parameter(&'static str, &'static str, Real),
+}
+
+impl Default for CostConfig {
+    fn default() -> Self {
+        Self::paper_voronoi()
+    }
+}
+
+impl CostConfig {
+    /// The paper's original cost (9): `F = T + R + 0.5 L`, `alpha = 0.5`.
+    pub fn paper_original() -> Self {
+        Self {
+            w_topology: 1.0,
+            w_roughness: 1.0,
+            w_length: 0.5,
+            w_safety: 0.0,
+            w_max_clearance: 0.0,
+            w_start_visibility: 0.0,
+            w_goal_visibility: 0.0,
+            w_danger: 0.0,
+            w_critical: 0.0,
+            w_sheltered: 0.0,
+            w_passing_time: 0.0,
+            alpha: 0.5,
+            dm: 3.0,
+            omega: 20.0,
+            d_max: 10.0,
+            v_max: 1.0,
+            lateral_accel: 0.5,
+            nodes: 6,
+            pieces: 2,
+            danger_points: Vec::new(),
+            critical_points: Vec::new(),
+            hazards: Vec::new(),
+        }
+    }
+
+    /// The cost used with the Voronoi seeds (10): `F = T + R + 0.5 L + D`, `dm = 3`,
+    /// `omega = 20`.
+    pub fn paper_voronoi() -> Self {
+        Self {
+            w_safety: 1.0,
+            ..Self::paper_original()
+        }
+    }
+
+    /// A named preset: `paper-original` (9) or `paper-voronoi` (10).
+    pub fn preset(name: &str) -> Option<Self> {
+        match name {
+            "paper-original" | "original" => Some(Self::paper_original()),
+            "paper-voronoi" | "voronoi" | "paper" => Some(Self::paper_voronoi()),
+            _ => None,
+        }
+    }
+
+    /// Takes the scene's danger points, critical points and hazards.
+    pub fn with_scene_points(mut self, scene: &Scene) -> Self {
+        self.danger_points = scene
+            .danger_points
+            .iter()
+            .map(|d| (d.at, d.min_distance))
+            .collect();
+        self.critical_points = scene
+            .critical_points
+            .iter()
+            .map(|d| (d.at, d.max_distance))
+            .collect();
+        self.hazards = scene.hazards.clone();
+        self
+    }
+
+    /// Sets a weight by its name (`topology`, `roughness`, `length`, `safety`,
+    /// `max_clearance`, `start_visibility`, `goal_visibility`, `danger`, `critical`,
+    /// `sheltered`, `passing_time`) or a parameter (`alpha`, `dm`, `omega`, `d_max`, `v_max`,
+    /// `lateral_accel`); validated.
+    pub fn set(&mut self, name: &str, value: Real) -> Result<(), String> {
+        let slot = match name {
+            "topology" | "g1" => &mut self.w_topology,
+            "roughness" | "g2" => &mut self.w_roughness,
+            "length" | "g3" => &mut self.w_length,
+            "safety" | "g4" => &mut self.w_safety,
+            "max_clearance" => &mut self.w_max_clearance,
+            "start_visibility" => &mut self.w_start_visibility,
+            "goal_visibility" => &mut self.w_goal_visibility,
+            "danger" => &mut self.w_danger,
+            "critical" => &mut self.w_critical,
+            "sheltered" => &mut self.w_sheltered,
+            "passing_time" => &mut self.w_passing_time,
+            "alpha" => &mut self.alpha,
+            "dm" => &mut self.dm,
+            "omega" => &mut self.omega,
+            "d_max" => &mut self.d_max,
+            "v_max" => &mut self.v_max,
+            "lateral_accel" => &mut self.lateral_accel,
+            _ => return Err(format!("unknown weight or parameter '{name}'")),
+        };
+        let old = *slot;
+        *slot = value;
+        self.validate().map_err(|e| {
+            let msg = e.to_string();
+            *self.slot(name) = old;
+            msg
+        })
+    }
+
+    fn slot(&mut self, name: &str) -> &mut Real {
+        // Only called with names `set` accepted.
+        match name {
+            "topology" | "g1" => &mut self.w_topology,
+            "roughness" | "g2" => &mut self.w_roughness,
+            "length" | "g3" => &mut self.w_length,
+            "safety" | "g4" => &mut self.w_safety,
+            "max_clearance" => &mut self.w_max_clearance,
+            "start_visibility" => &mut self.w_start_visibility,
+            "goal_visibility" => &mut self.w_goal_visibility,
+            "danger" => &mut self.w_danger,
+            "critical" => &mut self.w_critical,
+            "sheltered" => &mut self.w_sheltered,
+            "passing_time" => &mut self.w_passing_time,
+            "alpha" => &mut self.alpha,
+            "dm" => &mut self.dm,
+            "omega" => &mut self.omega,
+            "d_max" => &mut self.d_max,
+            "v_max" => &mut self.v_max,
+            _ => &mut self.lateral_accel,
+        }
+    }
+
+    /// Checks every weight and parameter.
+    pub fn validate(&self) -> Result<(), CostConfigError> {
+        for (name, w) in [
+            ("topology", self.w_topology),
+            ("roughness", self.w_roughness),
+            ("length", self.w_length),
+            ("safety", self.w_safety),
+            ("max_clearance", self.w_max_clearance),
+            ("start_visibility", self.w_start_visibility),
+            ("goal_visibility", self.w_goal_visibility),
+            ("danger", self.w_danger),
+            ("critical", self.w_critical),
+            ("sheltered", self.w_sheltered),
+            ("passing_time", self.w_passing_time),
+        ] {
+            if !(w.is_finite() && w >= 0.0) {
+                return Err(CostConfigError::Weight(name, w));
+            }
+        }
+        for (name, v) in [
+            ("alpha", self.alpha),
+            ("omega", self.omega),
+            ("v_max", self.v_max),
+            ("lateral_accel", self.lateral_accel),
+            ("d_max", self.d_max),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(CostConfigError::Parameter(
+                    name,
+                    "must be finite and > 0",
+                    v,
+                ));
+            }
+        }
+        if !self.dm.is_finite() {
+            return Err(CostConfigError::Parameter("dm", "must be finite", self.dm));
+        }
+        if !(2..=64).contains(&self.nodes) {
+            return Err(CostConfigError::Parameter(
+                "nodes",
+                "must be in 2..=64",
+                self.nodes as Real,
+            ));
+        }
+        if !(1..=64).contains(&self.pieces) {
+            return Err(CostConfigError::Parameter(
+                "pieces",
+                "must be in 1..=64",
+                self.pieces as Real,
+            ));
+        }
+        Ok(())
+    }
+
+    /// The weighted sum of `t`.
+    pub fn total(&self, t: &CostTerms) -> Real {
+        self.w_topology * t.topology
+            + self.w_roughness * t.roughness
+            + self.w_length * t.length
+            + self.w_safety * t.safety
+            + self.w_max_clearance * t.max_clearance
+            + self.w_start_visibility * t.start_visibility
+            + self.w_goal_visibility * t.goal_visibility
+            + self.w_danger * t.danger
+            + self.w_critical * t.critical
+            + self.w_sheltered * t.sheltered
+            + self.w_passing_time * t.passing_time
+    }
+}
+
+/// Every term of the cost, unweighted, and the weighted total.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CostTerms {
+    /// Weighted sum.
+    pub total: Real,
+    /// `T`.
+    pub topology: Real,
+    /// `R`.
+    pub roughness: Real,
+    /// `L`.
+    pub length: Real,
+    /// `D`.
+    pub safety: Real,
+    /// Maximal-clearance excess.
+    pub max_clearance: Real,
+    /// `1 - visible share` from the start.
+    pub start_visibility: Real,
+    /// `1 - visible share` from the goal.
+    pub goal_visibility: Real,
+    /// Danger-point violation.
+    pub danger: Real,
+    /// Critical-point violation.
+    pub critical: Real,
+    /// `1 - sheltered share`.
+    pub sheltered: Real,
+    /// Passing time.
+    pub passing_time: Real,
+    /// `m(C)`: minimal clearance found (nodes, refined near the minimum).
+    pub min_clearance: Real,
+}
+
+/// Partial derivatives of the integrand at one node, already multiplied by its weight:
+/// with respect to `q`, `q'`, `q''`.
+struct NodePartial {
+    seg: usize,
+    s: Real,
+    gq: Vector,
+    gv: Vector,
+    ga: Vector,
+}
+
+/// The cost of `spline` against `model`.
+pub fn evaluate(spline: &Spline, model: &dyn ClearanceModel, cfg: &CostConfig) -> CostTerms {
+    run(spline, model, cfg, None)
+}
+
+/// The cost and its gradient with respect to the inner via-points (`points[1..n-1]`).
+///
+/// Analytic for uniform parameters (the spline is then linear in its points); with
+/// chord-length parameters the knots move with the points, and the gradient is taken by
+/// central differences (step `1e-6` times the scene scale).
+pub fn gradient(
+    spline: &Spline,
+    model: &dyn ClearanceModel,
+    cfg: &CostConfig,
+) -> (CostTerms, Vec<Vector>) {
+    let n = spline.points().len();
+    if spline.parametrization() == Parametrization::ChordLength {
+        let terms = evaluate(spline, model, cfg);
+        let scale = spline
+            .points()
+            .iter()
+            .map(|p| p.coords.amax())
+            .fold(1.0, Real::max);
+        let h = 1e-6 * scale;
+        let mut g = vec![Vector::zeros(); n.saturating_sub(2)];
+        for (j, gj) in g.iter_mut().enumerate() {
+            for axis in 0..2 {
+                let at = |delta: Real| {
+                    let mut pts = spline.points().to_vec();
+                    pts[j + 1][axis] += delta;
+                    Spline::new(&pts, spline.parametrization(), spline.end_condition())
+                        .map_or(Real::NAN, |s| evaluate(&s, model, cfg).total)
+                };
+                gj[axis] = (at(h) - at(-h)) / (2.0 * h);
+            }
+        }
+        return (terms, g);
+    }
+    let mut partials = Vec::new();
+    let terms = run(spline, model, cfg, Some(&mut partials));
+    let basis = spline.basis();
+    let mut g = vec![Vector::zeros(); n.saturating_sub(2)];
+    for p in &partials {
+        for (j, gj) in g.iter_mut().enumerate() {
+            let (b, b1, b2) = basis[j + 1].eval_segment(p.seg, p.s);
+            *gj += p.gq * b.x + p.gv * b1.x + p.ga * b2.x;
+        }
+    }
+    (terms, g)
+}
+
+thread_local! {
+    static RULES: std::cell::RefCell<Vec<(usize, Vec<Real>, Vec<Real>)>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+fn rule(n: usize) -> (Vec<Real>, Vec<Real>) {
+    RULES.with(|r| {
+        let mut r = r.borrow_mut();
+        if let Some((_, x, w)) = r.iter().find(|(k, _, _)| *k == n) {
+            return (x.clone(), w.clone());
+        }
+        let (x, w) = gauss_legendre(n);
+        r.push((n, x.clone(), w.clone()));
+        (x, w)
+    })
+}
+
+fn unit(v: &Vector) -> Vector {
+    let n = v.norm();
+    if n > 0.0 { v / n } else { Vector::zeros() }
+}
+
+fn run(
+    spline: &Spline,
+    model: &dyn ClearanceModel,
+    cfg: &CostConfig,
+    mut grad: Option<&mut Vec<NodePartial>>,
+) -> CostTerms {
+    let (gx, gw) = rule(cfg.nodes.clamp(2, 64));
+    let pieces = cfg.pieces.max(1);
+    let mut t = CostTerms {
+        min_clearance: Real::INFINITY,
+        ..CostTerms::default()
+    };
+    let need_field =
+        cfg.w_topology > 0.0 || cfg.w_safety > 0.0 || cfg.w_max_clearance > 0.0 || grad.is_none();
+    let need_clearance = cfg.w_safety > 0.0 || cfg.w_max_clearance > 0.0 || grad.is_none();
+    let knots = spline.knots();
+    let nodes = gx.len();
+    let mut pts = vec![Point::origin(); nodes];
+    let mut der = vec![(Vector::zeros(), Vector::zeros()); nodes];
+    let mut field = vec![(0.0, Vector::zeros()); nodes];
+    // Node with the smallest clearance: (clearance, segment, s, a bound on the node gap).
+    let mut worst = (Real::INFINITY, 0usize, 0.0, 0.0);
+    // (segment, s, weight, speed) of each node, in order, for the line-of-sight shares.
+    let mut trail: Vec<(usize, Real, Real, Point)> = Vec::new();
+    let need_trail = cfg.w_start_visibility > 0.0
+        || cfg.w_goal_visibility > 0.0
+        || (cfg.w_sheltered > 0.0 && !cfg.hazards.is_empty());
+    for seg in 0..spline.segments() {
+        let h = (knots[seg + 1] - knots[seg]) / pieces as Real;
+        let (lo, hi) = spline.segment_box(seg);
+        for piece in 0..pieces {
+            let base = h * piece as Real;
+            for k in 0..nodes {
+                let (p, d1, d2) = spline.eval_segment(seg, base + h * gx[k]);
+                pts[k] = p;
+                der[k] = (d1, d2);
+            }
+            if need_field {
+                model.potential_batch(&pts, cfg.alpha, (lo, hi), &mut field);
+            }
+            for k in 0..nodes {
+                let s = base + h * gx[k];
+                let wq = gw[k] * h;
+                let (p, (v, a)) = (pts[k], der[k]);
+                let speed = v.norm();
+                let vhat = unit(&v);
+                t.length += wq * speed;
+                t.roughness += wq * a.norm_squared();
+                let (u, du) = field[k];
+                t.topology += wq * u * speed;
+                let mut gq = Vector::zeros();
+                let mut gv = vhat * (cfg.w_length + cfg.w_topology * u) * wq;
+                let mut ga = a * (2.0 * cfg.w_roughness * wq);
+                gq += du * (cfg.w_topology * wq * speed);
+                if need_clearance {
+                    let (d, dd) = model.clearance(&p);
+                    if d < worst.0 {
+                        worst = (d, seg, s, h / nodes as Real);
+                    }
+                    if d > cfg.d_max {
+                        t.max_clearance += wq * (d - cfg.d_max) * speed;
+                        gq += dd * (cfg.w_max_clearance * wq * speed);
+                        gv += vhat * (cfg.w_max_clearance * wq * (d - cfg.d_max));
+                    }
+                }
+                for &(at, dmin) in &cfg.danger_points {
+                    let r = p - at;
+                    let dist = r.norm();
+                    let e = dmin - dist;
+                    if e > 0.0 {
+                        t.danger += wq * e * e * speed;
+                        gq -= unit(&r) * (cfg.w_danger * wq * speed * 2.0 * e);
+                        gv += vhat * (cfg.w_danger * wq * e * e);
+                    }
+                }
+                for &(at, dmax) in &cfg.critical_points {
+                    let r = p - at;
+                    let e = r.norm() - dmax;
+                    if e > 0.0 {
+                        t.critical += wq * e * e * speed;
+                        gq += unit(&r) * (cfg.w_critical * wq * speed * 2.0 * e);
+                        gv += vhat * (cfg.w_critical * wq * e * e);
+                    }
+                }
+                if cfg.w_passing_time > 0.0 || grad.is_none() {
+                    let c = v.x * a.y - v.y * a.x;
+                    let slow = if speed > 0.0 {
+                        (c.abs() / (cfg.lateral_accel * speed.powi(3))).sqrt()
+                    } else {
+                        0.0
+                    };
+                    if slow <= 1.0 / cfg.v_max || speed == 0.0 || c == 0.0 {
+                        t.passing_time += wq * speed / cfg.v_max;
+                        gv += vhat * (cfg.w_passing_time * wq / cfg.v_max);
+                    } else {
+                        // f = sqrt(|c| / a_lat) speed^(-1/2).
+                        let k0 = 1.0 / cfg.lateral_accel.sqrt();
+                        t.passing_time += wq * k0 * c.abs().sqrt() / speed.sqrt();
+                        let dc = c.signum() / (2.0 * c.abs().sqrt());
+                        let w = cfg.w_passing_time * wq * k0;
+                        gv += (Vector::new(a.y, -a.x) * (dc / speed.sqrt())
+                            - v * (0.5 * c.abs().sqrt() * speed.powf(-2.5)))
+                            * w;
+                        ga += Vector::new(-v.y, v.x) * (dc / speed.sqrt() * w);
+                    }
+                }
+                if need_trail {
+                    trail.push((seg, s, wq * speed, p));
+                }
+                if let Some(g) = grad.as_deref_mut() {
+                    g.push(NodePartial { seg, s, gq, gv, ga });
+                }
+            }
+        }
+    }
+    let total_len = t.length.max(Real::MIN_POSITIVE);
+    if need_clearance && worst.0.is_finite() {
+        // Golden-section refinement of m(C) around the worst node, within its segment.
+        let (_, seg, s0, half) = worst;
+        let hseg = knots[seg + 1] - knots[seg];
+        let f = |s: Real| model.clearance(&spline.eval_segment(seg, s).0).0;
+        let (mut a, mut b) = ((s0 - half).max(0.0), (s0 + half).min(hseg));
+        let r = 0.5 * (5.0_f64.sqrt() - 1.0);
+        let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
+        let (mut fc, mut fd) = (f(c), f(d));
+        for _ in 0..40 {
+            if fc < fd {
+                b = d;
+                d = c;
+                fd = fc;
+                c = b - r * (b - a);
+                fc = f(c);
+            } else {
+                a = c;
+                c = d;
+                fc = fd;
+                d = a + r * (b - a);
+                fd = f(d);
+            }
+        }
+        let (sb, fb) = if fc < fd { (c, fc) } else { (d, fd) };
+        let (sm, m) = if fb < worst.0 {
+            (sb, fb)
+        } else {
+            (s0, worst.0)
+        };
+        t.min_clearance = m;
+        t.safety = cfg.omega.powf(cfg.dm - m);
+        if let Some(g) = grad.as_deref_mut() {
+            let (_, dd) = model.clearance(&spline.eval_segment(seg, sm).0);
+            let coef = -cfg.w_safety * t.safety * cfg.omega.ln();
+            g.push(NodePartial {
+                seg,
+                s: sm,
+                gq: dd * coef,
+                gv: Vector::zeros(),
+                ga: Vector::zeros(),
+            });
+        }
+    }
+    if need_trail {
+        let start = spline.points()[0];
+        let goal = *spline.points().last().unwrap_or(&start);
+        let visible_prefix =
+            |from: &Point, order: &mut dyn Iterator<Item = &(usize, Real, Real, Point)>| {
+                let mut len = 0.0;
+                for (_, _, dl, p) in order {
+                    if !model.line_of_sight(from, p) {
+                        break;
+                    }
+                    len += dl;
+                }
+                len
+            };
+        if cfg.w_start_visibility > 0.0 {
+            t.start_visibility = 1.0 - visible_prefix(&start, &mut trail.iter()) / total_len;
+        }
+        if cfg.w_goal_visibility > 0.0 {
+            t.goal_visibility = 1.0 - visible_prefix(&goal, &mut trail.iter().rev()) / total_len;
+        }
+        if cfg.w_sheltered > 0.0 && !cfg.hazards.is_empty() {
+            let hidden: Real = trail
+                .iter()
+                .filter(|(_, _, _, p)| cfg.hazards.iter().all(|h| !model.line_of_sight(h, p)))
+                .map(|(_, _, dl, _)| dl)
+                .sum();
+            t.sheltered = 1.0 - hidden / total_len;
+        }
+    }
+    t.total = cfg.total(&t);
+    t
+}

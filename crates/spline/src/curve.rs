@@ -1,0 +1,409 @@
+//! A parametric cubic spline `q(t) = (x(t), y(t))`, `t` in `[0, 1]`, through via-points.
+
+use homospline_geom::{Point, Real, Vector};
+use thiserror::Error;
+
+/// How the knots `t_i` are spread over `[0, 1]`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Parametrization {
+    /// `t_i = i / (k + 1)`: the paper's form. Roughness `R = integral |q''|^2 dt` then
+    /// depends on the number of via-points as well as the shape; the spline is linear in the
+    /// via-points, which gives the analytic gradient.
+    #[default]
+    Uniform,
+    /// `t_i` proportional to the cumulative chord length: follows the geometry better when
+    /// via-points are unevenly spaced; `R` is closer to a bending energy.
+    ChordLength,
+}
+
+/// End conditions.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum EndCondition {
+    /// `q'' = 0` at both ends.
+    #[default]
+    Natural,
+    /// Given first derivatives `dq/dt` at the start and the end.
+    Clamped {
+        /// `q'(0)`.
+        start: Vector,
+        /// `q'(1)`.
+        end: Vector,
+    },
+}
+
+/// Why a spline cannot be built.
+#[derive(Debug, Error, PartialEq)]
+pub enum SplineError {
+    /// Fewer than two points.
+    #[error("a spline needs at least 2 points, got {0}")]
+    TooFewPoints(usize),
+    /// A coordinate is NaN or infinite.
+    #[error("point {0} is not finite")]
+    NonFinite(usize),
+    /// Two consecutive points coincide under chord-length parameters.
+    #[error("points {0} and {1} coincide: chord-length parameters need distinct points")]
+    Coincident(usize, usize),
+}
+
+/// A cubic spline through `points`, stored per segment as `a + b s + c s^2 + d s^3`,
+/// `s = t - t_i`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Spline {
+    knots: Vec<Real>,
+    points: Vec<Point>,
+    coef: Vec<[Vector; 4]>,
+    param: Parametrization,
+    end: EndCondition,
+}
+
+impl Spline {
+    /// The natural spline with uniform parameters: the paper's curve.
+    pub fn natural(points: &[Point]) -> Result<Self, SplineError> {
+        Self::new(points, Parametrization::Uniform, EndCondition::Natural)
+    }
+
+    /// A spline through `points` (`S`, via-points, `T`).
+    pub fn new(
+        points: &[Point],
+        param: Parametrization,
+        end: EndCondition,
+    ) -> Result<Self, SplineError> {
+        let n = points.len();
+        if n < 2 {
+            return Err(SplineError::TooFewPoints(n));
+        }
+        if let Some(i) = points
+            .iter()
+            .position(|p| !(p.x.is_finite() && p.y.is_finite()))
+        {
+            return Err(SplineError::NonFinite(i));
+        }
+        let knots = match param {
+            Parametrization::Uniform => (0..n).map(|i| i as Real / (n - 1) as Real).collect(),
+            Parametrization::ChordLength => {
+                let mut k = vec![0.0; n];
+                for i in 1..n {
+                    let d = (points[i] - points[i - 1]).norm();
+                    if d == 0.0 {
+                        return Err(SplineError::Coincident(i - 1, i));
+                    }
+                    k[i] = k[i - 1] + d;
+                }
+                let total = k[n - 1];
+                k.iter_mut().for_each(|t| *t /= total);
+                k[n - 1] = 1.0;
+                k
+            }
+        };
+        Ok(Self::with_knots(knots, points, param, end))
+    }
+
+    /// The spline through `points` at the given knots.
+    fn with_knots(
+        knots: Vec<Real>,
+        points: &[Point],
+        param: Parametrization,
+        end: EndCondition,
+    ) -> Self {
+        let n = points.len();
+        let m = second_derivatives(&knots, points, end);
+        let coef = (0..n - 1)
+            .map(|i| {
+                let h = knots[i + 1] - knots[i];
+                let (p0, p1) = (points[i].coords, points[i + 1].coords);
+                let (m0, m1) = (m[i], m[i + 1]);
+                [
+                    p0,
+                    (p1 - p0) / h - (m0 * 2.0 + m1) * (h / 6.0),
+                    m0 / 2.0,
+                    (m1 - m0) / (6.0 * h),
+                ]
+            })
+            .collect();
+        Self {
+            knots,
+            points: points.to_vec(),
+            coef,
+            param,
+            end,
+        }
+    }
+
+    /// The parametrization it was built with.
+    pub fn parametrization(&self) -> Parametrization {
+        self.param
+    }
+
+    /// The end conditions it was built with.
+    pub fn end_condition(&self) -> EndCondition {
+        self.end
+    }
+
+    /// The cardinal basis: for each point `j`, the scalar spline on the same knots through
+    /// `1` at knot `j` and `0` elsewhere (end slopes zero when clamped), stored in `x`. With
+    /// fixed knots the spline is `q(t) = sum_j B_j(t) P_j` plus a term of the clamped slopes,
+    /// so `B_j` is the derivative of `q` with respect to `P_j`.
+    pub fn basis(&self) -> Vec<Spline> {
+        let n = self.points.len();
+        let end = match self.end {
+            EndCondition::Natural => EndCondition::Natural,
+            EndCondition::Clamped { .. } => EndCondition::Clamped {
+                start: Vector::zeros(),
+                end: Vector::zeros(),
+            },
+        };
+        (0..n)
+            .map(|j| {
+                let pts: Vec<Point> = (0..n)
+                    .map(|i| Point::new(if i == j { 1.0 } else { 0.0 }, 0.0))
+                    .collect();
+                Self::with_knots(self.knots.clone(), &pts, self.param, end)
+            })
+            .collect()
+    }
+
+    /// The points it passes through.
+    pub fn points(&self) -> &[Point] {
+        &self.points
+    }
+
+    /// The knots `t_0 = 0 < ... < t_n = 1`.
+    pub fn knots(&self) -> &[Real] {
+        &self.knots
+    }
+
+    /// Number of cubic segments (points - 1).
+    pub fn segments(&self) -> usize {
+        self.coef.len()
+    }
+
+    /// The segment holding `t` (clamped to `[0, 1]`) and the local parameter `s`.
+    #[inline]
+    pub fn locate(&self, t: Real) -> (usize, Real) {
+        let t = t.clamp(0.0, 1.0);
+        let i = match self.knots.binary_search_by(|k| k.total_cmp(&t)) {
+            Ok(i) => i.min(self.coef.len() - 1),
+            Err(i) => (i.max(1) - 1).min(self.coef.len() - 1),
+        };
+        (i, t - self.knots[i])
+    }
+
+    /// Position, first and second derivative on segment `i` at local parameter `s`.
+    #[inline]
+    pub fn eval_segment(&self, i: usize, s: Real) -> (Point, Vector, Vector) {
+        let [a, b, c, d] = &self.coef[i];
+        let p = a + (b + (c + d * s) * s) * s;
+        let d1 = b + (c * 2.0 + d * (3.0 * s)) * s;
+        let d2 = c * 2.0 + d * (6.0 * s);
+        (Point::from(p), d1, d2)
+    }
+
+    /// Position `q(t)`.
+    pub fn position(&self, t: Real) -> Point {
+        let (i, s) = self.locate(t);
+        self.eval_segment(i, s).0
+    }
+
+    /// First derivative `q'(t)`.
+    pub fn velocity(&self, t: Real) -> Vector {
+        let (i, s) = self.locate(t);
+        self.eval_segment(i, s).1
+    }
+
+    /// Second derivative `q''(t)`.
+    pub fn acceleration(&self, t: Real) -> Vector {
+        let (i, s) = self.locate(t);
+        self.eval_segment(i, s).2
+    }
+
+    /// Length of segment `i` by 16-point Gauss-Legendre on 4 sub-intervals.
+    pub fn segment_length(&self, i: usize) -> Real {
+        self.arc_length(i, 0.0, self.knots[i + 1] - self.knots[i])
+    }
+
+    /// Arc length on segment `i` between local parameters `s0 < s1` (64 Gauss nodes).
+    pub fn arc_length(&self, i: usize, s0: Real, s1: Real) -> Real {
+        let (x, w) = crate::quad::gauss_legendre(16);
+        let pieces = 4;
+        let h = (s1 - s0) / pieces as Real;
+        let mut total = 0.0;
+        for k in 0..pieces {
+            let base = s0 + h * k as Real;
+            for (x, w) in x.iter().zip(&w) {
+                total += w * h * self.eval_segment(i, base + h * x).1.norm();
+            }
+        }
+        total
+    }
+
+    /// Total length.
+    pub fn length(&self) -> Real {
+        (0..self.segments()).map(|i| self.segment_length(i)).sum()
+    }
+
+    /// Samples the curve so that consecutive samples are at most `max_spacing` apart along
+    /// the curve (measured arc length, not chord), start and goal included; each sample with
+    /// its parameter `t`.
+    pub fn sample_by_arc_length(&self, max_spacing: Real) -> Vec<(Real, Point)> {
+        let mut out = vec![(0.0, self.points[0])];
+        let spacing = if max_spacing.is_finite() && max_spacing > 0.0 {
+            max_spacing
+        } else {
+            0.5
+        };
+        for i in 0..self.segments() {
+            let h = self.knots[i + 1] - self.knots[i];
+            let len = self.segment_length(i);
+            let n = ((len / spacing).ceil() as usize).max(1);
+            // Uniform in s first, then split any piece longer than the spacing.
+            let mut stack: Vec<(Real, Real)> = (0..n)
+                .rev()
+                .map(|k| (h * k as Real / n as Real, h * (k + 1) as Real / n as Real))
+                .collect();
+            while let Some((a, b)) = stack.pop() {
+                if self.arc_length(i, a, b) > spacing && b - a > 1e-12 {
+                    let m = 0.5 * (a + b);
+                    stack.push((m, b));
+                    stack.push((a, m));
+                } else {
+                    let t = if b == h {
+                        self.knots[i + 1]
+                    } else {
+                        self.knots[i] + b
+                    };
+                    let p = if b == h {
+                        self.points[i + 1]
+                    } else {
+                        self.eval_segment(i, b).0
+                    };
+                    out.push((t, p));
+                }
+            }
+        }
+        out
+    }
+
+    /// `n + 1` points at equal parameter steps.
+    pub fn sample_uniform(&self, n: usize) -> Vec<Point> {
+        (0..=n)
+            .map(|k| self.position(k as Real / n.max(1) as Real))
+            .collect()
+    }
+
+    /// A control-polygon bound of segment `i`: the box of its Bezier control points, which
+    /// contains the segment (convex hull property).
+    pub fn segment_box(&self, i: usize) -> (Point, Point) {
+        let h = self.knots[i + 1] - self.knots[i];
+        let [a, b, c, d] = &self.coef[i];
+        // Power basis -> Bezier control points for s in [0, h].
+        let p0 = *a;
+        let p1 = a + b * (h / 3.0);
+        let p2 = a + b * (2.0 * h / 3.0) + c * (h * h / 3.0);
+        let p3 = a + b * h + c * (h * h) + d * (h * h * h);
+        let mut lo = p0;
+        let mut hi = p0;
+        for p in [p1, p2, p3] {
+            lo = lo.inf(&p);
+            hi = hi.sup(&p);
+        }
+        (Point::from(lo), Point::from(hi))
+    }
+}
+
+/// Second derivatives at the knots (the `M_i` of the classic formulation), by Thomas'
+/// algorithm on the tridiagonal system; `O(n)`.
+fn second_derivatives(t: &[Real], p: &[Point], end: EndCondition) -> Vec<Vector> {
+    let n = p.len();
+    let mut m = vec![Vector::zeros(); n];
+    if n == 2 && end == EndCondition::Natural {
+        return m;
+    }
+    let h: Vec<Real> = (0..n - 1).map(|i| t[i + 1] - t[i]).collect();
+    let slope: Vec<Vector> = (0..n - 1).map(|i| (p[i + 1] - p[i]) / h[i]).collect();
+    // Rows: sub[i] m[i-1] + diag[i] m[i] + sup[i] m[i+1] = rhs[i].
+    let mut sub = vec![0.0; n];
+    let mut diag = vec![1.0; n];
+    let mut sup = vec![0.0; n];
+    let mut rhs = vec![Vector::zeros(); n];
+    for i in 1..n - 1 {
+        sub[i] = h[i - 1];
+        diag[i] = 2.0 * (h[i - 1] + h[i]);
+        sup[i] = h[i];
+        rhs[i] = (slope[i] - slope[i - 1]) * 6.0;
+    }
+    if let EndCondition::Clamped { start, end } = end {
+        diag[0] = 2.0 * h[0];
+        sup[0] = h[0];
+        rhs[0] = (slope[0] - start) * 6.0;
+        sub[n - 1] = h[n - 2];
+        diag[n - 1] = 2.0 * h[n - 2];
+        rhs[n - 1] = (end - slope[n - 2]) * 6.0;
+    }
+    // Forward sweep.
+    for i in 1..n {
+        let w = sub[i] / diag[i - 1];
+        diag[i] -= w * sup[i - 1];
+        let r = rhs[i - 1] * w;
+        rhs[i] -= r;
+    }
+    m[n - 1] = rhs[n - 1] / diag[n - 1];
+    for i in (0..n - 1).rev() {
+        m[i] = (rhs[i] - m[i + 1] * sup[i]) / diag[i];
+    }
+    m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn two_points_give_a_straight_line() {
+        let s = Spline::natural(&[Point::new(0.0, 0.0), Point::new(3.0, 4.0)]).unwrap();
+        assert!((s.length() - 5.0).abs() < 1e-12);
+        assert!((s.position(0.5) - Point::new(1.5, 2.0)).norm() < 1e-12);
+        assert!(s.acceleration(0.3).norm() < 1e-12);
+    }
+
+    #[test]
+    fn natural_ends_have_zero_curvature_and_clamped_ends_their_slope() {
+        let pts = [
+            Point::new(0.0, 0.0),
+            Point::new(1.0, 2.0),
+            Point::new(3.0, -1.0),
+            Point::new(4.0, 0.5),
+        ];
+        let s = Spline::natural(&pts).unwrap();
+        assert!(s.acceleration(0.0).norm() < 1e-9 && s.acceleration(1.0).norm() < 1e-9);
+        let (a, b) = (Vector::new(1.0, 0.0), Vector::new(0.0, -2.0));
+        let c = Spline::new(
+            &pts,
+            Parametrization::ChordLength,
+            EndCondition::Clamped { start: a, end: b },
+        )
+        .unwrap();
+        assert!((c.velocity(0.0) - a).norm() < 1e-9 && (c.velocity(1.0) - b).norm() < 1e-9);
+        for (k, p) in pts.iter().enumerate() {
+            assert!((c.position(c.knots()[k]) - p).norm() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn errors_are_typed() {
+        assert_eq!(
+            Spline::natural(&[Point::new(0.0, 0.0)]),
+            Err(SplineError::TooFewPoints(1))
+        );
+        let p = [Point::new(0.0, 0.0), Point::new(Real::NAN, 0.0)];
+        assert_eq!(Spline::natural(&p), Err(SplineError::NonFinite(1)));
+        let p = [
+            Point::new(0.0, 0.0),
+            Point::new(0.0, 0.0),
+            Point::new(1.0, 0.0),
+        ];
+        assert_eq!(
+            Spline::new(&p, Parametrization::ChordLength, EndCondition::Natural),
+            Err(SplineError::Coincident(0, 1))
+        );
+    }
+}

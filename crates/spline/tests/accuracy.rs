@@ -1,0 +1,272 @@
+//! Accuracy of the spline and its integrals against analytic values and dense references,
+//! and the certified clearance against brute force.
+
+use homospline_geom::{Circle, Point, Real, Vector};
+use homospline_spline::{
+    CircleModel, ClearanceModel, CostConfig, EndCondition, Parametrization, Spline, evaluate,
+    min_clearance,
+};
+use proptest::prelude::*;
+
+fn no_obstacles() -> CircleModel {
+    CircleModel::new(vec![Circle::new(1e4, 1e4, 1.0)])
+}
+
+fn only(cfg: CostConfig) -> CostConfig {
+    CostConfig {
+        nodes: 8,
+        pieces: 2,
+        ..cfg
+    }
+}
+
+/// Simpson's rule with `n` (even) intervals.
+fn simpson(f: impl Fn(Real) -> Real, n: usize) -> Real {
+    let h = 1.0 / n as Real;
+    (0..=n)
+        .map(|i| {
+            f(i as Real * h)
+                * if i == 0 || i == n {
+                    1.0
+                } else if i % 2 == 1 {
+                    4.0
+                } else {
+                    2.0
+                }
+        })
+        .sum::<Real>()
+        * h
+        / 3.0
+}
+
+#[test]
+fn straight_line_has_zero_roughness_and_its_length() {
+    let pts = [
+        Point::new(1.0, 2.0),
+        Point::new(4.0, 6.0),
+        Point::new(7.0, 10.0),
+    ];
+    let s = Spline::natural(&pts).unwrap();
+    let t = evaluate(&s, &no_obstacles(), &only(CostConfig::paper_original()));
+    assert!(t.roughness.abs() < 1e-20, "R = {}", t.roughness);
+    assert!((t.length - 10.0).abs() < 1e-12, "L = {}", t.length);
+    assert!(t.topology < 1e-12, "T far from obstacles = {}", t.topology);
+}
+
+#[test]
+fn a_clamped_spline_reproduces_a_cubic_and_its_integrals() {
+    // q(t) = (t, t^3): a clamped spline with the true end slopes is exactly q.
+    let pts: Vec<Point> = (0..=5)
+        .map(|i| i as Real / 5.0)
+        .map(|t| Point::new(t, t * t * t))
+        .collect();
+    let end = EndCondition::Clamped {
+        start: Vector::new(1.0, 0.0),
+        end: Vector::new(1.0, 3.0),
+    };
+    let s = Spline::new(&pts, Parametrization::Uniform, end).unwrap();
+    for k in 0..=100 {
+        let t = k as Real / 100.0;
+        assert!((s.position(t) - Point::new(t, t * t * t)).norm() < 1e-13);
+    }
+    let terms = evaluate(&s, &no_obstacles(), &only(CostConfig::paper_original()));
+    assert!(
+        (terms.roughness - 12.0).abs() < 1e-12,
+        "R = {}",
+        terms.roughness
+    );
+    let exact_len = simpson(|t| (1.0 + 9.0 * t.powi(4)).sqrt(), 200_000);
+    assert!(
+        (terms.length - exact_len).abs() < 1e-12,
+        "L = {} vs {}",
+        terms.length,
+        exact_len
+    );
+}
+
+#[test]
+fn an_arc_has_the_length_of_the_arc() {
+    // 41 points on a half circle of radius 10: the spline is within interpolation error.
+    let pts: Vec<Point> = (0..=40)
+        .map(|i| std::f64::consts::PI * i as Real / 40.0)
+        .map(|a| Point::new(10.0 * a.cos(), 10.0 * a.sin()))
+        .collect();
+    let s = Spline::new(&pts, Parametrization::ChordLength, EndCondition::Natural).unwrap();
+    let t = evaluate(&s, &no_obstacles(), &only(CostConfig::paper_original()));
+    // Natural ends put the interpolation error at the ends (measured 1.7e-4 of 31.4).
+    assert!(
+        (t.length - 10.0 * std::f64::consts::PI).abs() < 1e-3,
+        "L = {}",
+        t.length
+    );
+    // Roughness in arc-length-like parameters: |q''| ~ kappa * (dl/dt)^2 = L^2 / 10.
+    let expect = (10.0 * std::f64::consts::PI).powi(4) / 100.0;
+    assert!(
+        (t.roughness / expect - 1.0).abs() < 0.02,
+        "R = {} vs {}",
+        t.roughness,
+        expect
+    );
+}
+
+#[test]
+fn topology_far_from_every_obstacle_tends_to_zero() {
+    let pts = [
+        Point::new(0.0, 0.0),
+        Point::new(5.0, 1.0),
+        Point::new(10.0, 0.0),
+    ];
+    let s = Spline::natural(&pts).unwrap();
+    let mut last = Real::INFINITY;
+    for dist in [5.0, 10.0, 20.0, 40.0] {
+        let model = CircleModel::new(vec![Circle::new(5.0, 1.0 + dist + 2.0, 2.0)]);
+        let t = evaluate(&s, &model, &only(CostConfig::paper_original()));
+        assert!(t.topology < last);
+        last = t.topology;
+    }
+    assert!(last < 1e-12, "{last}");
+}
+
+/// A wiggly 12-via-point path through a 60-circle field.
+fn field() -> (Spline, CircleModel) {
+    let mut circles = Vec::new();
+    for i in 0..60 {
+        let (x, y) = ((i % 10) as Real * 9.0 + 5.0, (i / 10) as Real * 11.0 + 3.0);
+        circles.push(Circle::new(
+            x + (i as Real * 0.7).sin() * 2.0,
+            y,
+            1.5 + (i % 3) as Real * 0.5,
+        ));
+    }
+    let pts: Vec<Point> = (0..14)
+        .map(|i| {
+            let t = i as Real / 13.0;
+            Point::new(2.0 + 86.0 * t, 35.0 + 9.0 * (t * 11.0).sin())
+        })
+        .collect();
+    (Spline::natural(&pts).unwrap(), CircleModel::new(circles))
+}
+
+fn full_cfg() -> CostConfig {
+    let mut cfg = CostConfig::paper_voronoi();
+    cfg.w_max_clearance = 0.1;
+    cfg.w_danger = 0.5;
+    cfg.w_critical = 0.5;
+    cfg.w_passing_time = 0.2;
+    cfg.danger_points = vec![(Point::new(40.0, 40.0), 8.0)];
+    cfg.critical_points = vec![(Point::new(45.0, 35.0), 30.0)];
+    cfg
+}
+
+#[test]
+fn default_quadrature_is_within_1e_6_of_a_dense_reference() {
+    let (s, model) = field();
+    let cfg = full_cfg();
+    let fast = evaluate(&s, &model, &cfg);
+    let dense = evaluate(
+        &s,
+        &model,
+        &CostConfig {
+            nodes: 32,
+            pieces: 16,
+            ..cfg.clone()
+        },
+    );
+    for (name, a, b) in [
+        ("total", fast.total, dense.total),
+        ("topology", fast.topology, dense.topology),
+        ("roughness", fast.roughness, dense.roughness),
+        ("length", fast.length, dense.length),
+        ("safety", fast.safety, dense.safety),
+        ("passing_time", fast.passing_time, dense.passing_time),
+    ] {
+        assert!(
+            (a - b).abs() <= 1e-6 * b.abs().max(1e-3),
+            "{name}: {a} vs dense {b}"
+        );
+    }
+}
+
+#[test]
+fn doubling_the_samples_changes_the_cost_by_less_than_1e_6() {
+    let (s, model) = field();
+    let cfg = full_cfg();
+    let a = evaluate(&s, &model, &cfg).total;
+    let b = evaluate(
+        &s,
+        &model,
+        &CostConfig {
+            pieces: cfg.pieces * 2,
+            ..cfg.clone()
+        },
+    )
+    .total;
+    assert!((a - b).abs() <= 1e-6 * b.abs(), "{a} vs {b}");
+}
+
+#[test]
+fn arc_length_samples_are_spaced_as_asked() {
+    let (s, _) = field();
+    let spacing = (s.length() / 1000.0).min(0.5);
+    let samples = s.sample_by_arc_length(spacing);
+    assert_eq!(samples[0].1, s.points()[0]);
+    assert_eq!(samples.last().unwrap().1, *s.points().last().unwrap());
+    for w in samples.windows(2) {
+        assert!(w[1].0 > w[0].0);
+        assert!((w[1].1 - w[0].1).norm() <= spacing * (1.0 + 1e-9));
+    }
+    let chord: Real = samples.windows(2).map(|w| (w[1].1 - w[0].1).norm()).sum();
+    assert!((chord - s.length()).abs() < 1e-3 * s.length());
+}
+
+fn random_spline() -> impl Strategy<Value = Spline> {
+    prop::collection::vec((0.0..60.0, 0.0..60.0), 2..10).prop_filter_map("distinct points", |v| {
+        let pts: Vec<Point> = v.into_iter().map(|(x, y)| Point::new(x, y)).collect();
+        Spline::natural(&pts).ok()
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(128))]
+
+    #[test]
+    fn spline_interpolates_and_is_c2(
+        pts in prop::collection::vec((0.0..60.0, 0.0..60.0), 2..12),
+        chord in any::<bool>(),
+    ) {
+        let pts: Vec<Point> = pts.into_iter().map(|(x, y)| Point::new(x, y)).collect();
+        let param = if chord { Parametrization::ChordLength } else { Parametrization::Uniform };
+        let Ok(s) = Spline::new(&pts, param, EndCondition::Natural) else { return Ok(()) };
+        for (i, p) in pts.iter().enumerate() {
+            prop_assert!((s.position(s.knots()[i]) - p).norm() < 1e-9);
+        }
+        let knots = s.knots();
+        for i in 1..s.segments() {
+            let h = knots[i] - knots[i - 1];
+            let (p0, v0, a0) = s.eval_segment(i - 1, h);
+            let (p1, v1, a1) = s.eval_segment(i, 0.0);
+            let scale = 1.0 + v0.norm() + a0.norm();
+            prop_assert!((p0 - p1).norm() < 1e-9 * scale);
+            prop_assert!((v0 - v1).norm() < 1e-7 * scale);
+            prop_assert!((a0 - a1).norm() < 1e-7 * scale);
+        }
+    }
+
+    #[test]
+    fn certified_clearance_brackets_dense_brute_force(
+        s in random_spline(),
+        circles in prop::collection::vec((0.0..60.0, 0.0..60.0, 0.5..6.0), 1..20),
+    ) {
+        let model = CircleModel::new(circles.into_iter().map(|(x, y, r)| Circle::new(x, y, r)).collect());
+        let tol = 1e-4;
+        let c = min_clearance(&s, &model, tol);
+        let n = 20_000;
+        let brute = (0..=n).map(|k| model.clearance(&s.position(k as Real / n as Real)).0).fold(Real::INFINITY, Real::min);
+        prop_assert!(c.lower <= brute + 1e-9, "lower {} > brute {}", c.lower, brute);
+        prop_assert!(c.upper - c.lower <= tol + 1e-12);
+        // The attained value is a real clearance of the curve.
+        prop_assert!((model.clearance(&s.position(c.at)).0 - c.upper).abs() < 1e-9);
+        // lower <= true minimum <= brute, and upper - lower <= tol.
+        prop_assert!(c.upper - brute <= tol + 1e-9, "upper {} brute {}", c.upper, brute);
+    }
+}
