@@ -515,15 +515,16 @@ fn run(
     }
     let total_len = t.length.max(Real::MIN_POSITIVE);
     if need_clearance && worst.0.is_finite() {
-        // Golden-section refinement of m(C) around the worst node, within its segment.
+        // Golden-section refinement of m(C) around the worst node, in global `t` so that a
+        // minimum across a knot is found too.
         let (_, seg, s0, half) = worst;
-        let hseg = knots[seg + 1] - knots[seg];
-        let f = |s: Real| model.clearance(&spline.eval_segment(seg, s).0).0;
-        let (mut a, mut b) = ((s0 - half).max(0.0), (s0 + half).min(hseg));
+        let t0 = knots[seg] + s0;
+        let f = |t: Real| model.clearance(&spline.position(t)).0;
+        let (mut a, mut b) = ((t0 - half).max(0.0), (t0 + half).min(1.0));
         let r = 0.5 * (5.0_f64.sqrt() - 1.0);
         let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
         let (mut fc, mut fd) = (f(c), f(d));
-        for _ in 0..40 {
+        for _ in 0..48 {
             if fc < fd {
                 b = d;
                 d = c;
@@ -538,12 +539,13 @@ fn run(
                 fd = f(d);
             }
         }
-        let (sb, fb) = if fc < fd { (c, fc) } else { (d, fd) };
-        let (sm, m) = if fb < worst.0 {
-            (sb, fb)
+        let (tb, fb) = if fc < fd { (c, fc) } else { (d, fd) };
+        let (tm, m) = if fb < worst.0 {
+            (tb, fb)
         } else {
-            (s0, worst.0)
+            (t0, worst.0)
         };
+        let (seg, sm) = spline.locate(tm);
         t.min_clearance = m;
         t.safety = cfg.omega.powf(cfg.dm - m);
         if let Some(g) = grad.as_deref_mut() {
