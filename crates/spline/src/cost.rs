@@ -377,22 +377,6 @@ pub fn gradient(
     (terms, g)
 }
 
-thread_local! {
-    static RULES: std::cell::RefCell<Vec<(usize, Vec<Real>, Vec<Real>)>> = const { std::cell::RefCell::new(Vec::new()) };
-}
-
-fn rule(n: usize) -> (Vec<Real>, Vec<Real>) {
-    RULES.with(|r| {
-        let mut r = r.borrow_mut();
-        if let Some((_, x, w)) = r.iter().find(|(k, _, _)| *k == n) {
-            return (x.clone(), w.clone());
-        }
-        let (x, w) = gauss_legendre(n);
-        r.push((n, x.clone(), w.clone()));
-        (x, w)
-    })
-}
-
 fn unit(v: &Vector) -> Vector {
     let n = v.norm();
     if n > 0.0 { v / n } else { Vector::zeros() }
@@ -404,7 +388,7 @@ fn run(
     cfg: &CostConfig,
     mut grad: Option<&mut Vec<NodePartial>>,
 ) -> CostTerms {
-    let (gx, gw) = rule(cfg.nodes.clamp(2, 64));
+    let (gx, gw) = gauss_legendre(cfg.nodes.clamp(2, 64));
     let pieces = cfg.pieces.max(1);
     let mut t = CostTerms {
         min_clearance: Real::INFINITY,
@@ -548,7 +532,7 @@ fn run(
         let (seg, sm) = spline.locate(tm);
         t.min_clearance = m;
         t.safety = cfg.omega.powf(cfg.dm - m);
-        if let Some(g) = grad.as_deref_mut() {
+        if let Some(g) = grad {
             let (_, dd) = model.clearance(&spline.eval_segment(seg, sm).0);
             let coef = -cfg.w_safety * t.safety * cfg.omega.ln();
             g.push(NodePartial {
