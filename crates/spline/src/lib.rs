@@ -11,6 +11,19 @@
 //!   curve, refined where clearance is small.
 //!
 //! This crate knows nothing of grids or graphs; it depends on `geom` only.
+//!
+//! ```
+//! use homospline_geom::{Circle, Point};
+//! use homospline_spline::{CircleModel, CostConfig, Spline, evaluate, min_clearance};
+//!
+//! let model = CircleModel::new(vec![Circle::new(30.0, 30.0, 5.0)]);
+//! let pts = [Point::new(5.0, 30.0), Point::new(30.0, 45.0), Point::new(55.0, 30.0)];
+//! let spline = Spline::natural(&pts).unwrap();
+//! let cost = evaluate(&spline, &model, &CostConfig::paper_voronoi()); // cost (10)
+//! assert!(cost.total > cost.length * 0.5);
+//! let clear = min_clearance(&spline, &model, 1e-6); // lower <= min <= upper
+//! assert!(clear.collision_free());
+//! ```
 
 pub mod certify;
 pub mod cost;
