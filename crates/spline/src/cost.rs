@@ -26,7 +26,7 @@ use homospline_geom::{Point, Real, Scene, Vector};
 use thiserror::Error;
 
 use crate::curve::{Parametrization, Spline};
-use crate::field::ClearanceModel;
+use crate::field::{ClearanceModel, FieldSample};
 use crate::quad::gauss_legendre;
 
 /// Weights and parameters of the cost.
@@ -399,47 +399,54 @@ fn run(
     let need_clearance = cfg.w_safety > 0.0 || cfg.w_max_clearance > 0.0 || grad.is_none();
     let knots = spline.knots();
     let nodes = gx.len();
-    let mut pts = vec![Point::origin(); nodes];
-    let mut der = vec![(Vector::zeros(), Vector::zeros()); nodes];
-    let mut field = vec![(0.0, Vector::zeros()); nodes];
+    // All quadrature nodes of the curve first, then one field query for all of them.
+    let mut pts = Vec::with_capacity(spline.segments() * pieces * nodes);
+    let mut meta = Vec::with_capacity(pts.capacity()); // (segment, s, weight, gap, v, a)
+    let (mut lo, mut hi) = (spline.points()[0], spline.points()[0]);
+    for seg in 0..spline.segments() {
+        let h = (knots[seg + 1] - knots[seg]) / pieces as Real;
+        let (blo, bhi) = spline.segment_box(seg);
+        lo = lo.inf(&blo);
+        hi = hi.sup(&bhi);
+        for piece in 0..pieces {
+            let base = h * piece as Real;
+            for k in 0..nodes {
+                let s = base + h * gx[k];
+                let (p, v, a) = spline.eval_segment(seg, s);
+                pts.push(p);
+                meta.push((seg, s, gw[k] * h, h / nodes as Real, v, a));
+            }
+        }
+    }
+    let mut field = vec![FieldSample::default(); pts.len()];
+    if need_field {
+        model.field_batch(&pts, cfg.alpha, (lo, hi), &mut field);
+    }
     // Node with the smallest clearance: (clearance, segment, s, a bound on the node gap).
     let mut worst = (Real::INFINITY, 0usize, 0.0, 0.0);
-    // (segment, s, weight, speed) of each node, in order, for the line-of-sight shares.
+    // (segment, s, length weight, point) of each node, in order, for the line-of-sight shares.
     let mut trail: Vec<(usize, Real, Real, Point)> = Vec::new();
     let need_trail = cfg.w_start_visibility > 0.0
         || cfg.w_goal_visibility > 0.0
         || (cfg.w_sheltered > 0.0 && !cfg.hazards.is_empty());
-    for seg in 0..spline.segments() {
-        let h = (knots[seg + 1] - knots[seg]) / pieces as Real;
-        let (lo, hi) = spline.segment_box(seg);
-        for piece in 0..pieces {
-            let base = h * piece as Real;
-            for k in 0..nodes {
-                let (p, d1, d2) = spline.eval_segment(seg, base + h * gx[k]);
-                pts[k] = p;
-                der[k] = (d1, d2);
-            }
-            if need_field {
-                model.potential_batch(&pts, cfg.alpha, (lo, hi), &mut field);
-            }
-            for k in 0..nodes {
-                let s = base + h * gx[k];
-                let wq = gw[k] * h;
-                let (p, (v, a)) = (pts[k], der[k]);
+    {
+        {
+            for (idx, &(seg, s, wq, gap, v, a)) in meta.iter().enumerate() {
+                let p = pts[idx];
                 let speed = v.norm();
                 let vhat = unit(&v);
                 t.length += wq * speed;
                 t.roughness += wq * a.norm_squared();
-                let (u, du) = field[k];
+                let (u, du) = (field[idx].potential, field[idx].potential_grad);
                 t.topology += wq * u * speed;
                 let mut gq = Vector::zeros();
                 let mut gv = vhat * (cfg.w_length + cfg.w_topology * u) * wq;
                 let mut ga = a * (2.0 * cfg.w_roughness * wq);
                 gq += du * (cfg.w_topology * wq * speed);
                 if need_clearance {
-                    let (d, dd) = model.clearance(&p);
+                    let (d, dd) = (field[idx].clearance, field[idx].clearance_grad);
                     if d < worst.0 {
-                        worst = (d, seg, s, h / nodes as Real);
+                        worst = (d, seg, s, gap);
                     }
                     if d > cfg.d_max {
                         t.max_clearance += wq * (d - cfg.d_max) * speed;

@@ -12,21 +12,72 @@ use homospline_geom::{Circle, CircleSet, Point, Real, Vector};
 /// length there.
 pub const POTENTIAL_CUTOFF: Real = 30.0;
 
+/// `exp(x)` without branches or library calls, so that loops over it vectorise: range
+/// reduction `x = k ln 2 + r`, `|r| <= ln 2 / 2`, a degree-13 Taylor polynomial for `e^r`
+/// (truncation below 2e-16 relative) and `2^k` assembled in the exponent bits. `x` is
+/// clamped to `[-700, 700]` (the potential needs no more: `e^700` already makes `U` zero).
+#[inline(always)]
+pub fn exp_fast(x: Real) -> Real {
+    const LOG2E: Real = std::f64::consts::LOG2_E;
+    const LN2_HI: Real = 6.931_471_803_691_238_2e-1;
+    const LN2_LO: Real = 1.908_214_929_270_587_7e-10;
+    const SHIFTER: Real = 6_755_399_441_055_744.0; // 1.5 * 2^52: rounds to an integer
+    let x = x.max(-700.0).min(700.0);
+    let shifted = x * LOG2E + SHIFTER;
+    let kf = shifted - SHIFTER;
+    let r = (x - kf * LN2_HI) - kf * LN2_LO;
+    let mut p = 1.0 / 6_227_020_800.0;
+    for c in [
+        1.0 / 479_001_600.0,
+        1.0 / 39_916_800.0,
+        1.0 / 3_628_800.0,
+        1.0 / 362_880.0,
+        1.0 / 40_320.0,
+        1.0 / 5_040.0,
+        1.0 / 720.0,
+        1.0 / 120.0,
+        1.0 / 24.0,
+        1.0 / 6.0,
+        0.5,
+        1.0,
+        1.0,
+    ] {
+        p = p * r + c;
+    }
+    // k sits in the low mantissa bits of `shifted`: integer arithmetic only, so it vectorises.
+    let k = shifted.to_bits().wrapping_sub(SHIFTER.to_bits());
+    p * Real::from_bits(k.wrapping_add(1023) << 52)
+}
+
+/// What [`ClearanceModel::field_batch`] returns for one point.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FieldSample {
+    /// Repulsive potential.
+    pub potential: Real,
+    /// Its gradient.
+    pub potential_grad: Vector,
+    /// Clearance `d(q)`.
+    pub clearance: Real,
+    /// Its gradient.
+    pub clearance_grad: Vector,
+}
+
 /// Obstacles as the cost sees them.
 pub trait ClearanceModel: Send + Sync {
     /// Clearance `d(q)` (equation 6; negative inside) and its gradient.
     fn clearance(&self, p: &Point) -> (Real, Vector);
 
-    /// The repulsive potential and its gradient at each point of `pts`, written to `out`.
-    /// For circles it is `sum_c U_c(q)` (equations 1-2); a distance field gives
-    /// `1 + tanh(-alpha d(q))`. `region` is a box holding every point of `pts`: a model may
-    /// skip obstacles whose potential is negligible (below [`POTENTIAL_CUTOFF`]) in all of it.
-    fn potential_batch(
+    /// The repulsive potential, the clearance and their gradients at each point of `pts`,
+    /// written to `out`. For circles the potential is `sum_c U_c(q)` (equations 1-2); a
+    /// distance field gives `1 + tanh(-alpha d(q))`. `region` is a box holding every point of
+    /// `pts`: a model may skip obstacles whose potential is negligible (below
+    /// [`POTENTIAL_CUTOFF`]) in all of it, but the clearance must stay exact.
+    fn field_batch(
         &self,
         pts: &[Point],
         alpha: Real,
         region: (Point, Point),
-        out: &mut [(Real, Vector)],
+        out: &mut [FieldSample],
     );
 
     /// Whether the segment `[a, b]` is free of obstacles.
@@ -73,14 +124,21 @@ impl ClearanceModel for CircleModel {
         }
     }
 
-    fn potential_batch(
+    fn field_batch(
         &self,
         pts: &[Point],
         alpha: Real,
         region: (Point, Point),
-        out: &mut [(Real, Vector)],
+        out: &mut [FieldSample],
     ) {
-        out.iter_mut().for_each(|o| *o = (0.0, Vector::zeros()));
+        let n = pts.len().min(out.len());
+        let px: Vec<Real> = pts[..n].iter().map(|p| p.x).collect();
+        let py: Vec<Real> = pts[..n].iter().map(|p| p.y).collect();
+        let mut u_sum = vec![0.0; n];
+        let mut gx = vec![0.0; n];
+        let mut gy = vec![0.0; n];
+        let mut best = vec![Real::INFINITY; n];
+        let mut best_k = vec![usize::MAX; n];
         let (lo, hi) = region;
         for k in 0..self.xs.len() {
             let (cx, cy, r) = (self.xs[k], self.ys[k], self.rs[k]);
@@ -90,20 +148,50 @@ impl ClearanceModel for CircleModel {
             if 2.0 * alpha * (dbox - r) > POTENTIAL_CUTOFF {
                 continue;
             }
-            for (p, o) in pts.iter().zip(out.iter_mut()) {
-                let (vx, vy) = (p.x - cx, p.y - cy);
+            // A branch-free loop over equal-length slices: it vectorises.
+            let two_alpha = 2.0 * alpha;
+            let lanes = px
+                .iter()
+                .zip(py.iter())
+                .zip(u_sum.iter_mut())
+                .zip(gx.iter_mut().zip(gy.iter_mut()))
+                .zip(best.iter_mut().zip(best_k.iter_mut()));
+            for ((((&x, &y), us), (gxi, gyi)), (bi, bki)) in lanes {
+                let (vx, vy) = (x - cx, y - cy);
                 let d = (vx * vx + vy * vy).sqrt();
                 // U = 2 / (1 + e), e = exp(2 alpha (d - r)); dU/dd = -alpha (1 - tanh^2)
-                //   = -alpha U (2 - U).
-                let e = (2.0 * alpha * (d - r)).exp();
-                let u = 2.0 / (1.0 + e);
-                o.0 += u;
-                if d > 0.0 {
-                    let g = -alpha * u * (2.0 - u) / d;
-                    o.1.x += g * vx;
-                    o.1.y += g * vy;
-                }
+                //   = -alpha U (2 - U). At the centre the gradient is undefined: 0 there.
+                let c = d - r;
+                let u = 2.0 / (1.0 + exp_fast(two_alpha * c));
+                *us += u;
+                let inv_d = if d > 0.0 { 1.0 / d } else { 0.0 };
+                let g = -alpha * u * (2.0 - u) * inv_d;
+                *gxi += g * vx;
+                *gyi += g * vy;
+                let better = c < *bi;
+                *bi = if better { c } else { *bi };
+                *bki = if better { k } else { *bki };
             }
+        }
+        // Circles skipped above are farther than the cutoff from every point; where no kept
+        // circle is nearer than that, ask the exact query.
+        let cutoff_distance = POTENTIAL_CUTOFF / (2.0 * alpha);
+        for i in 0..n {
+            let p = pts[i];
+            let (clearance, clearance_grad) = if best[i] <= cutoff_distance {
+                let k = best_k[i];
+                let v = Vector::new(p.x - self.xs[k], p.y - self.ys[k]);
+                let d = v.norm();
+                (best[i], if d > 0.0 { v / d } else { Vector::zeros() })
+            } else {
+                self.clearance(&p)
+            };
+            out[i] = FieldSample {
+                potential: u_sum[i],
+                potential_grad: Vector::new(gx[i], gy[i]),
+                clearance,
+                clearance_grad,
+            };
         }
     }
 
@@ -115,5 +203,22 @@ impl ClearanceModel for CircleModel {
         self.set
             .distance_to_segment(a, b)
             .map_or(Real::INFINITY, |d| d.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exp_fast_matches_the_library_exp() {
+        let mut worst: Real = 0.0;
+        let mut x = -700.0;
+        while x <= 700.0 {
+            let rel = (exp_fast(x) - x.exp()).abs() / x.exp();
+            worst = worst.max(rel);
+            x += 0.0137;
+        }
+        assert!(worst < 1e-14, "worst relative error {worst}");
     }
 }
