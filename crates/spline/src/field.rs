@@ -19,10 +19,10 @@ pub const POTENTIAL_CUTOFF: Real = 30.0;
 #[inline(always)]
 pub fn exp_fast(x: Real) -> Real {
     const LOG2E: Real = std::f64::consts::LOG2_E;
-    const LN2_HI: Real = 6.931_471_803_691_238_2e-1;
-    const LN2_LO: Real = 1.908_214_929_270_587_7e-10;
+    const LN2_HI: Real = Real::from_bits(0x3fe6_2e42_fee0_0000); // ln 2, upper bits
+    const LN2_LO: Real = Real::from_bits(0x3dea_39ef_3579_3c76); // ln 2 - LN2_HI
     const SHIFTER: Real = 6_755_399_441_055_744.0; // 1.5 * 2^52: rounds to an integer
-    let x = x.max(-700.0).min(700.0);
+    let x = x.clamp(-700.0, 700.0);
     let shifted = x * LOG2E + SHIFTER;
     let kf = shifted - SHIFTER;
     let r = (x - kf * LN2_HI) - kf * LN2_LO;
