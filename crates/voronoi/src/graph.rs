@@ -1,0 +1,598 @@
+//! The generalized Voronoi graph: where the brushfire fronts of two obstacles meet.
+//!
+//! Every cell belongs to the region of its nearest obstacle ([`DistanceField::nearest`]).
+//! The generalized Voronoi diagram is the set of *cracks*, the cell sides between cells of
+//! different regions: a one-cell-wide, 4-connected curve network on the lattice of cell
+//! corners, with no thinning needed and no breaks, since it is the boundary of a partition of
+//! the plane. Corners where three or more cracks meet are junctions. For a connected free
+//! space with `k` obstacles inside the wall, the regions are `k` bounded faces and the outer
+//! one, so the network has exactly `k` independent cycles.
+//!
+//! The topological layer: nodes (junctions, plus one anchor on each crack loop that meets no
+//! junction) and edges (the crack chains between them, with length, minimum and mean
+//! clearance, and a polyline simplified to within 0.75 cell of the chain).
+
+use homospline_geom::{Point, Real};
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use crate::field::DistanceField;
+use crate::grid::Grid;
+
+/// Version of the serialised graph ([`VoronoiGraph::to_msgpack`]).
+pub const GRAPH_FORMAT_VERSION: u32 = 1;
+
+/// What a node is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum NodeKind {
+    /// Three or more regions meet (or the anchor of a loop).
+    Junction,
+    /// A spur's end.
+    DeadEnd,
+    /// The start point.
+    Start,
+    /// The goal point.
+    Goal,
+}
+
+/// A node of the graph.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Node {
+    /// Index in `nodes`.
+    pub id: usize,
+    /// Position in map coordinates.
+    pub at: [Real; 2],
+    /// Clearance in map units.
+    pub clearance: Real,
+    /// Kind.
+    pub kind: NodeKind,
+}
+
+/// An arc of the graph.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Edge {
+    /// Node index.
+    pub from: usize,
+    /// Node index (equal to `from` on a loop).
+    pub to: usize,
+    /// Length of the polyline, map units.
+    pub length: Real,
+    /// Smallest clearance along it, map units.
+    pub min_clearance: Real,
+    /// Mean clearance along it, map units.
+    pub mean_clearance: Real,
+    /// From `from` to `to`, map coordinates.
+    pub polyline: Vec<[Real; 2]>,
+}
+
+/// An obstacle of the grid (an 8-connected component of occupied cells other than the wall).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GridObstacle {
+    /// Key in the distance field.
+    pub key: u32,
+    /// A point strictly inside it: the centre of its key cell.
+    pub representative: [Real; 2],
+}
+
+/// The graph, with start and goal attached when they were given.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct VoronoiGraph {
+    /// Cells per map unit.
+    pub resolution: Real,
+    /// Nodes.
+    pub nodes: Vec<Node>,
+    /// Edges.
+    pub edges: Vec<Edge>,
+    /// The node the start is (kind `start`).
+    pub start: Option<usize>,
+    /// The node the goal is (kind `goal`).
+    pub goal: Option<usize>,
+    /// The obstacles inside the wall, with representative points.
+    #[serde(default)]
+    pub obstacles: Vec<GridObstacle>,
+}
+
+/// Why a graph cannot be made.
+#[derive(Debug, Error, PartialEq)]
+pub enum GraphError {
+    /// The point is outside the grid.
+    #[error("the {0} [{1}, {2}] is outside the grid")]
+    Outside(&'static str, Real, Real),
+    /// The point falls in an occupied cell at this resolution.
+    #[error("the {0} [{1}, {2}] falls in an occupied cell at this resolution: raise the resolution")]
+    Occupied(&'static str, Real, Real),
+    /// Start and goal are in different free regions.
+    #[error("start and goal are in different free regions: no path joins them")]
+    DifferentRegions,
+    /// A serialised graph could not be read.
+    #[error("cannot read the graph: {0}")]
+    Decode(String),
+    /// A serialised graph has another format version.
+    #[error("graph format version {0} is not supported (this build reads {GRAPH_FORMAT_VERSION})")]
+    Version(u32),
+}
+
+/// Crack bitsets: `v[j * (w + 1) + i]` is the side between cells `(i - 1, j)` and `(i, j)`
+/// (corner `(i, j)` to `(i, j + 1)`); `h[j * (w + 1) + i]` the side between `(i, j - 1)` and
+/// `(i, j)` (corner `(i, j)` to `(i + 1, j)`).
+struct Cracks {
+    cw: usize,
+    ch: usize,
+    v: Vec<bool>,
+    h: Vec<bool>,
+}
+
+impl Cracks {
+    fn new(field: &DistanceField) -> Self {
+        let (w, h) = (field.width(), field.height());
+        let (cw, ch) = (w + 1, h + 1);
+        let mut v = vec![false; cw * ch];
+        let mut hz = vec![false; cw * ch];
+        for j in 0..h {
+            for i in 0..w {
+                let k = field.nearest(i, j);
+                if i > 0 && field.nearest(i - 1, j) != k {
+                    v[j * cw + i] = true;
+                }
+                if j > 0 && field.nearest(i, j - 1) != k {
+                    hz[j * cw + i] = true;
+                }
+            }
+        }
+        Self { cw, ch, v, h: hz }
+    }
+
+    /// The corners joined to corner `c` by a crack, in the order up, right, down, left,
+    /// with the crack id (`2 * corner + 0` vertical, `+ 1` horizontal).
+    fn neighbours(&self, c: usize, out: &mut Vec<(usize, usize)>) {
+        out.clear();
+        let (i, j) = (c % self.cw, c / self.cw);
+        if j + 1 < self.ch && self.v[c] {
+            out.push((c + self.cw, 2 * c));
+        }
+        if i + 1 < self.cw && self.h[c] {
+            out.push((c + 1, 2 * c + 1));
+        }
+        if j > 0 && self.v[c - self.cw] {
+            out.push((c - self.cw, 2 * (c - self.cw)));
+        }
+        if i > 0 && self.h[c - 1] {
+            out.push((c - 1, 2 * (c - 1) + 1));
+        }
+    }
+}
+
+struct Builder<'a> {
+    grid: &'a Grid,
+    field: &'a DistanceField,
+    cracks: Cracks,
+}
+
+impl Builder<'_> {
+    fn corner_point(&self, c: usize) -> Point {
+        self.grid.corner(c % self.cracks.cw, c / self.cracks.cw)
+    }
+
+    /// Clearance of a crack: the smaller of its two cells', in map units.
+    fn crack_clearance(&self, crack: usize) -> Real {
+        let c = crack / 2;
+        let (i, j) = (c % self.cracks.cw, c / self.cracks.cw);
+        let (a, b) = if crack % 2 == 0 { ((i - 1, j), (i, j)) } else { ((i, j - 1), (i, j)) };
+        self.field.clearance_cells(a.0, a.1).min(self.field.clearance_cells(b.0, b.1)) * self.grid.cell()
+    }
+
+    /// Clearance at a corner: the smallest of the cells around it.
+    fn corner_clearance(&self, c: usize) -> Real {
+        let (i, j) = (c % self.cracks.cw, c / self.cracks.cw);
+        let mut m = Real::INFINITY;
+        for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            if i >= di && j >= dj && i - di < self.field.width() && j - dj < self.field.height() {
+                m = m.min(self.field.clearance_cells(i - di, j - dj));
+            }
+        }
+        m * self.grid.cell()
+    }
+}
+
+/// A traced chain of corners between two nodes, before simplification.
+struct Chain {
+    from: usize,
+    to: usize,
+    corners: Vec<usize>,
+    cracks: Vec<usize>,
+}
+
+impl VoronoiGraph {
+    /// The graph of `field` over `grid`; start and goal attached when given.
+    pub fn build(
+        grid: &Grid,
+        field: &DistanceField,
+        start: Option<Point>,
+        goal: Option<Point>,
+    ) -> Result<Self, GraphError> {
+        let b = Builder { grid, field, cracks: Cracks::new(field) };
+        let ncorners = b.cracks.cw * b.cracks.ch;
+        let mut nb = Vec::with_capacity(4);
+        // Nodes: corners of degree other than 2.
+        let mut node_of = std::collections::HashMap::new();
+        let mut node_corners = Vec::new();
+        let mut crack_corners = Vec::new();
+        for c in 0..ncorners {
+            b.cracks.neighbours(c, &mut nb);
+            if nb.is_empty() {
+                continue;
+            }
+            crack_corners.push(c);
+            if nb.len() != 2 {
+                node_of.insert(c, node_corners.len());
+                node_corners.push(c);
+            }
+        }
+        let mut used = vec![false; 2 * ncorners];
+        let mut chains = Vec::new();
+        let trace = |from_node: usize,
+                     c0: usize,
+                     first: (usize, usize),
+                     used: &mut Vec<bool>,
+                     node_of: &std::collections::HashMap<usize, usize>,
+                     nb: &mut Vec<(usize, usize)>|
+         -> Chain {
+            let mut corners = vec![c0];
+            let mut cracks = vec![first.1];
+            used[first.1] = true;
+            let mut cur = first.0;
+            loop {
+                corners.push(cur);
+                if let Some(&n) = node_of.get(&cur) {
+                    return Chain { from: from_node, to: n, corners, cracks };
+                }
+                b.cracks.neighbours(cur, nb);
+                let Some(&next) = nb.iter().find(|(_, k)| !used[*k]) else {
+                    // Back at a loop's anchor through its last crack.
+                    return Chain { from: from_node, to: from_node, corners, cracks };
+                };
+                used[next.1] = true;
+                cracks.push(next.1);
+                cur = next.0;
+            }
+        };
+        for (n, &c) in node_corners.iter().enumerate() {
+            b.cracks.neighbours(c, &mut nb);
+            let starts: Vec<(usize, usize)> = nb.clone();
+            for s in starts {
+                if !used[s.1] {
+                    chains.push(trace(n, c, s, &mut used, &node_of, &mut nb));
+                }
+            }
+        }
+        // Loops that meet no junction: anchor each at its first corner in raster order.
+        for &c in &crack_corners {
+            b.cracks.neighbours(c, &mut nb);
+            if let Some(&s) = nb.iter().find(|(_, k)| !used[*k]) {
+                let n = node_corners.len();
+                node_of.insert(c, n);
+                node_corners.push(c);
+                chains.push(trace(n, c, s, &mut used, &node_of, &mut nb));
+            }
+        }
+        let mut g = VoronoiGraph {
+            resolution: grid.resolution(),
+            nodes: node_corners
+                .iter()
+                .enumerate()
+                .map(|(id, &c)| {
+                    let p = b.corner_point(c);
+                    b.cracks.neighbours(c, &mut nb);
+                    let kind = if nb.len() == 1 { NodeKind::DeadEnd } else { NodeKind::Junction };
+                    Node { id, at: [p.x, p.y], clearance: b.corner_clearance(c), kind }
+                })
+                .collect(),
+            edges: Vec::new(),
+            start: None,
+            goal: None,
+            obstacles: field
+                .obstacles()
+                .filter(|&k| k != field.wall_key())
+                .map(|key| {
+                    let (i, j) = (key as usize % grid.width(), key as usize / grid.width());
+                    let p = grid.center(i, j);
+                    GridObstacle { key, representative: [p.x, p.y] }
+                })
+                .collect(),
+        };
+        // Attach start and goal by splitting chains at the crack corner they reach.
+        let mut attach = |g: &mut VoronoiGraph,
+                          chains: &mut Vec<Chain>,
+                          p: Point,
+                          what: &'static str,
+                          kind: NodeKind|
+         -> Result<usize, GraphError> {
+            let (path, corner) = attach_path(&b, p, what)?;
+            let at_node = match node_of.get(&corner) {
+                Some(&n) => n,
+                None => {
+                    // Split the chain through `corner`.
+                    let (ci, k) = chains
+                        .iter()
+                        .enumerate()
+                        .find_map(|(ci, ch)| ch.corners.iter().position(|&x| x == corner).map(|k| (ci, k)))
+                        .ok_or(GraphError::DifferentRegions)?;
+                    let n = g.nodes.len();
+                    let q = b.corner_point(corner);
+                    g.nodes.push(Node { id: n, at: [q.x, q.y], clearance: b.corner_clearance(corner), kind: NodeKind::Junction });
+                    node_of.insert(corner, n);
+                    let old = chains.swap_remove(ci);
+                    let tail = Chain {
+                        from: n,
+                        to: old.to,
+                        corners: old.corners[k..].to_vec(),
+                        cracks: old.cracks[k..].to_vec(),
+                    };
+                    let head = Chain {
+                        from: old.from,
+                        to: n,
+                        corners: old.corners[..=k].to_vec(),
+                        cracks: old.cracks[..k].to_vec(),
+                    };
+                    chains.insert(ci.min(chains.len()), head);
+                    chains.push(tail);
+                    n
+                }
+            };
+            let id = g.nodes.len();
+            g.nodes.push(Node { id, at: [p.x, p.y], clearance: b.field_clearance_at(&p), kind });
+            g.edges.push(connector(&b, id, at_node, &path, corner));
+            Ok(id)
+        };
+        if let Some(s) = start {
+            g.start = Some(attach(&mut g, &mut chains, s, "start", NodeKind::Start)?);
+        }
+        if let Some(t) = goal {
+            g.goal = Some(attach(&mut g, &mut chains, t, "goal", NodeKind::Goal)?);
+        }
+        let connectors = std::mem::take(&mut g.edges);
+        g.edges = chains.iter().map(|ch| b.edge(ch)).collect();
+        g.edges.extend(connectors);
+        if let (Some(s), Some(t)) = (g.start, g.goal)
+            && !g.connected(s, t)
+        {
+            return Err(GraphError::DifferentRegions);
+        }
+        Ok(g)
+    }
+
+    /// Whether nodes `a` and `b` are joined by edges.
+    pub fn connected(&self, a: usize, b: usize) -> bool {
+        let mut parent: Vec<usize> = (0..self.nodes.len()).collect();
+        fn find(p: &mut [usize], mut i: usize) -> usize {
+            while p[i] != i {
+                p[i] = p[p[i]];
+                i = p[i];
+            }
+            i
+        }
+        for e in &self.edges {
+            let (x, y) = (find(&mut parent, e.from), find(&mut parent, e.to));
+            parent[x] = y;
+        }
+        find(&mut parent, a) == find(&mut parent, b)
+    }
+
+    /// Independent cycles: `E - V + C` (loops count one each).
+    pub fn cycle_rank(&self) -> usize {
+        let mut parent: Vec<usize> = (0..self.nodes.len()).collect();
+        fn find(p: &mut [usize], mut i: usize) -> usize {
+            while p[i] != i {
+                p[i] = p[p[i]];
+                i = p[i];
+            }
+            i
+        }
+        let mut components = self.nodes.len();
+        for e in &self.edges {
+            let (x, y) = (find(&mut parent, e.from), find(&mut parent, e.to));
+            if x != y {
+                parent[x] = y;
+                components -= 1;
+            }
+        }
+        self.edges.len() + components - self.nodes.len()
+    }
+
+    /// Removes dead-end spurs shorter than `min_length` (map units), repeatedly, and merges
+    /// the degree-2 nodes this leaves. Start and goal are never removed.
+    pub fn prune_spurs(&mut self, min_length: Real) {
+        loop {
+            let mut degree = vec![0usize; self.nodes.len()];
+            for e in &self.edges {
+                degree[e.from] += 1;
+                degree[e.to] += 1;
+            }
+            let removable = |n: usize| degree[n] == 1 && !matches!(self.nodes[n].kind, NodeKind::Start | NodeKind::Goal);
+            let before = self.edges.len();
+            self.edges.retain(|e| !(e.length < min_length && e.from != e.to && (removable(e.from) || removable(e.to))));
+            if self.edges.len() == before {
+                break;
+            }
+        }
+        self.compact();
+    }
+
+    /// Drops nodes no edge uses and renumbers.
+    fn compact(&mut self) {
+        let mut used = vec![false; self.nodes.len()];
+        for e in &self.edges {
+            used[e.from] = true;
+            used[e.to] = true;
+        }
+        for n in [self.start, self.goal].into_iter().flatten() {
+            used[n] = true;
+        }
+        let mut map = vec![usize::MAX; self.nodes.len()];
+        let mut nodes = Vec::new();
+        for (i, n) in self.nodes.iter().enumerate() {
+            if used[i] {
+                map[i] = nodes.len();
+                nodes.push(Node { id: nodes.len(), ..n.clone() });
+            }
+        }
+        for e in &mut self.edges {
+            e.from = map[e.from];
+            e.to = map[e.to];
+        }
+        self.start = self.start.map(|s| map[s]);
+        self.goal = self.goal.map(|s| map[s]);
+        self.nodes = nodes;
+    }
+
+    /// The graph as the JSON of `shared/docs/formats.md`.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_default()
+    }
+
+    /// The graph as MessagePack with its format version, for building offline.
+    pub fn to_msgpack(&self) -> Vec<u8> {
+        #[derive(Serialize)]
+        struct File<'a> {
+            format_version: u32,
+            graph: &'a VoronoiGraph,
+        }
+        rmp_serde::to_vec_named(&File { format_version: GRAPH_FORMAT_VERSION, graph: self }).unwrap_or_default()
+    }
+
+    /// Reads [`VoronoiGraph::to_msgpack`] output.
+    pub fn from_msgpack(bytes: &[u8]) -> Result<Self, GraphError> {
+        #[derive(Deserialize)]
+        struct Head {
+            format_version: u32,
+        }
+        #[derive(Deserialize)]
+        struct File {
+            graph: VoronoiGraph,
+        }
+        let head: Head = rmp_serde::from_slice(bytes).map_err(|e| GraphError::Decode(e.to_string()))?;
+        if head.format_version != GRAPH_FORMAT_VERSION {
+            return Err(GraphError::Version(head.format_version));
+        }
+        let f: File = rmp_serde::from_slice(bytes).map_err(|e| GraphError::Decode(e.to_string()))?;
+        Ok(f.graph)
+    }
+}
+
+impl Builder<'_> {
+    fn field_clearance_at(&self, p: &Point) -> Real {
+        self.grid
+            .cell_of(p)
+            .map_or(0.0, |(i, j)| self.field.clearance_cells(i, j) * self.grid.cell())
+    }
+
+    fn edge(&self, ch: &Chain) -> Edge {
+        let pts: Vec<Point> = ch.corners.iter().map(|&c| self.corner_point(c)).collect();
+        let simplified = douglas_peucker(&pts, 0.75 * self.grid.cell());
+        let length = simplified.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+        let cl: Vec<Real> = ch.cracks.iter().map(|&k| self.crack_clearance(k)).collect();
+        let min_clearance = cl.iter().copied().fold(Real::INFINITY, Real::min);
+        let mean_clearance = if cl.is_empty() { 0.0 } else { cl.iter().sum::<Real>() / cl.len() as Real };
+        Edge {
+            from: ch.from,
+            to: ch.to,
+            length,
+            min_clearance: if min_clearance.is_finite() { min_clearance } else { 0.0 },
+            mean_clearance,
+            polyline: simplified.iter().map(|p| [p.x, p.y]).collect(),
+        }
+    }
+}
+
+/// The free-cell path from `p` to the nearest cell that borders a crack (breadth-first,
+/// 4-connected, fixed neighbour order), and the crack corner it reaches.
+fn attach_path(b: &Builder<'_>, p: Point, what: &'static str) -> Result<(Vec<(usize, usize)>, usize), GraphError> {
+    let grid = b.grid;
+    let (i, j) = grid.cell_of(&p).ok_or(GraphError::Outside(what, p.x, p.y))?;
+    if grid.occupied(i, j) {
+        return Err(GraphError::Occupied(what, p.x, p.y));
+    }
+    let (w, h) = (grid.width(), grid.height());
+    let cw = b.cracks.cw;
+    let mut parent = std::collections::HashMap::new();
+    let mut queue = std::collections::VecDeque::new();
+    parent.insert((i, j), (i, j));
+    queue.push_back((i, j));
+    while let Some((ci, cj)) = queue.pop_front() {
+        // A crack on any side of this cell: take its first corner.
+        let sides = [
+            (b.cracks.v[cj * cw + ci], cj * cw + ci),
+            (ci + 1 < cw && b.cracks.v[cj * cw + ci + 1], cj * cw + ci + 1),
+            (b.cracks.h[cj * cw + ci], cj * cw + ci),
+            (cj + 1 < b.cracks.ch && b.cracks.h[(cj + 1) * cw + ci], (cj + 1) * cw + ci),
+        ];
+        if let Some(&(_, corner)) = sides.iter().find(|s| s.0) {
+            let mut path = vec![(ci, cj)];
+            let mut cur = (ci, cj);
+            while parent[&cur] != cur {
+                cur = parent[&cur];
+                path.push(cur);
+            }
+            path.reverse();
+            return Ok((path, corner));
+        }
+        for (di, dj) in [(1i64, 0i64), (0, 1), (-1, 0), (0, -1)] {
+            let (ni, nj) = (ci as i64 + di, cj as i64 + dj);
+            if ni < 0 || nj < 0 || ni as usize >= w || nj as usize >= h {
+                continue;
+            }
+            let n = (ni as usize, nj as usize);
+            if !grid.occupied(n.0, n.1) && !parent.contains_key(&n) {
+                parent.insert(n, (ci, cj));
+                queue.push_back(n);
+            }
+        }
+    }
+    Err(GraphError::DifferentRegions)
+}
+
+fn connector(b: &Builder<'_>, from: usize, to: usize, path: &[(usize, usize)], corner: usize) -> Edge {
+    let grid = b.grid;
+    let mut pts: Vec<Point> = Vec::with_capacity(path.len() + 2);
+    let first = grid.center(path[0].0, path[0].1);
+    pts.push(first);
+    pts.extend(path.iter().skip(1).map(|&(i, j)| grid.center(i, j)));
+    pts.push(b.corner_point(corner));
+    let simplified = douglas_peucker(&pts, 0.75 * grid.cell());
+    let cl: Vec<Real> = path.iter().map(|&(i, j)| b.field.clearance_cells(i, j) * grid.cell()).collect();
+    Edge {
+        from,
+        to,
+        length: simplified.windows(2).map(|w| (w[1] - w[0]).norm()).sum(),
+        min_clearance: cl.iter().copied().fold(Real::INFINITY, Real::min),
+        mean_clearance: cl.iter().sum::<Real>() / cl.len().max(1) as Real,
+        polyline: simplified.iter().map(|p| [p.x, p.y]).collect(),
+    }
+}
+
+/// Douglas-Peucker simplification keeping both ends.
+fn douglas_peucker(pts: &[Point], tol: Real) -> Vec<Point> {
+    if pts.len() <= 2 {
+        return pts.to_vec();
+    }
+    let mut keep = vec![false; pts.len()];
+    keep[0] = true;
+    keep[pts.len() - 1] = true;
+    let mut stack = vec![(0, pts.len() - 1)];
+    while let Some((a, b)) = stack.pop() {
+        let mut best = (0.0, 0);
+        for k in a + 1..b {
+            let d = homospline_geom::math::distance_point_segment(&pts[k], &pts[a], &pts[b]);
+            if d > best.0 {
+                best = (d, k);
+            }
+        }
+        if best.0 > tol {
+            keep[best.1] = true;
+            stack.push((a, best.1));
+            stack.push((best.1, b));
+        }
+    }
+    pts.iter().zip(keep).filter(|(_, k)| *k).map(|(p, _)| *p).collect()
+}

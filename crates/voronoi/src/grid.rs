@@ -1,0 +1,206 @@
+//! Occupancy grids: free or occupied cells over a rectangle, with the bounds as walls.
+
+use homospline_geom::{Point, Real, Scene};
+use thiserror::Error;
+
+/// Largest grid, in cells, the field can label exactly (keys are raster indices below 2^25).
+pub const MAX_CELLS: usize = 1 << 25;
+
+/// Why a grid cannot be made.
+#[derive(Debug, Error, PartialEq)]
+pub enum GridError {
+    /// Resolution not positive and finite.
+    #[error("resolution must be positive and finite, got {0}")]
+    Resolution(Real),
+    /// Too many cells.
+    #[error("the grid would have {cells} cells (at most {max} are supported): lower the resolution")]
+    TooLarge {
+        /// Cells asked for.
+        cells: usize,
+        /// The limit.
+        max: usize,
+    },
+    /// Occupancy data of the wrong size.
+    #[error("occupancy has {got} cells, expected {width} x {height}")]
+    Size {
+        /// Cells given.
+        got: usize,
+        /// Width.
+        width: usize,
+        /// Height.
+        height: usize,
+    },
+}
+
+/// A grid of square cells. Cell `(i, j)` covers `[x0 + i h, x0 + (i + 1) h] x
+/// [y0 + j h, y0 + (j + 1) h]` with `(x0, y0) = origin`, `h = cell`. The outermost ring of
+/// cells is always occupied: it is the wall that bounds the free space.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Grid {
+    width: usize,
+    height: usize,
+    origin: Point,
+    cell: Real,
+    occ: Vec<bool>,
+}
+
+impl Grid {
+    /// A grid of `width x height` cells (walls included), all free inside the wall ring.
+    pub fn new(width: usize, height: usize, origin: Point, cell: Real) -> Result<Self, GridError> {
+        if !(cell.is_finite() && cell > 0.0) {
+            return Err(GridError::Resolution(1.0 / cell));
+        }
+        let cells = width.saturating_mul(height);
+        if cells > MAX_CELLS || width < 3 || height < 3 {
+            return Err(GridError::TooLarge { cells, max: MAX_CELLS });
+        }
+        let mut g = Self { width, height, origin, cell, occ: vec![false; cells] };
+        g.wall();
+        Ok(g)
+    }
+
+    /// A grid from occupancy (`true` = occupied), row-major from `(0, 0)`; the outer ring is
+    /// made a wall.
+    pub fn from_occupancy(
+        width: usize,
+        height: usize,
+        origin: Point,
+        cell: Real,
+        occ: Vec<bool>,
+    ) -> Result<Self, GridError> {
+        if occ.len() != width.saturating_mul(height) {
+            return Err(GridError::Size { got: occ.len(), width, height });
+        }
+        let mut g = Self::new(width, height, origin, cell)?;
+        g.occ = occ;
+        g.wall();
+        Ok(g)
+    }
+
+    /// Rasterises a scene at `resolution` cells per map unit: the scene's bounds plus a
+    /// one-cell wall ring; a cell is occupied when its centre is inside or on an (inflated)
+    /// circle.
+    pub fn from_scene(scene: &Scene, resolution: Real) -> Result<Self, GridError> {
+        if !(resolution.is_finite() && resolution > 0.0) {
+            return Err(GridError::Resolution(resolution));
+        }
+        let h = 1.0 / resolution;
+        let ext = scene.bounds.extent();
+        let w = (ext.x / h).ceil();
+        let hh = (ext.y / h).ceil();
+        if !(w * hh <= MAX_CELLS as Real) {
+            return Err(GridError::TooLarge { cells: (w * hh).min(usize::MAX as Real) as usize, max: MAX_CELLS });
+        }
+        let (width, height) = (w as usize + 2, hh as usize + 2);
+        let origin = Point::new(scene.bounds.min.x - h, scene.bounds.min.y - h);
+        let mut g = Self::new(width, height, origin, h)?;
+        for c in scene.circles() {
+            g.fill_disc(&c.center, c.radius);
+        }
+        Ok(g)
+    }
+
+    /// Marks every cell whose centre lies in the closed disc.
+    pub fn fill_disc(&mut self, center: &Point, radius: Real) {
+        let h = self.cell;
+        let to_i = |x: Real, o: Real, n: usize| (((x - o) / h - 0.5).clamp(0.0, n as Real - 1.0)) as usize;
+        let i0 = to_i(center.x - radius, self.origin.x, self.width);
+        let i1 = to_i(center.x + radius, self.origin.x, self.width) + 1;
+        let j0 = to_i(center.y - radius, self.origin.y, self.height);
+        let j1 = to_i(center.y + radius, self.origin.y, self.height) + 1;
+        let r2 = radius * radius;
+        for j in j0..=j1.min(self.height - 1) {
+            for i in i0..=i1.min(self.width - 1) {
+                let p = self.center(i, j);
+                if (p - center).norm_squared() <= r2 {
+                    self.occ[j * self.width + i] = true;
+                }
+            }
+        }
+    }
+
+    fn wall(&mut self) {
+        let (w, h) = (self.width, self.height);
+        for i in 0..w {
+            self.occ[i] = true;
+            self.occ[(h - 1) * w + i] = true;
+        }
+        for j in 0..h {
+            self.occ[j * w] = true;
+            self.occ[j * w + w - 1] = true;
+        }
+    }
+
+    /// Cells across.
+    pub fn width(&self) -> usize {
+        self.width
+    }
+
+    /// Cells up.
+    pub fn height(&self) -> usize {
+        self.height
+    }
+
+    /// Lower-left corner of cell `(0, 0)`.
+    pub fn origin(&self) -> Point {
+        self.origin
+    }
+
+    /// Cell size in map units.
+    pub fn cell(&self) -> Real {
+        self.cell
+    }
+
+    /// Cells per map unit.
+    pub fn resolution(&self) -> Real {
+        1.0 / self.cell
+    }
+
+    /// Raster index of `(i, j)`.
+    #[inline]
+    pub fn index(&self, i: usize, j: usize) -> usize {
+        j * self.width + i
+    }
+
+    /// Whether `(i, j)` is occupied.
+    #[inline]
+    pub fn occupied(&self, i: usize, j: usize) -> bool {
+        self.occ[j * self.width + i]
+    }
+
+    /// Occupancy, row-major.
+    pub fn occupancy(&self) -> &[bool] {
+        &self.occ
+    }
+
+    /// Sets a cell; the wall ring stays occupied.
+    pub fn set(&mut self, i: usize, j: usize, occupied: bool) {
+        if i == 0 || j == 0 || i + 1 >= self.width || j + 1 >= self.height {
+            return;
+        }
+        self.occ[j * self.width + i] = occupied;
+    }
+
+    /// Centre of cell `(i, j)`.
+    #[inline]
+    pub fn center(&self, i: usize, j: usize) -> Point {
+        Point::new(self.origin.x + (i as Real + 0.5) * self.cell, self.origin.y + (j as Real + 0.5) * self.cell)
+    }
+
+    /// The corner point `(i, j)` (lower-left corner of cell `(i, j)`).
+    #[inline]
+    pub fn corner(&self, i: usize, j: usize) -> Point {
+        Point::new(self.origin.x + i as Real * self.cell, self.origin.y + j as Real * self.cell)
+    }
+
+    /// The cell holding `p`, if any.
+    pub fn cell_of(&self, p: &Point) -> Option<(usize, usize)> {
+        let fx = (p.x - self.origin.x) / self.cell;
+        let fy = (p.y - self.origin.y) / self.cell;
+        if !(fx >= 0.0 && fy >= 0.0) {
+            return None;
+        }
+        let (i, j) = (fx as usize, fy as usize);
+        (i < self.width && j < self.height).then_some((i, j))
+    }
+}
