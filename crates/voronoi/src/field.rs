@@ -97,7 +97,15 @@ pub fn obstacle_keys(grid: &Grid) -> Vec<u32> {
             }
         }
     }
-    (0..w * h).map(|c| if occ[c] { find(&mut parent, c as u32) } else { u32::MAX }).collect()
+    (0..w * h)
+        .map(|c| {
+            if occ[c] {
+                find(&mut parent, c as u32)
+            } else {
+                u32::MAX
+            }
+        })
+        .collect()
 }
 
 /// The exact transform over the window `[i0, i1) x [j0, j1)` with sources `key(i, j)`.
@@ -224,7 +232,13 @@ impl DistanceField {
                 }
             }
         }
-        Self { width: w, height: h, val, max_d2, boxes }
+        Self {
+            width: w,
+            height: h,
+            val,
+            max_d2,
+            boxes,
+        }
     }
 
     /// Cells across.
@@ -254,7 +268,11 @@ impl DistanceField {
     #[inline]
     pub fn clearance_cells(&self, i: usize, j: usize) -> f64 {
         let d2 = self.d2(i, j);
-        if d2 == 0 { 0.0 } else { (d2 as f64).sqrt() - 0.5 }
+        if d2 == 0 {
+            0.0
+        } else {
+            (d2 as f64).sqrt() - 0.5
+        }
     }
 
     /// The obstacle keys present.
@@ -272,7 +290,11 @@ impl DistanceField {
     /// cell can only get nearer to the new obstacle than to its old one if it was that far
     /// from every obstacle. Returns the number of cells visited. The new cells may not touch
     /// an existing obstacle (they would merge with it): rebuild for that.
-    pub fn add_obstacle(&mut self, grid: &mut Grid, cells: &[(usize, usize)]) -> Result<usize, UpdateError> {
+    pub fn add_obstacle(
+        &mut self,
+        grid: &mut Grid,
+        cells: &[(usize, usize)],
+    ) -> Result<usize, UpdateError> {
         let (w, h) = (self.width, self.height);
         for &(i, j) in cells {
             if i == 0 || j == 0 || i + 1 >= w || j + 1 >= h {
@@ -280,6 +302,9 @@ impl DistanceField {
             }
         }
         let new: std::collections::HashSet<(usize, usize)> = cells.iter().copied().collect();
+        if let Some(&(i, j)) = cells.iter().find(|&&(i, j)| grid.occupied(i, j)) {
+            return Err(UpdateError::Touches(i, j));
+        }
         for &(i, j) in cells {
             for dj in -1i64..=1 {
                 for di in -1i64..=1 {
@@ -297,7 +322,8 @@ impl DistanceField {
             grid.set(i, j, true);
         }
         // Components of the new cells alone (they touch nothing else).
-        let mut key_of: std::collections::HashMap<(usize, usize), u32> = std::collections::HashMap::new();
+        let mut key_of: std::collections::HashMap<(usize, usize), u32> =
+            std::collections::HashMap::new();
         let mut sorted: Vec<(usize, usize)> = new.iter().copied().collect();
         sorted.sort_by_key(|&(i, j)| (j, i));
         for &start in &sorted {
@@ -352,7 +378,10 @@ impl DistanceField {
             return Err(UpdateError::Wall);
         }
         let (w, h) = (self.width, self.height);
-        let bx = self.boxes.remove(&key).ok_or(UpdateError::NoSuchObstacle(key))?;
+        let bx = self
+            .boxes
+            .remove(&key)
+            .ok_or(UpdateError::NoSuchObstacle(key))?;
         // Its cells lie in its box; the cells it was nearest to lie within sqrt(max d2).
         let r = (self.max_d2 as f64).sqrt().ceil() as usize + 1;
         let (ri0, rj0) = (bx.0.saturating_sub(r), bx.1.saturating_sub(r));
@@ -382,7 +411,8 @@ impl DistanceField {
             let val = &self.val;
             let vals = transform(wi0, wi1, wj0, wj1, &|i, j| {
                 let v = val[j * w + i];
-                (v >> KEY_BITS == 0 && (v & KEY_MASK) as u32 != key).then_some((v & KEY_MASK) as u32)
+                (v >> KEY_BITS == 0 && (v & KEY_MASK) as u32 != key)
+                    .then_some((v & KEY_MASK) as u32)
             });
             visited += (wi1 - wi0) * (wj1 - wj0);
             let ww = wi1 - wi0;

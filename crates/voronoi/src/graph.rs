@@ -100,7 +100,9 @@ pub enum GraphError {
     #[error("the {0} [{1}, {2}] is outside the grid")]
     Outside(&'static str, Real, Real),
     /// The point falls in an occupied cell at this resolution.
-    #[error("the {0} [{1}, {2}] falls in an occupied cell at this resolution: raise the resolution")]
+    #[error(
+        "the {0} [{1}, {2}] falls in an occupied cell at this resolution: raise the resolution"
+    )]
     Occupied(&'static str, Real, Real),
     /// Start and goal are in different free regions.
     #[error("start and goal are in different free regions: no path joins them")]
@@ -123,19 +125,74 @@ struct Cracks {
     h: Vec<bool>,
 }
 
+/// The region of every cell: its nearest obstacle, except that cells cut off from the rest
+/// of their obstacle's region (the discrete regions can have stray cells that touch it only
+/// diagonally) join the region of a 4-neighbour, so that every region is 4-connected and
+/// holds its obstacle. Breadth-first from the obstacles in raster order: deterministic.
+fn regions(grid: &Grid, field: &DistanceField) -> Vec<u32> {
+    let (w, h) = (field.width(), field.height());
+    let mut label: Vec<u32> = (0..w * h).map(|c| field.nearest(c % w, c / w)).collect();
+    let mut reached = vec![false; w * h];
+    let mut queue = std::collections::VecDeque::new();
+    for (c, r) in reached.iter_mut().enumerate() {
+        if grid.occupancy()[c] {
+            *r = true;
+            queue.push_back(c);
+        }
+    }
+    let neighbours = |c: usize| {
+        let (i, j) = (c % w, c / w);
+        [
+            (i + 1 < w).then(|| c + 1),
+            (j + 1 < h).then(|| c + w),
+            (i > 0).then(|| c - 1),
+            (j > 0).then(|| c - w),
+        ]
+    };
+    // Grow every region through cells of its own label.
+    while let Some(c) = queue.pop_front() {
+        for n in neighbours(c).into_iter().flatten() {
+            if !reached[n] {
+                if label[n] == label[c] {
+                    reached[n] = true;
+                    queue.push_back(n);
+                }
+            }
+        }
+    }
+    // Stray cells: adopt the label of the region that reaches them first.
+    let mut queue: std::collections::VecDeque<usize> = std::collections::VecDeque::new();
+    for c in 0..w * h {
+        if reached[c] {
+            queue.push_back(c);
+        }
+    }
+    if queue.len() < w * h {
+        while let Some(c) = queue.pop_front() {
+            for n in neighbours(c).into_iter().flatten() {
+                if !reached[n] {
+                    reached[n] = true;
+                    label[n] = label[c];
+                    queue.push_back(n);
+                }
+            }
+        }
+    }
+    label
+}
+
 impl Cracks {
-    fn new(field: &DistanceField) -> Self {
-        let (w, h) = (field.width(), field.height());
+    fn new(label: &[u32], w: usize, h: usize) -> Self {
         let (cw, ch) = (w + 1, h + 1);
         let mut v = vec![false; cw * ch];
         let mut hz = vec![false; cw * ch];
         for j in 0..h {
             for i in 0..w {
-                let k = field.nearest(i, j);
-                if i > 0 && field.nearest(i - 1, j) != k {
+                let k = label[j * w + i];
+                if i > 0 && label[j * w + i - 1] != k {
                     v[j * cw + i] = true;
                 }
-                if j > 0 && field.nearest(i, j - 1) != k {
+                if j > 0 && label[(j - 1) * w + i] != k {
                     hz[j * cw + i] = true;
                 }
             }
@@ -178,8 +235,15 @@ impl Builder<'_> {
     fn crack_clearance(&self, crack: usize) -> Real {
         let c = crack / 2;
         let (i, j) = (c % self.cracks.cw, c / self.cracks.cw);
-        let (a, b) = if crack % 2 == 0 { ((i - 1, j), (i, j)) } else { ((i, j - 1), (i, j)) };
-        self.field.clearance_cells(a.0, a.1).min(self.field.clearance_cells(b.0, b.1)) * self.grid.cell()
+        let (a, b) = if crack % 2 == 0 {
+            ((i - 1, j), (i, j))
+        } else {
+            ((i, j - 1), (i, j))
+        };
+        self.field
+            .clearance_cells(a.0, a.1)
+            .min(self.field.clearance_cells(b.0, b.1))
+            * self.grid.cell()
     }
 
     /// Clearance at a corner: the smallest of the cells around it.
@@ -211,7 +275,12 @@ impl VoronoiGraph {
         start: Option<Point>,
         goal: Option<Point>,
     ) -> Result<Self, GraphError> {
-        let b = Builder { grid, field, cracks: Cracks::new(field) };
+        let label = regions(grid, field);
+        let b = Builder {
+            grid,
+            field,
+            cracks: Cracks::new(&label, field.width(), field.height()),
+        };
         let ncorners = b.cracks.cw * b.cracks.ch;
         let mut nb = Vec::with_capacity(4);
         // Nodes: corners of degree other than 2.
@@ -245,12 +314,22 @@ impl VoronoiGraph {
             loop {
                 corners.push(cur);
                 if let Some(&n) = node_of.get(&cur) {
-                    return Chain { from: from_node, to: n, corners, cracks };
+                    return Chain {
+                        from: from_node,
+                        to: n,
+                        corners,
+                        cracks,
+                    };
                 }
                 b.cracks.neighbours(cur, nb);
                 let Some(&next) = nb.iter().find(|(_, k)| !used[*k]) else {
                     // Back at a loop's anchor through its last crack.
-                    return Chain { from: from_node, to: from_node, corners, cracks };
+                    return Chain {
+                        from: from_node,
+                        to: from_node,
+                        corners,
+                        cracks,
+                    };
                 };
                 used[next.1] = true;
                 cracks.push(next.1);
@@ -284,8 +363,17 @@ impl VoronoiGraph {
                 .map(|(id, &c)| {
                     let p = b.corner_point(c);
                     b.cracks.neighbours(c, &mut nb);
-                    let kind = if nb.len() == 1 { NodeKind::DeadEnd } else { NodeKind::Junction };
-                    Node { id, at: [p.x, p.y], clearance: b.corner_clearance(c), kind }
+                    let kind = if nb.len() == 1 {
+                        NodeKind::DeadEnd
+                    } else {
+                        NodeKind::Junction
+                    };
+                    Node {
+                        id,
+                        at: [p.x, p.y],
+                        clearance: b.corner_clearance(c),
+                        kind,
+                    }
                 })
                 .collect(),
             edges: Vec::new(),
@@ -297,7 +385,10 @@ impl VoronoiGraph {
                 .map(|key| {
                     let (i, j) = (key as usize % grid.width(), key as usize / grid.width());
                     let p = grid.center(i, j);
-                    GridObstacle { key, representative: [p.x, p.y] }
+                    GridObstacle {
+                        key,
+                        representative: [p.x, p.y],
+                    }
                 })
                 .collect(),
         };
@@ -316,11 +407,21 @@ impl VoronoiGraph {
                     let (ci, k) = chains
                         .iter()
                         .enumerate()
-                        .find_map(|(ci, ch)| ch.corners.iter().position(|&x| x == corner).map(|k| (ci, k)))
+                        .find_map(|(ci, ch)| {
+                            ch.corners
+                                .iter()
+                                .position(|&x| x == corner)
+                                .map(|k| (ci, k))
+                        })
                         .ok_or(GraphError::DifferentRegions)?;
                     let n = g.nodes.len();
                     let q = b.corner_point(corner);
-                    g.nodes.push(Node { id: n, at: [q.x, q.y], clearance: b.corner_clearance(corner), kind: NodeKind::Junction });
+                    g.nodes.push(Node {
+                        id: n,
+                        at: [q.x, q.y],
+                        clearance: b.corner_clearance(corner),
+                        kind: NodeKind::Junction,
+                    });
                     node_of.insert(corner, n);
                     let old = chains.swap_remove(ci);
                     let tail = Chain {
@@ -341,7 +442,12 @@ impl VoronoiGraph {
                 }
             };
             let id = g.nodes.len();
-            g.nodes.push(Node { id, at: [p.x, p.y], clearance: b.field_clearance_at(&p), kind });
+            g.nodes.push(Node {
+                id,
+                at: [p.x, p.y],
+                clearance: b.field_clearance_at(&p),
+                kind,
+            });
             g.edges.push(connector(&b, id, at_node, &path, corner));
             Ok(id)
         };
@@ -409,9 +515,13 @@ impl VoronoiGraph {
                 degree[e.from] += 1;
                 degree[e.to] += 1;
             }
-            let removable = |n: usize| degree[n] == 1 && !matches!(self.nodes[n].kind, NodeKind::Start | NodeKind::Goal);
+            let removable = |n: usize| {
+                degree[n] == 1 && !matches!(self.nodes[n].kind, NodeKind::Start | NodeKind::Goal)
+            };
             let before = self.edges.len();
-            self.edges.retain(|e| !(e.length < min_length && e.from != e.to && (removable(e.from) || removable(e.to))));
+            self.edges.retain(|e| {
+                !(e.length < min_length && e.from != e.to && (removable(e.from) || removable(e.to)))
+            });
             if self.edges.len() == before {
                 break;
             }
@@ -434,7 +544,10 @@ impl VoronoiGraph {
         for (i, n) in self.nodes.iter().enumerate() {
             if used[i] {
                 map[i] = nodes.len();
-                nodes.push(Node { id: nodes.len(), ..n.clone() });
+                nodes.push(Node {
+                    id: nodes.len(),
+                    ..n.clone()
+                });
             }
         }
         for e in &mut self.edges {
@@ -458,7 +571,11 @@ impl VoronoiGraph {
             format_version: u32,
             graph: &'a VoronoiGraph,
         }
-        rmp_serde::to_vec_named(&File { format_version: GRAPH_FORMAT_VERSION, graph: self }).unwrap_or_default()
+        rmp_serde::to_vec_named(&File {
+            format_version: GRAPH_FORMAT_VERSION,
+            graph: self,
+        })
+        .unwrap_or_default()
     }
 
     /// Reads [`VoronoiGraph::to_msgpack`] output.
@@ -471,20 +588,22 @@ impl VoronoiGraph {
         struct File {
             graph: VoronoiGraph,
         }
-        let head: Head = rmp_serde::from_slice(bytes).map_err(|e| GraphError::Decode(e.to_string()))?;
+        let head: Head =
+            rmp_serde::from_slice(bytes).map_err(|e| GraphError::Decode(e.to_string()))?;
         if head.format_version != GRAPH_FORMAT_VERSION {
             return Err(GraphError::Version(head.format_version));
         }
-        let f: File = rmp_serde::from_slice(bytes).map_err(|e| GraphError::Decode(e.to_string()))?;
+        let f: File =
+            rmp_serde::from_slice(bytes).map_err(|e| GraphError::Decode(e.to_string()))?;
         Ok(f.graph)
     }
 }
 
 impl Builder<'_> {
     fn field_clearance_at(&self, p: &Point) -> Real {
-        self.grid
-            .cell_of(p)
-            .map_or(0.0, |(i, j)| self.field.clearance_cells(i, j) * self.grid.cell())
+        self.grid.cell_of(p).map_or(0.0, |(i, j)| {
+            self.field.clearance_cells(i, j) * self.grid.cell()
+        })
     }
 
     fn edge(&self, ch: &Chain) -> Edge {
@@ -493,12 +612,20 @@ impl Builder<'_> {
         let length = simplified.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
         let cl: Vec<Real> = ch.cracks.iter().map(|&k| self.crack_clearance(k)).collect();
         let min_clearance = cl.iter().copied().fold(Real::INFINITY, Real::min);
-        let mean_clearance = if cl.is_empty() { 0.0 } else { cl.iter().sum::<Real>() / cl.len() as Real };
+        let mean_clearance = if cl.is_empty() {
+            0.0
+        } else {
+            cl.iter().sum::<Real>() / cl.len() as Real
+        };
         Edge {
             from: ch.from,
             to: ch.to,
             length,
-            min_clearance: if min_clearance.is_finite() { min_clearance } else { 0.0 },
+            min_clearance: if min_clearance.is_finite() {
+                min_clearance
+            } else {
+                0.0
+            },
             mean_clearance,
             polyline: simplified.iter().map(|p| [p.x, p.y]).collect(),
         }
@@ -507,9 +634,15 @@ impl Builder<'_> {
 
 /// The free-cell path from `p` to the nearest cell that borders a crack (breadth-first,
 /// 4-connected, fixed neighbour order), and the crack corner it reaches.
-fn attach_path(b: &Builder<'_>, p: Point, what: &'static str) -> Result<(Vec<(usize, usize)>, usize), GraphError> {
+fn attach_path(
+    b: &Builder<'_>,
+    p: Point,
+    what: &'static str,
+) -> Result<(Vec<(usize, usize)>, usize), GraphError> {
     let grid = b.grid;
-    let (i, j) = grid.cell_of(&p).ok_or(GraphError::Outside(what, p.x, p.y))?;
+    let (i, j) = grid
+        .cell_of(&p)
+        .ok_or(GraphError::Outside(what, p.x, p.y))?;
     if grid.occupied(i, j) {
         return Err(GraphError::Occupied(what, p.x, p.y));
     }
@@ -523,9 +656,15 @@ fn attach_path(b: &Builder<'_>, p: Point, what: &'static str) -> Result<(Vec<(us
         // A crack on any side of this cell: take its first corner.
         let sides = [
             (b.cracks.v[cj * cw + ci], cj * cw + ci),
-            (ci + 1 < cw && b.cracks.v[cj * cw + ci + 1], cj * cw + ci + 1),
+            (
+                ci + 1 < cw && b.cracks.v[cj * cw + ci + 1],
+                cj * cw + ci + 1,
+            ),
             (b.cracks.h[cj * cw + ci], cj * cw + ci),
-            (cj + 1 < b.cracks.ch && b.cracks.h[(cj + 1) * cw + ci], (cj + 1) * cw + ci),
+            (
+                cj + 1 < b.cracks.ch && b.cracks.h[(cj + 1) * cw + ci],
+                (cj + 1) * cw + ci,
+            ),
         ];
         if let Some(&(_, corner)) = sides.iter().find(|s| s.0) {
             let mut path = vec![(ci, cj)];
@@ -552,7 +691,13 @@ fn attach_path(b: &Builder<'_>, p: Point, what: &'static str) -> Result<(Vec<(us
     Err(GraphError::DifferentRegions)
 }
 
-fn connector(b: &Builder<'_>, from: usize, to: usize, path: &[(usize, usize)], corner: usize) -> Edge {
+fn connector(
+    b: &Builder<'_>,
+    from: usize,
+    to: usize,
+    path: &[(usize, usize)],
+    corner: usize,
+) -> Edge {
     let grid = b.grid;
     let mut pts: Vec<Point> = Vec::with_capacity(path.len() + 2);
     let first = grid.center(path[0].0, path[0].1);
@@ -560,7 +705,10 @@ fn connector(b: &Builder<'_>, from: usize, to: usize, path: &[(usize, usize)], c
     pts.extend(path.iter().skip(1).map(|&(i, j)| grid.center(i, j)));
     pts.push(b.corner_point(corner));
     let simplified = douglas_peucker(&pts, 0.75 * grid.cell());
-    let cl: Vec<Real> = path.iter().map(|&(i, j)| b.field.clearance_cells(i, j) * grid.cell()).collect();
+    let cl: Vec<Real> = path
+        .iter()
+        .map(|&(i, j)| b.field.clearance_cells(i, j) * grid.cell())
+        .collect();
     Edge {
         from,
         to,
@@ -594,5 +742,9 @@ fn douglas_peucker(pts: &[Point], tol: Real) -> Vec<Point> {
             stack.push((best.1, b));
         }
     }
-    pts.iter().zip(keep).filter(|(_, k)| *k).map(|(p, _)| *p).collect()
+    pts.iter()
+        .zip(keep)
+        .filter(|(_, k)| *k)
+        .map(|(p, _)| *p)
+        .collect()
 }

@@ -13,7 +13,9 @@ pub enum GridError {
     #[error("resolution must be positive and finite, got {0}")]
     Resolution(Real),
     /// Too many cells.
-    #[error("the grid would have {cells} cells (at most {max} are supported): lower the resolution")]
+    #[error(
+        "the grid would have {cells} cells (at most {max} are supported): lower the resolution"
+    )]
     TooLarge {
         /// Cells asked for.
         cells: usize,
@@ -52,9 +54,18 @@ impl Grid {
         }
         let cells = width.saturating_mul(height);
         if cells > MAX_CELLS || width < 3 || height < 3 {
-            return Err(GridError::TooLarge { cells, max: MAX_CELLS });
+            return Err(GridError::TooLarge {
+                cells,
+                max: MAX_CELLS,
+            });
         }
-        let mut g = Self { width, height, origin, cell, occ: vec![false; cells] };
+        let mut g = Self {
+            width,
+            height,
+            origin,
+            cell,
+            occ: vec![false; cells],
+        };
         g.wall();
         Ok(g)
     }
@@ -69,7 +80,11 @@ impl Grid {
         occ: Vec<bool>,
     ) -> Result<Self, GridError> {
         if occ.len() != width.saturating_mul(height) {
-            return Err(GridError::Size { got: occ.len(), width, height });
+            return Err(GridError::Size {
+                got: occ.len(),
+                width,
+                height,
+            });
         }
         let mut g = Self::new(width, height, origin, cell)?;
         g.occ = occ;
@@ -89,7 +104,10 @@ impl Grid {
         let w = (ext.x / h).ceil();
         let hh = (ext.y / h).ceil();
         if !(w * hh <= MAX_CELLS as Real) {
-            return Err(GridError::TooLarge { cells: (w * hh).min(usize::MAX as Real) as usize, max: MAX_CELLS });
+            return Err(GridError::TooLarge {
+                cells: (w * hh).min(usize::MAX as Real) as usize,
+                max: MAX_CELLS,
+            });
         }
         let (width, height) = (w as usize + 2, hh as usize + 2);
         let origin = Point::new(scene.bounds.min.x - h, scene.bounds.min.y - h);
@@ -103,7 +121,8 @@ impl Grid {
     /// Marks every cell whose centre lies in the closed disc.
     pub fn fill_disc(&mut self, center: &Point, radius: Real) {
         let h = self.cell;
-        let to_i = |x: Real, o: Real, n: usize| (((x - o) / h - 0.5).clamp(0.0, n as Real - 1.0)) as usize;
+        let to_i =
+            |x: Real, o: Real, n: usize| (((x - o) / h - 0.5).clamp(0.0, n as Real - 1.0)) as usize;
         let i0 = to_i(center.x - radius, self.origin.x, self.width);
         let i1 = to_i(center.x + radius, self.origin.x, self.width) + 1;
         let j0 = to_i(center.y - radius, self.origin.y, self.height);
@@ -184,13 +203,19 @@ impl Grid {
     /// Centre of cell `(i, j)`.
     #[inline]
     pub fn center(&self, i: usize, j: usize) -> Point {
-        Point::new(self.origin.x + (i as Real + 0.5) * self.cell, self.origin.y + (j as Real + 0.5) * self.cell)
+        Point::new(
+            self.origin.x + (i as Real + 0.5) * self.cell,
+            self.origin.y + (j as Real + 0.5) * self.cell,
+        )
     }
 
     /// The corner point `(i, j)` (lower-left corner of cell `(i, j)`).
     #[inline]
     pub fn corner(&self, i: usize, j: usize) -> Point {
-        Point::new(self.origin.x + i as Real * self.cell, self.origin.y + j as Real * self.cell)
+        Point::new(
+            self.origin.x + i as Real * self.cell,
+            self.origin.y + j as Real * self.cell,
+        )
     }
 
     /// The cell holding `p`, if any.

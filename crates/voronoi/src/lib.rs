@@ -33,7 +33,10 @@ pub enum BuildError {
 
 /// The Voronoi graph of `scene` at `resolution` cells per map unit, start and goal attached;
 /// with the grid and field it was built from.
-pub fn build(scene: &Scene, resolution: Real) -> Result<(Grid, DistanceField, VoronoiGraph), BuildError> {
+pub fn build(
+    scene: &Scene,
+    resolution: Real,
+) -> Result<(Grid, DistanceField, VoronoiGraph), BuildError> {
     let grid = Grid::from_scene(scene, resolution)?;
     let field = DistanceField::build(&grid);
     let graph = VoronoiGraph::build(&grid, &field, Some(scene.start), Some(scene.goal))?;

@@ -7,7 +7,10 @@ use homospline_voronoi::{VoronoiGraph, build};
 
 fn scenes() -> Vec<Scene> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/scenes");
-    let mut files: Vec<_> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
+    let mut files: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
     files.sort();
     files
         .iter()
@@ -19,7 +22,8 @@ fn scenes() -> Vec<Scene> {
 fn every_fixture_has_one_cycle_per_obstacle() {
     for scene in scenes() {
         for resolution in [1.0, 2.0, 4.0] {
-            let (_, _, g) = build(&scene, resolution).unwrap_or_else(|e| panic!("{}: {e}", scene.name));
+            let (_, _, g) =
+                build(&scene, resolution).unwrap_or_else(|e| panic!("{}: {e}", scene.name));
             let holes = scene.topological_obstacles().len();
             eprintln!(
                 "{} @ {resolution}: {} nodes, {} edges, {} cycles, {} obstacles ({} grid)",
@@ -30,8 +34,18 @@ fn every_fixture_has_one_cycle_per_obstacle() {
                 holes,
                 g.obstacles.len()
             );
-            assert_eq!(g.obstacles.len(), holes, "{} @ {resolution}: grid obstacles", scene.name);
-            assert_eq!(g.cycle_rank(), holes, "{} @ {resolution}: cycles", scene.name);
+            assert_eq!(
+                g.obstacles.len(),
+                holes,
+                "{} @ {resolution}: grid obstacles",
+                scene.name
+            );
+            assert_eq!(
+                g.cycle_rank(),
+                holes,
+                "{} @ {resolution}: cycles",
+                scene.name
+            );
             let (s, t) = (g.start.unwrap(), g.goal.unwrap());
             assert!(g.connected(s, t));
         }

@@ -1,0 +1,137 @@
+//! Property tests: the brushfire against brute force, the graph's cycles on random scenes,
+//! and local updates against full rebuilds.
+
+use homospline_geom::{Bounds, Circle, Obstacle, Point, Scene};
+use homospline_voronoi::field::obstacle_keys;
+use homospline_voronoi::{DistanceField, GraphError, Grid, VoronoiGraph};
+use proptest::prelude::*;
+
+fn random_grid(w: usize, h: usize, bits: &[bool]) -> Grid {
+    Grid::from_occupancy(w, h, Point::origin(), 1.0, bits[..w * h].to_vec()).unwrap()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(96))]
+
+    /// Every cell holds the lexicographic minimum of (squared distance, obstacle key) over
+    /// all occupied cells: exact, so the worst error against brute force is zero.
+    #[test]
+    fn brushfire_is_exact(w in 3usize..24, h in 3usize..24, bits in prop::collection::vec(prop::bool::weighted(0.12), 576)) {
+        let grid = random_grid(w, h, &bits);
+        let field = DistanceField::build(&grid);
+        let keys = obstacle_keys(&grid);
+        for j in 0..h {
+            for i in 0..w {
+                let mut best = (i64::MAX, u32::MAX);
+                for b in 0..h {
+                    for a in 0..w {
+                        if grid.occupied(a, b) {
+                            let d = (a as i64 - i as i64).pow(2) + (b as i64 - j as i64).pow(2);
+                            best = best.min((d, keys[b * w + a]));
+                        }
+                    }
+                }
+                prop_assert_eq!((field.d2(i, j), field.nearest(i, j)), best, "cell ({}, {})", i, j);
+            }
+        }
+    }
+
+    /// Random scenes: one independent cycle per obstacle inside the wall, start and goal
+    /// joined whenever their free cells are joined.
+    #[test]
+    fn one_cycle_per_obstacle_on_random_scenes(
+        circles in prop::collection::vec((8.0..92.0, 8.0..62.0, 1.0..6.0), 0..14),
+        resolution in prop::sample::select(vec![0.5, 1.0, 2.0]),
+    ) {
+        let scene = Scene {
+            name: "random".into(),
+            bounds: Bounds { min: Point::new(0.0, 0.0), max: Point::new(100.0, 70.0) },
+            start: Point::new(2.0, 35.0),
+            goal: Point::new(98.0, 35.0),
+            robot_radius: 0.0,
+            obstacles: circles.iter().enumerate().map(|(i, &(x, y, r))| Obstacle { name: format!("o{i}"), circles: vec![Circle::new(x, y, r)] }).collect(),
+            danger_points: vec![], critical_points: vec![], hazards: vec![],
+        };
+        let grid = Grid::from_scene(&scene, resolution).unwrap();
+        let field = DistanceField::build(&grid);
+        match VoronoiGraph::build(&grid, &field, Some(scene.start), Some(scene.goal)) {
+            Ok(g) => {
+                prop_assert_eq!(g.cycle_rank(), g.obstacles.len());
+                prop_assert!(g.connected(g.start.unwrap(), g.goal.unwrap()));
+                for e in &g.edges {
+                    prop_assert!(e.length >= 0.0 && e.min_clearance >= 0.0 && e.polyline.len() >= 2);
+                    prop_assert!(e.min_clearance <= e.mean_clearance + 1e-12);
+                }
+            }
+            // Obstacles on the wall can cut the free space; then the error is the right one.
+            Err(e) => prop_assert!(matches!(e, GraphError::DifferentRegions | GraphError::Occupied(..)), "{}", e),
+        }
+    }
+
+    /// Random sequences of added and removed obstacles: the locally updated field, and the
+    /// graph built from it, equal a full rebuild after every step.
+    #[test]
+    fn local_updates_equal_full_rebuilds(
+        ops in prop::collection::vec((any::<bool>(), 2usize..38, 2usize..28, 1usize..4, any::<prop::sample::Index>()), 1..12),
+    ) {
+        let (w, h) = (40, 30);
+        let mut grid = Grid::new(w, h, Point::origin(), 1.0).unwrap();
+        let mut field = DistanceField::build(&grid);
+        for (add, ci, cj, r, pick) in ops {
+            if add {
+                let cells: Vec<(usize, usize)> = (cj.saturating_sub(r)..=(cj + r).min(h - 2))
+                    .flat_map(|j| (ci.saturating_sub(r)..=(ci + r).min(w - 2)).map(move |i| (i, j)))
+                    .filter(|&(i, j)| i >= 1 && j >= 1 && (i as i64 - ci as i64).pow(2) + (j as i64 - cj as i64).pow(2) <= (r * r) as i64)
+                    .collect();
+                if field.add_obstacle(&mut grid, &cells).is_err() {
+                    continue; // touching: not a local update
+                }
+            } else {
+                let keys: Vec<u32> = field.obstacles().filter(|&k| k != field.wall_key()).collect();
+                if keys.is_empty() {
+                    continue;
+                }
+                field.remove_obstacle(&mut grid, keys[pick.index(keys.len())]).unwrap();
+            }
+            let rebuilt = DistanceField::build(&grid);
+            for j in 0..h {
+                for i in 0..w {
+                    prop_assert_eq!((field.d2(i, j), field.nearest(i, j)), (rebuilt.d2(i, j), rebuilt.nearest(i, j)), "cell ({}, {})", i, j);
+                }
+            }
+            let a = VoronoiGraph::build(&grid, &field, None, None).unwrap();
+            let b = VoronoiGraph::build(&grid, &rebuilt, None, None).unwrap();
+            prop_assert_eq!(a, b);
+        }
+    }
+}
+
+#[test]
+fn start_and_goal_in_different_regions_are_an_error() {
+    // A column of touching circles from the bottom wall to the top wall.
+    let scene = Scene {
+        name: "split".into(),
+        bounds: Bounds {
+            min: Point::new(0.0, 0.0),
+            max: Point::new(40.0, 20.0),
+        },
+        start: Point::new(5.0, 10.0),
+        goal: Point::new(35.0, 10.0),
+        robot_radius: 0.0,
+        obstacles: vec![Obstacle {
+            name: "wall".into(),
+            circles: (0..=10)
+                .map(|k| Circle::new(20.0, k as f64 * 2.0, 1.5))
+                .collect(),
+        }],
+        danger_points: vec![],
+        critical_points: vec![],
+        hazards: vec![],
+    };
+    assert_eq!(
+        homospline_voronoi::build(&scene, 1.0)
+            .unwrap_err()
+            .to_string(),
+        "start and goal are in different free regions: no path joins them"
+    );
+}
