@@ -108,81 +108,84 @@ pub fn obstacle_keys(grid: &Grid) -> Vec<u32> {
         .collect()
 }
 
-/// The exact transform over the window `[i0, i1) x [j0, j1)` with sources `key(i, j)`.
-/// Returns packed values row-major over the window (`NONE` where no source is in the
-/// window).
+/// The exact transform over the window `[i0, i1) x [j0, j1)` with sources `key(i, j)`
+/// (`u32::MAX` where there is none). Returns packed values row-major over the window (`NONE`
+/// where no source is in the window).
 fn transform(
     i0: usize,
     i1: usize,
     j0: usize,
     j1: usize,
-    key: &dyn Fn(usize, usize) -> Option<u32>,
+    key: impl Fn(usize, usize) -> u32,
 ) -> Vec<i64> {
     let (w, h) = (i1 - i0, j1 - j0);
     let k = 1i64 << KEY_BITS;
     let mut g = vec![NONE; w * h];
-    // Column pass: nearest source in the column, lexicographic in (dy^2, key).
-    let mut above: Vec<(i64, i64)> = vec![(0, 0); h];
-    for x in 0..w {
-        let mut last: Option<(usize, i64)> = None;
-        for y in 0..h {
-            if let Some(kk) = key(i0 + x, j0 + y) {
-                last = Some((y, kk as i64));
+    // Column pass, as two row-major sweeps: nearest source above, then below, in each column,
+    // lexicographic in (dy^2, key).
+    let mut last: Vec<(i64, i64)> = vec![(i64::MIN, 0); w];
+    for y in 0..h {
+        let row = &mut g[y * w..(y + 1) * w];
+        for (x, (slot, l)) in row.iter_mut().zip(last.iter_mut()).enumerate() {
+            let kk = key(i0 + x, j0 + y);
+            if kk != u32::MAX {
+                *l = (y as i64, kk as i64);
             }
-            above[y] = match last {
-                Some((ly, kk)) => {
-                    let d = (y - ly) as i64;
-                    (k * d * d + kk, 0)
-                }
-                None => (NONE, 0),
-            };
-        }
-        let mut next: Option<(usize, i64)> = None;
-        for y in (0..h).rev() {
-            if let Some(kk) = key(i0 + x, j0 + y) {
-                next = Some((y, kk as i64));
+            if l.0 != i64::MIN {
+                let d = y as i64 - l.0;
+                *slot = k * d * d + l.1;
             }
-            let below = match next {
-                Some((ny, kk)) => {
-                    let d = (ny - y) as i64;
-                    k * d * d + kk
-                }
-                None => NONE,
-            };
-            g[y * w + x] = above[y].0.min(below);
         }
     }
-    // Row pass: lower envelope of f_q(x) = K (x - q)^2 + G(q).
-    let mut out = vec![NONE; w * h];
+    last.iter_mut().for_each(|l| *l = (i64::MIN, 0));
+    for y in (0..h).rev() {
+        let row = &mut g[y * w..(y + 1) * w];
+        for (x, (slot, l)) in row.iter_mut().zip(last.iter_mut()).enumerate() {
+            let kk = key(i0 + x, j0 + y);
+            if kk != u32::MAX {
+                *l = (y as i64, kk as i64);
+            }
+            if l.0 != i64::MIN {
+                let d = l.0 - y as i64;
+                *slot = (*slot).min(k * d * d + l.1);
+            }
+        }
+    }
+    // Row pass: lower envelope of f_q(x) = K (x - q)^2 + G(q), in place row by row.
     let mut v: Vec<usize> = Vec::with_capacity(w);
-    // Boundaries z[k] as rationals (num, den), den > 0; z[0] = -inf.
-    let mut z: Vec<(i128, i128)> = Vec::with_capacity(w + 1);
+    let mut fv: Vec<i64> = Vec::with_capacity(w);
+    // Left boundary of each envelope piece as a rational (num, den), den > 0 (den 0: -inf).
+    let mut z: Vec<(i64, i64)> = Vec::with_capacity(w);
+    let mut out_row = vec![NONE; w];
     for y in 0..h {
-        let row = &g[y * w..(y + 1) * w];
+        let row = &mut g[y * w..(y + 1) * w];
         v.clear();
+        fv.clear();
         z.clear();
-        let f = |q: usize| row[q] as i128 + (k as i128) * (q as i128) * (q as i128);
-        for q in 0..w {
-            if row[q] == NONE {
+        for (q, &gq) in row.iter().enumerate() {
+            if gq == NONE {
                 continue;
             }
+            let fq = gq + k * (q * q) as i64;
             loop {
                 let Some(&p) = v.last() else {
                     v.push(q);
-                    z.push((-1, 0)); // -inf marker
+                    fv.push(fq);
+                    z.push((0, 0));
                     break;
                 };
-                // s = (F(q) - F(p)) / (2 K (q - p))
-                let num = f(q) - f(p);
-                let den = 2 * (k as i128) * (q - p) as i128;
-                let (zn, zd) = *z.last().unwrap_or(&(-1, 0));
-                // Pop p when s <= z[last] (p is nowhere strictly best).
-                if zd != 0 && num * zd <= zn * den {
+                // Intersection with the last piece: s = (F(q) - F(p)) / (2 K (q - p)).
+                let num = fq - fv[fv.len() - 1];
+                let den = 2 * k * (q - p) as i64;
+                let (zn, zd) = z[z.len() - 1];
+                if zd != 0 && (num as i128) * (zd as i128) <= (zn as i128) * (den as i128) {
                     v.pop();
+                    fv.pop();
                     z.pop();
                     continue;
                 }
                 v.push(q);
+                fv.push(fq);
                 z.push((num, den));
                 break;
             }
@@ -191,11 +194,10 @@ fn transform(
             continue;
         }
         let mut idx = 0;
-        for x in 0..w {
+        for (x, o) in out_row.iter_mut().enumerate() {
             while idx + 1 < v.len() {
                 let (zn, zd) = z[idx + 1];
-                // Advance while z[idx + 1] < x.
-                if zn < (x as i128) * zd {
+                if (zn as i128) < (x as i128) * (zd as i128) {
                     idx += 1;
                 } else {
                     break;
@@ -203,10 +205,11 @@ fn transform(
             }
             let q = v[idx];
             let dx = x as i64 - q as i64;
-            out[y * w + x] = k * dx * dx + row[q];
+            *o = k * dx * dx + row[q];
         }
+        row.copy_from_slice(&out_row);
     }
-    out
+    g
 }
 
 impl DistanceField {
@@ -214,20 +217,24 @@ impl DistanceField {
     pub fn build(grid: &Grid) -> Self {
         let keys = obstacle_keys(grid);
         let (w, h) = (grid.width(), grid.height());
-        let val = transform(0, w, 0, h, &|i, j| {
-            let kk = keys[j * w + i];
-            (kk != u32::MAX).then_some(kk)
-        });
+        let val = transform(0, w, 0, h, |i, j| keys[j * w + i]);
         let max_d2 = val.iter().map(|v| v >> KEY_BITS).max().unwrap_or(0);
         let mut boxes = std::collections::BTreeMap::new();
+        // Occupied cells come in runs of one key along a row: one map lookup per run.
         for j in 0..h {
-            for i in 0..w {
-                let kk = keys[j * w + i];
+            let row = &keys[j * w..(j + 1) * w];
+            let mut i = 0;
+            while i < w {
+                let kk = row[i];
+                let start = i;
+                while i < w && row[i] == kk {
+                    i += 1;
+                }
                 if kk != u32::MAX {
-                    let b = boxes.entry(kk).or_insert((i, j, i, j));
-                    b.0 = b.0.min(i);
+                    let b = boxes.entry(kk).or_insert((start, j, i - 1, j));
+                    b.0 = b.0.min(start);
                     b.1 = b.1.min(j);
-                    b.2 = b.2.max(i);
+                    b.2 = b.2.max(i - 1);
                     b.3 = b.3.max(j);
                 }
             }
@@ -355,7 +362,9 @@ impl DistanceField {
         let r = (self.max_d2 as f64).sqrt().ceil() as usize + 1;
         let (wi0, wj0) = (i0.saturating_sub(r), j0.saturating_sub(r));
         let (wi1, wj1) = ((i1 + r + 1).min(w), (j1 + r + 1).min(h));
-        let vals = transform(wi0, wi1, wj0, wj1, &|i, j| key_of.get(&(i, j)).copied());
+        let vals = transform(wi0, wi1, wj0, wj1, |i, j| {
+            key_of.get(&(i, j)).copied().unwrap_or(u32::MAX)
+        });
         let ww = wi1 - wi0;
         for y in wj0..wj1 {
             for x in wi0..wi1 {
@@ -409,10 +418,13 @@ impl DistanceField {
             let (wi0, wj0) = (a0.saturating_sub(m), b0.saturating_sub(m));
             let (wi1, wj1) = ((a1 + m + 1).min(w), (b1 + m + 1).min(h));
             let val = &self.val;
-            let vals = transform(wi0, wi1, wj0, wj1, &|i, j| {
+            let vals = transform(wi0, wi1, wj0, wj1, |i, j| {
                 let v = val[j * w + i];
-                (v >> KEY_BITS == 0 && (v & KEY_MASK) as u32 != key)
-                    .then_some((v & KEY_MASK) as u32)
+                if v >> KEY_BITS == 0 && (v & KEY_MASK) as u32 != key {
+                    (v & KEY_MASK) as u32
+                } else {
+                    u32::MAX
+                }
             });
             visited += (wi1 - wi0) * (wj1 - wj0);
             let ww = wi1 - wi0;

@@ -123,22 +123,184 @@ struct Cracks {
     ch: usize,
     v: Vec<bool>,
     h: Vec<bool>,
+    /// Cracks meeting at each corner.
+    deg: Vec<u8>,
+}
+
+/// Largest stray component [`local_strays`] looks for.
+const STRAY_LIMIT: usize = 16;
+
+/// The small stray components (at most [`STRAY_LIMIT`] cells, holding no obstacle cell) of
+/// the nearest-obstacle regions, each with the label of the neighbouring region it joins,
+/// as `(cell, label)` pairs. Fills start from the cells on each side of every crack and stop
+/// at a cell already known to belong to a large component.
+fn local_strays(grid: &Grid, field: &DistanceField, cracks: &Cracks) -> Vec<(usize, u32)> {
+    let (w, h) = (field.width(), field.height());
+    let lab = |c: usize| field.nearest(c % w, c / w);
+    let occ = grid.occupancy();
+    // 0 unknown, 1 in a large or obstacle-holding component, 2 stray.
+    let mut state = vec![0u8; w * h];
+    let mut strays: Vec<Vec<usize>> = Vec::new();
+    let mut fill = Vec::with_capacity(STRAY_LIMIT + 1);
+    let mut stack = Vec::new();
+    let cw = cracks.cw;
+    for cc in 0..cracks.deg.len() {
+        let (ci, cj) = (cc % cw, cc / cw);
+        let mut sides = [None; 4];
+        if cracks.v[cc] {
+            sides[0] = Some(cj * w + ci - 1);
+            sides[1] = Some(cj * w + ci);
+        }
+        if cracks.h[cc] {
+            sides[2] = Some((cj - 1) * w + ci);
+            sides[3] = Some(cj * w + ci);
+        }
+        for start in sides.into_iter().flatten() {
+            if state[start] != 0 {
+                continue;
+            }
+            let l = lab(start);
+            fill.clear();
+            stack.clear();
+            stack.push(start);
+            state[start] = 3; // in the current fill
+            let mut large = false;
+            while let Some(c) = stack.pop() {
+                fill.push(c);
+                if occ[c] || fill.len() > STRAY_LIMIT {
+                    large = true;
+                    break;
+                }
+                let (i, j) = (c % w, c / w);
+                for n in [
+                    (i + 1 < w).then(|| c + 1),
+                    (j + 1 < h).then(|| c + w),
+                    (i > 0).then(|| c - 1),
+                    (j > 0).then(|| c - w),
+                ]
+                .into_iter()
+                .flatten()
+                {
+                    if lab(n) != l {
+                        continue;
+                    }
+                    match state[n] {
+                        0 => {
+                            state[n] = 3;
+                            stack.push(n);
+                        }
+                        1 => large = true,
+                        _ => {}
+                    }
+                }
+                if large {
+                    break;
+                }
+            }
+            let mark = if large { 1 } else { 2 };
+            for &c in fill.iter().chain(stack.iter()) {
+                state[c] = mark;
+            }
+            if !large {
+                let mut comp = fill.clone();
+                comp.sort_unstable();
+                strays.push(comp);
+            }
+        }
+    }
+    let mut out = Vec::new();
+    for comp in &strays {
+        // The first neighbour, in raster order of the component's cells, outside it.
+        let l = lab(comp[0]);
+        let new = comp.iter().find_map(|&c| {
+            let (i, j) = (c % w, c / w);
+            [
+                (i + 1 < w).then(|| c + 1),
+                (j + 1 < h).then(|| c + w),
+                (i > 0).then(|| c - 1),
+                (j > 0).then(|| c - w),
+            ]
+            .into_iter()
+            .flatten()
+            .map(|n| {
+                out.iter()
+                    .find(|&&(x, _)| x == n)
+                    .map_or_else(|| lab(n), |&(_, m)| m)
+            })
+            .find(|&m| m != l)
+        });
+        if let Some(m) = new {
+            out.extend(comp.iter().map(|&c| (c, m)));
+        }
+    }
+    out
 }
 
 /// The region of every cell: its nearest obstacle, except that cells cut off from the rest
 /// of their obstacle's region (the discrete regions can have stray cells that touch it only
 /// diagonally) join the region of a 4-neighbour, so that every region is 4-connected and
-/// holds its obstacle. Breadth-first from the obstacles in raster order: deterministic.
+/// holds its obstacle.
+///
+/// Two-pass connected-component labelling of equal-label cells (4-connected) with
+/// union-find; a component is kept when it holds an occupied cell. Stray cells then take
+/// the label of a kept neighbour, breadth-first from the kept cells that border them, in
+/// raster order: deterministic.
 fn regions(grid: &Grid, field: &DistanceField) -> Vec<u32> {
     let (w, h) = (field.width(), field.height());
     let mut label: Vec<u32> = (0..w * h).map(|c| field.nearest(c % w, c / w)).collect();
-    let mut reached = vec![false; w * h];
-    let mut queue = std::collections::VecDeque::new();
-    for (c, r) in reached.iter_mut().enumerate() {
-        if grid.occupancy()[c] {
-            *r = true;
-            queue.push_back(c);
+    let occ = grid.occupancy();
+    let mut comp = vec![0u32; w * h];
+    let mut parent: Vec<u32> = Vec::new();
+    let mut keep: Vec<bool> = Vec::new();
+    fn root(p: &mut [u32], mut i: u32) -> u32 {
+        while p[i as usize] != i {
+            p[i as usize] = p[p[i as usize] as usize];
+            i = p[i as usize];
         }
+        i
+    }
+    for j in 0..h {
+        for i in 0..w {
+            let c = j * w + i;
+            let l = label[c];
+            let left = (i > 0 && label[c - 1] == l).then(|| comp[c - 1]);
+            let up = (j > 0 && label[c - w] == l).then(|| comp[c - w]);
+            let id = match (left, up) {
+                (Some(a), Some(b)) => {
+                    let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+                    if ra != rb {
+                        let (lo, hi) = (ra.min(rb), ra.max(rb));
+                        parent[hi as usize] = lo;
+                        keep[lo as usize] |= keep[hi as usize];
+                    }
+                    ra.min(rb)
+                }
+                (Some(a), None) => a,
+                (None, Some(b)) => b,
+                (None, None) => {
+                    parent.push(parent.len() as u32);
+                    keep.push(false);
+                    (parent.len() - 1) as u32
+                }
+            };
+            comp[c] = id;
+            if occ[c] {
+                let r = root(&mut parent, id);
+                keep[r as usize] = true;
+            }
+        }
+    }
+    let mut kept = vec![true; w * h];
+    let mut any_stray = false;
+    for c in 0..w * h {
+        let r = root(&mut parent, comp[c]);
+        if !keep[r as usize] {
+            kept[c] = false;
+            any_stray = true;
+        }
+    }
+    if !any_stray {
+        return label;
     }
     let neighbours = |c: usize| {
         let (i, j) = (c % w, c / w);
@@ -149,32 +311,15 @@ fn regions(grid: &Grid, field: &DistanceField) -> Vec<u32> {
             (j > 0).then(|| c - w),
         ]
     };
-    // Grow every region through cells of its own label.
+    let mut queue: std::collections::VecDeque<usize> = (0..w * h)
+        .filter(|&c| kept[c] && neighbours(c).into_iter().flatten().any(|n| !kept[n]))
+        .collect();
     while let Some(c) = queue.pop_front() {
         for n in neighbours(c).into_iter().flatten() {
-            if !reached[n] {
-                if label[n] == label[c] {
-                    reached[n] = true;
-                    queue.push_back(n);
-                }
-            }
-        }
-    }
-    // Stray cells: adopt the label of the region that reaches them first.
-    let mut queue: std::collections::VecDeque<usize> = std::collections::VecDeque::new();
-    for c in 0..w * h {
-        if reached[c] {
-            queue.push_back(c);
-        }
-    }
-    if queue.len() < w * h {
-        while let Some(c) = queue.pop_front() {
-            for n in neighbours(c).into_iter().flatten() {
-                if !reached[n] {
-                    reached[n] = true;
-                    label[n] = label[c];
-                    queue.push_back(n);
-                }
+            if !kept[n] {
+                kept[n] = true;
+                label[n] = label[c];
+                queue.push_back(n);
             }
         }
     }
@@ -182,22 +327,74 @@ fn regions(grid: &Grid, field: &DistanceField) -> Vec<u32> {
 }
 
 impl Cracks {
-    fn new(label: &[u32], w: usize, h: usize) -> Self {
+    fn new(w: usize, h: usize, label: impl Fn(usize) -> u32) -> Self {
         let (cw, ch) = (w + 1, h + 1);
         let mut v = vec![false; cw * ch];
         let mut hz = vec![false; cw * ch];
+        let mut deg = vec![0u8; cw * ch];
         for j in 0..h {
             for i in 0..w {
-                let k = label[j * w + i];
-                if i > 0 && label[j * w + i - 1] != k {
-                    v[j * cw + i] = true;
+                let k = label(j * w + i);
+                if i > 0 && label(j * w + i - 1) != k {
+                    let c = j * cw + i;
+                    v[c] = true;
+                    deg[c] += 1;
+                    deg[c + cw] += 1;
                 }
-                if j > 0 && label[(j - 1) * w + i] != k {
-                    hz[j * cw + i] = true;
+                if j > 0 && label((j - 1) * w + i) != k {
+                    let c = j * cw + i;
+                    hz[c] = true;
+                    deg[c] += 1;
+                    deg[c + 1] += 1;
                 }
             }
         }
-        Self { cw, ch, v, h: hz }
+        Self {
+            cw,
+            ch,
+            v,
+            h: hz,
+            deg,
+        }
+    }
+
+    /// Recomputes the cracks on the four sides of each of `cells` under `label`.
+    fn patch(&mut self, w: usize, h: usize, cells: &[usize], label: impl Fn(usize) -> u32) {
+        let cw = self.cw;
+        let set_v = |this: &mut Self, i: usize, j: usize| {
+            // Side between (i - 1, j) and (i, j), corner (i, j) to (i, j + 1).
+            if i == 0 || i >= w {
+                return;
+            }
+            let c = j * cw + i;
+            let now = label(j * w + i - 1) != label(j * w + i);
+            if now != this.v[c] {
+                this.v[c] = now;
+                let d = if now { 1 } else { u8::MAX };
+                this.deg[c] = this.deg[c].wrapping_add(d);
+                this.deg[c + cw] = this.deg[c + cw].wrapping_add(d);
+            }
+        };
+        let set_h = |this: &mut Self, i: usize, j: usize, label: &dyn Fn(usize) -> u32| {
+            if j == 0 || j >= h {
+                return;
+            }
+            let c = j * cw + i;
+            let now = label((j - 1) * w + i) != label(j * w + i);
+            if now != this.h[c] {
+                this.h[c] = now;
+                let d = if now { 1 } else { u8::MAX };
+                this.deg[c] = this.deg[c].wrapping_add(d);
+                this.deg[c + 1] = this.deg[c + 1].wrapping_add(d);
+            }
+        };
+        for &cell in cells {
+            let (i, j) = (cell % w, cell / w);
+            set_v(self, i, j);
+            set_v(self, i + 1, j);
+            set_h(self, i, j, &label);
+            set_h(self, i, j + 1, &label);
+        }
     }
 
     /// The corners joined to corner `c` by a crack, in the order up, right, down, left,
@@ -235,7 +432,7 @@ impl Builder<'_> {
     fn crack_clearance(&self, crack: usize) -> Real {
         let c = crack / 2;
         let (i, j) = (c % self.cracks.cw, c / self.cracks.cw);
-        let (a, b) = if crack % 2 == 0 {
+        let (a, b) = if crack.is_multiple_of(2) {
             ((i - 1, j), (i, j))
         } else {
             ((i, j - 1), (i, j))
@@ -259,6 +456,119 @@ impl Builder<'_> {
     }
 }
 
+/// The crack network traced into chains between nodes.
+struct Network {
+    cracks: Cracks,
+    node_corners: Vec<usize>,
+    node_of: std::collections::HashMap<usize, usize>,
+    chains: Vec<Chain>,
+}
+
+impl Network {
+    fn trace(cracks: Cracks) -> Self {
+        let mut nb = Vec::with_capacity(4);
+        // Nodes: corners of degree other than 2.
+        let mut node_of = std::collections::HashMap::new();
+        let mut node_corners = Vec::new();
+        let mut crack_corners = Vec::new();
+        for (c, &d) in cracks.deg.iter().enumerate() {
+            if d == 0 {
+                continue;
+            }
+            crack_corners.push(c);
+            if d != 2 {
+                node_of.insert(c, node_corners.len());
+                node_corners.push(c);
+            }
+        }
+        let mut used = vec![false; 2 * cracks.deg.len()];
+        let mut chains = Vec::new();
+        let trace = |from_node: usize,
+                     c0: usize,
+                     first: (usize, usize),
+                     used: &mut Vec<bool>,
+                     node_of: &std::collections::HashMap<usize, usize>,
+                     nb: &mut Vec<(usize, usize)>|
+         -> Chain {
+            let mut corners = vec![c0];
+            let mut cracks_on = vec![first.1];
+            used[first.1] = true;
+            let mut cur = first.0;
+            loop {
+                corners.push(cur);
+                if let Some(&n) = node_of.get(&cur) {
+                    return Chain {
+                        from: from_node,
+                        to: n,
+                        corners,
+                        cracks: cracks_on,
+                    };
+                }
+                cracks.neighbours(cur, nb);
+                let Some(&next) = nb.iter().find(|(_, k)| !used[*k]) else {
+                    // Back at a loop's anchor through its last crack.
+                    return Chain {
+                        from: from_node,
+                        to: from_node,
+                        corners,
+                        cracks: cracks_on,
+                    };
+                };
+                used[next.1] = true;
+                cracks_on.push(next.1);
+                cur = next.0;
+            }
+        };
+        for (n, &c) in node_corners.iter().enumerate() {
+            cracks.neighbours(c, &mut nb);
+            let starts: Vec<(usize, usize)> = nb.clone();
+            for s in starts {
+                if !used[s.1] {
+                    chains.push(trace(n, c, s, &mut used, &node_of, &mut nb));
+                }
+            }
+        }
+        // Loops that meet no junction: anchor each at its first corner in raster order.
+        for &c in &crack_corners {
+            cracks.neighbours(c, &mut nb);
+            if let Some(&s) = nb.iter().find(|(_, k)| !used[*k]) {
+                let n = node_corners.len();
+                node_of.insert(c, n);
+                node_corners.push(c);
+                chains.push(trace(n, c, s, &mut used, &node_of, &mut nb));
+            }
+        }
+        Self {
+            cracks,
+            node_corners,
+            node_of,
+            chains,
+        }
+    }
+
+    /// Independent cycles of the traced network.
+    fn cycle_rank(&self) -> usize {
+        let mut parent: Vec<usize> = (0..self.node_corners.len()).collect();
+        let mut components = parent.len();
+        for ch in &self.chains {
+            let (x, y) = (find(&mut parent, ch.from), find(&mut parent, ch.to));
+            if x != y {
+                parent[x] = y;
+                components -= 1;
+            }
+        }
+        self.chains.len() + components - self.node_corners.len()
+    }
+}
+
+fn find(p: &mut [usize], mut i: usize) -> usize {
+    while p[i] != i {
+        p[i] = p[p[i]];
+        i = p[i];
+    }
+    i
+}
+
 /// A traced chain of corners between two nodes, before simplification.
 struct Chain {
     from: usize,
@@ -275,86 +585,47 @@ impl VoronoiGraph {
         start: Option<Point>,
         goal: Option<Point>,
     ) -> Result<Self, GraphError> {
-        let label = regions(grid, field);
+        let width = field.width();
+        let raw = Cracks::new(width, field.height(), |c| {
+            field.nearest(c % width, c / width)
+        });
+        let mut net = Network::trace(raw);
+        // Stray cells of a region add a face each; only then clean the regions up (rare).
+        let inside = field.obstacles().filter(|&k| k != field.wall_key()).count();
+        if net.cycle_rank() != inside {
+            // Small strays are found by bounded fills from the cells along the cracks; the
+            // full labelling is the fallback when that does not account for every face.
+            let strays = local_strays(grid, field, &net.cracks);
+            if !strays.is_empty() {
+                let relabel: std::collections::HashMap<usize, u32> =
+                    strays.iter().copied().collect();
+                let cells: Vec<usize> = strays.iter().map(|&(c, _)| c).collect();
+                let mut cracks = net.cracks;
+                cracks.patch(width, field.height(), &cells, |c| {
+                    relabel
+                        .get(&c)
+                        .copied()
+                        .unwrap_or_else(|| field.nearest(c % width, c / width))
+                });
+                net = Network::trace(cracks);
+            }
+            if net.cycle_rank() != inside {
+                let label = regions(grid, field);
+                net = Network::trace(Cracks::new(width, field.height(), |c| label[c]));
+            }
+        }
+        let Network {
+            cracks,
+            node_corners,
+            mut node_of,
+            mut chains,
+        } = net;
         let b = Builder {
             grid,
             field,
-            cracks: Cracks::new(&label, field.width(), field.height()),
+            cracks,
         };
-        let ncorners = b.cracks.cw * b.cracks.ch;
         let mut nb = Vec::with_capacity(4);
-        // Nodes: corners of degree other than 2.
-        let mut node_of = std::collections::HashMap::new();
-        let mut node_corners = Vec::new();
-        let mut crack_corners = Vec::new();
-        for c in 0..ncorners {
-            b.cracks.neighbours(c, &mut nb);
-            if nb.is_empty() {
-                continue;
-            }
-            crack_corners.push(c);
-            if nb.len() != 2 {
-                node_of.insert(c, node_corners.len());
-                node_corners.push(c);
-            }
-        }
-        let mut used = vec![false; 2 * ncorners];
-        let mut chains = Vec::new();
-        let trace = |from_node: usize,
-                     c0: usize,
-                     first: (usize, usize),
-                     used: &mut Vec<bool>,
-                     node_of: &std::collections::HashMap<usize, usize>,
-                     nb: &mut Vec<(usize, usize)>|
-         -> Chain {
-            let mut corners = vec![c0];
-            let mut cracks = vec![first.1];
-            used[first.1] = true;
-            let mut cur = first.0;
-            loop {
-                corners.push(cur);
-                if let Some(&n) = node_of.get(&cur) {
-                    return Chain {
-                        from: from_node,
-                        to: n,
-                        corners,
-                        cracks,
-                    };
-                }
-                b.cracks.neighbours(cur, nb);
-                let Some(&next) = nb.iter().find(|(_, k)| !used[*k]) else {
-                    // Back at a loop's anchor through its last crack.
-                    return Chain {
-                        from: from_node,
-                        to: from_node,
-                        corners,
-                        cracks,
-                    };
-                };
-                used[next.1] = true;
-                cracks.push(next.1);
-                cur = next.0;
-            }
-        };
-        for (n, &c) in node_corners.iter().enumerate() {
-            b.cracks.neighbours(c, &mut nb);
-            let starts: Vec<(usize, usize)> = nb.clone();
-            for s in starts {
-                if !used[s.1] {
-                    chains.push(trace(n, c, s, &mut used, &node_of, &mut nb));
-                }
-            }
-        }
-        // Loops that meet no junction: anchor each at its first corner in raster order.
-        for &c in &crack_corners {
-            b.cracks.neighbours(c, &mut nb);
-            if let Some(&s) = nb.iter().find(|(_, k)| !used[*k]) {
-                let n = node_corners.len();
-                node_of.insert(c, n);
-                node_corners.push(c);
-                chains.push(trace(n, c, s, &mut used, &node_of, &mut nb));
-            }
-        }
         let mut g = VoronoiGraph {
             resolution: grid.resolution(),
             nodes: node_corners

@@ -103,7 +103,7 @@ impl Grid {
         let ext = scene.bounds.extent();
         let w = (ext.x / h).ceil();
         let hh = (ext.y / h).ceil();
-        if !(w * hh <= MAX_CELLS as Real) {
+        if w * hh > MAX_CELLS as Real {
             return Err(GridError::TooLarge {
                 cells: (w * hh).min(usize::MAX as Real) as usize,
                 max: MAX_CELLS,
