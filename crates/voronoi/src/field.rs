@@ -362,10 +362,13 @@ impl DistanceField {
         let r = (self.max_d2 as f64).sqrt().ceil() as usize + 1;
         let (wi0, wj0) = (i0.saturating_sub(r), j0.saturating_sub(r));
         let (wi1, wj1) = ((i1 + r + 1).min(w), (j1 + r + 1).min(h));
-        let vals = transform(wi0, wi1, wj0, wj1, |i, j| {
-            key_of.get(&(i, j)).copied().unwrap_or(u32::MAX)
-        });
         let ww = wi1 - wi0;
+        // The new cells as a dense source array over the window.
+        let mut src = vec![u32::MAX; ww * (wj1 - wj0)];
+        for (&(i, j), &kk) in &key_of {
+            src[(j - wj0) * ww + (i - wi0)] = kk;
+        }
+        let vals = transform(wi0, wi1, wj0, wj1, |i, j| src[(j - wj0) * ww + (i - wi0)]);
         for y in wj0..wj1 {
             for x in wi0..wi1 {
                 let nv = vals[(y - wj0) * ww + (x - wi0)];
