@@ -1,1 +1,16 @@
-//! Homotopy signatures and the k best homotopy-distinct paths (filled by the homotopy issue).
+//! Homotopy signatures and the k best homotopy-distinct paths (method.md section 5.2).
+//!
+//! - [`signature`]: [`Rays`] and [`Signature`], the exact reduced-word invariant; the
+//!   H-signature of Bhattacharya et al. as [`h_signature`].
+//! - [`search`]: [`k_best_classes`] on a [`homospline_voronoi::VoronoiGraph`], with blocked
+//!   edges and regions, and [`classes_through_edge`] / [`in_class`] for re-planning and for
+//!   keeping an optimised curve in its class.
+
+pub mod search;
+pub mod signature;
+
+pub use search::{
+    ClassPath, EdgeCost, SearchConfig, SearchError, SearchResult, classes_through_edge, in_class,
+    k_best_classes,
+};
+pub use signature::{Rays, Signature, h_distance, h_signature};

@@ -1,0 +1,361 @@
+//! The k cheapest simple start-goal paths of a Voronoi graph in pairwise distinct homotopy
+//! classes, with blocked edges and regions, and which classes use an edge.
+//!
+//! Best-first search over partial simple paths, ordered by cost so far plus the exact
+//! distance to the goal ignoring simplicity (an admissible, consistent bound): complete paths
+//! leave the queue in order of cost, so the first path of each signature to reach the goal is
+//! the cheapest simple path of that class, and the first `k` signatures are the `k` best
+//! classes. Exact; checked against brute-force enumeration of all simple paths. A budget on
+//! expansions bounds pathological graphs, and the result says whether it was reached.
+
+use std::cmp::Ordering;
+use std::collections::{BinaryHeap, HashSet};
+
+use homospline_geom::{Point, Real};
+use homospline_voronoi::VoronoiGraph;
+use thiserror::Error;
+
+use crate::signature::{Rays, Signature};
+
+/// The cost of an edge in the search.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum EdgeCost {
+    /// Its length.
+    Length,
+    /// `length * (1 + weight / max(mean clearance, 1e-6))`: prefers wide passages.
+    ClearancePenalty {
+        /// How much narrowness costs.
+        weight: Real,
+    },
+}
+
+/// What to search for.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SearchConfig {
+    /// How many classes (the paper uses 5 to 7).
+    pub k: usize,
+    /// Edge cost.
+    pub cost: EdgeCost,
+    /// Edges whose minimum clearance is below this are not used (start and goal connectors
+    /// excepted: the robot is where it is).
+    pub min_clearance: Real,
+    /// Edges not to use (what a scout found blocked).
+    pub blocked_edges: Vec<usize>,
+    /// Discs `(centre, radius)` no edge may enter.
+    pub blocked_regions: Vec<(Point, Real)>,
+    /// Budget of partial paths taken from the queue.
+    pub max_expansions: usize,
+}
+
+impl Default for SearchConfig {
+    fn default() -> Self {
+        Self {
+            k: 5,
+            cost: EdgeCost::Length,
+            min_clearance: 0.0,
+            blocked_edges: Vec::new(),
+            blocked_regions: Vec::new(),
+            max_expansions: 1_000_000,
+        }
+    }
+}
+
+/// Why a search could not run.
+#[derive(Debug, Error, PartialEq)]
+pub enum SearchError {
+    /// The graph has no start or goal attached.
+    #[error("the graph has no {0} attached")]
+    NotAttached(&'static str),
+    /// A parameter is out of range.
+    #[error("{0}")]
+    Config(String),
+}
+
+/// One class: its cheapest simple path.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ClassPath {
+    /// Node sequence from start to goal.
+    pub nodes: Vec<usize>,
+    /// Edges used, with `true` when walked from `from` to `to`.
+    pub edges: Vec<(usize, bool)>,
+    /// Search cost.
+    pub cost: Real,
+    /// Length in map units.
+    pub length: Real,
+    /// Smallest edge clearance on it.
+    pub min_clearance: Real,
+    /// The path as a polyline.
+    pub polyline: Vec<Point>,
+    /// Its homotopy class.
+    pub signature: Signature,
+}
+
+/// What a search found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SearchResult {
+    /// The classes, cheapest first.
+    pub classes: Vec<ClassPath>,
+    /// `true` when every class that exists is listed or `k` were found; `false` when the
+    /// expansion budget ran out first.
+    pub complete: bool,
+    /// Partial paths expanded.
+    pub expansions: usize,
+}
+
+#[derive(Clone, Copy)]
+struct Entry {
+    f: Real,
+    order: usize,
+    id: usize,
+}
+
+impl PartialEq for Entry {
+    fn eq(&self, o: &Self) -> bool {
+        self.cmp(o) == Ordering::Equal
+    }
+}
+impl Eq for Entry {}
+impl PartialOrd for Entry {
+    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl Ord for Entry {
+    // A max-heap: smaller f first, then earlier insertion.
+    fn cmp(&self, o: &Self) -> Ordering {
+        o.f.total_cmp(&self.f).then(o.order.cmp(&self.order))
+    }
+}
+
+struct Partial {
+    parent: usize,
+    node: usize,
+    edge: (usize, bool),
+    g: Real,
+    word: Signature,
+}
+
+fn edge_polyline(g: &VoronoiGraph, e: usize, forward: bool) -> Vec<Point> {
+    let mut pts: Vec<Point> = g.edges[e]
+        .polyline
+        .iter()
+        .map(|p| Point::new(p[0], p[1]))
+        .collect();
+    if !forward {
+        pts.reverse();
+    }
+    pts
+}
+
+/// The k best classes of `graph` (start and goal attached) relative to `rays`.
+pub fn k_best_classes(
+    graph: &VoronoiGraph,
+    rays: &Rays,
+    cfg: &SearchConfig,
+) -> Result<SearchResult, SearchError> {
+    let start = graph.start.ok_or(SearchError::NotAttached("start"))?;
+    let goal = graph.goal.ok_or(SearchError::NotAttached("goal"))?;
+    if !(cfg.min_clearance.is_finite() && cfg.min_clearance >= 0.0) {
+        return Err(SearchError::Config(format!(
+            "min_clearance must be finite and >= 0, got {}",
+            cfg.min_clearance
+        )));
+    }
+    if let EdgeCost::ClearancePenalty { weight } = cfg.cost
+        && !(weight.is_finite() && weight >= 0.0)
+    {
+        return Err(SearchError::Config(format!(
+            "clearance penalty weight must be finite and >= 0, got {weight}"
+        )));
+    }
+    let n = graph.nodes.len();
+    let blocked: HashSet<usize> = cfg.blocked_edges.iter().copied().collect();
+    let allowed: Vec<bool> = graph
+        .edges
+        .iter()
+        .enumerate()
+        .map(|(i, e)| {
+            let connector = [e.from, e.to].iter().any(|&x| x == start || x == goal);
+            !blocked.contains(&i)
+                && (connector || e.min_clearance >= cfg.min_clearance)
+                && !cfg.blocked_regions.iter().any(|(c, r)| {
+                    e.polyline.windows(2).any(|s| {
+                        homospline_geom::math::distance_point_segment(
+                            c,
+                            &Point::new(s[0][0], s[0][1]),
+                            &Point::new(s[1][0], s[1][1]),
+                        ) <= *r
+                    })
+                })
+        })
+        .collect();
+    let cost: Vec<Real> = graph
+        .edges
+        .iter()
+        .map(|e| match cfg.cost {
+            EdgeCost::Length => e.length,
+            EdgeCost::ClearancePenalty { weight } => {
+                e.length * (1.0 + weight / e.mean_clearance.max(1e-6))
+            }
+        })
+        .collect();
+    let mut adj: Vec<Vec<(usize, usize, bool)>> = vec![Vec::new(); n];
+    for (i, e) in graph.edges.iter().enumerate() {
+        if allowed[i] {
+            adj[e.from].push((e.to, i, true));
+            if e.from != e.to {
+                adj[e.to].push((e.from, i, false));
+            }
+        }
+    }
+    // Exact distance to the goal (Dijkstra backwards; the graph is undirected).
+    let mut h = vec![Real::INFINITY; n];
+    h[goal] = 0.0;
+    let mut heap = BinaryHeap::new();
+    heap.push(Entry {
+        f: 0.0,
+        order: goal,
+        id: goal,
+    });
+    while let Some(Entry { f, id, .. }) = heap.pop() {
+        if f > h[id] {
+            continue;
+        }
+        for &(m, e, _) in &adj[id] {
+            let d = f + cost[e];
+            if d < h[m] {
+                h[m] = d;
+                heap.push(Entry {
+                    f: d,
+                    order: m,
+                    id: m,
+                });
+            }
+        }
+    }
+    // Edge words, forward.
+    let words: Vec<Signature> = (0..graph.edges.len())
+        .map(|e| rays.signature(&edge_polyline(graph, e, true)))
+        .collect();
+    let mut arena = vec![Partial {
+        parent: usize::MAX,
+        node: start,
+        edge: (usize::MAX, true),
+        g: 0.0,
+        word: Signature::identity(),
+    }];
+    let mut queue = BinaryHeap::new();
+    let mut order = 0;
+    if h[start].is_finite() {
+        queue.push(Entry {
+            f: h[start],
+            order,
+            id: 0,
+        });
+    }
+    let mut seen: HashSet<Signature> = HashSet::new();
+    let mut classes = Vec::new();
+    let mut expansions = 0;
+    let mut complete = true;
+    while let Some(Entry { id, .. }) = queue.pop() {
+        if classes.len() >= cfg.k {
+            break;
+        }
+        if expansions >= cfg.max_expansions {
+            complete = false;
+            break;
+        }
+        expansions += 1;
+        let node = arena[id].node;
+        if node == goal {
+            if seen.insert(arena[id].word.clone()) {
+                classes.push(assemble(graph, &arena, id));
+            }
+            continue;
+        }
+        // Nodes on this partial path (for simplicity).
+        let mut on_path = HashSet::new();
+        let mut p = id;
+        while p != usize::MAX {
+            on_path.insert(arena[p].node);
+            p = arena[p].parent;
+        }
+        for &(m, e, fwd) in &adj[node] {
+            if on_path.contains(&m) || !h[m].is_finite() {
+                continue;
+            }
+            let g = arena[id].g + cost[e];
+            let word = if fwd {
+                arena[id].word.concat(&words[e])
+            } else {
+                arena[id].word.concat(&words[e].inverse())
+            };
+            arena.push(Partial {
+                parent: id,
+                node: m,
+                edge: (e, fwd),
+                g,
+                word,
+            });
+            order += 1;
+            queue.push(Entry {
+                f: g + h[m],
+                order,
+                id: arena.len() - 1,
+            });
+        }
+    }
+    Ok(SearchResult {
+        classes,
+        complete,
+        expansions,
+    })
+}
+
+fn assemble(graph: &VoronoiGraph, arena: &[Partial], id: usize) -> ClassPath {
+    let mut chain = Vec::new();
+    let mut p = id;
+    while p != usize::MAX {
+        chain.push(p);
+        p = arena[p].parent;
+    }
+    chain.reverse();
+    let nodes: Vec<usize> = chain.iter().map(|&i| arena[i].node).collect();
+    let edges: Vec<(usize, bool)> = chain[1..].iter().map(|&i| arena[i].edge).collect();
+    let mut polyline: Vec<Point> = Vec::new();
+    for &(e, fwd) in &edges {
+        for p in edge_polyline(graph, e, fwd) {
+            if polyline.last() != Some(&p) {
+                polyline.push(p);
+            }
+        }
+    }
+    ClassPath {
+        length: edges.iter().map(|&(e, _)| graph.edges[e].length).sum(),
+        min_clearance: edges
+            .iter()
+            .map(|&(e, _)| graph.edges[e].min_clearance)
+            .fold(Real::INFINITY, Real::min),
+        cost: arena[id].g,
+        signature: arena[id].word.clone(),
+        nodes,
+        edges,
+        polyline,
+    }
+}
+
+/// Indices of the classes whose path uses `edge`: the ones a scout's report that `edge` is
+/// blocked invalidates.
+pub fn classes_through_edge(classes: &[ClassPath], edge: usize) -> Vec<usize> {
+    classes
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.edges.iter().any(|&(e, _)| e == edge))
+        .map(|(i, _)| i)
+        .collect()
+}
+
+/// Whether a dense polyline with the same ends is in the class `signature`.
+pub fn in_class(rays: &Rays, polyline: &[Point], signature: &Signature) -> bool {
+    &rays.signature(polyline) == signature
+}

@@ -1,0 +1,182 @@
+//! Homotopy signatures of paths with fixed ends in the plane minus obstacle points.
+//!
+//! [`Rays`]: from each obstacle's representative point a ray goes to infinity in one fixed
+//! direction, so no two rays cross. A path's [`Signature`] is the sequence of signed ray
+//! crossings (`+i`: ray `i` crossed from its right to its left), freely reduced (`+i -i`
+//! cancels). The plane minus `n` points has the free group on `n` letters as fundamental
+//! group, and that word is the path's element of it, so two paths with the same ends are
+//! homotopic exactly when their reduced words are equal: an exact integer invariant
+//! (homotopy, not only homology) that does not merge classes however many obstacles there
+//! are.
+//!
+//! [`h_signature`]: the H-signature of Bhattacharya, Likhachev and Kumar, per obstacle the
+//! complex integral of `dz / (z - z_i)` along the path; equal for homologous paths, and its
+//! imaginary parts over `2 pi` give a distance between classes.
+
+use homospline_geom::{Point, Real, Vector};
+
+/// The ray system: one ray per representative point, all in one direction.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rays {
+    origins: Vec<Point>,
+    dir: Vector,
+}
+
+/// A reduced word of signed ray crossings: letter `+(i + 1)` or `-(i + 1)` for ray `i`.
+#[derive(Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
+pub struct Signature(pub Vec<i32>);
+
+impl Signature {
+    /// The empty word: the class of paths that cross no ray on balance.
+    pub fn identity() -> Self {
+        Self(Vec::new())
+    }
+
+    /// Appends one letter, reducing.
+    pub fn push(&mut self, letter: i32) {
+        if self.0.last() == Some(&-letter) {
+            self.0.pop();
+        } else {
+            self.0.push(letter);
+        }
+    }
+
+    /// `self` followed by `other`, reduced.
+    pub fn concat(&self, other: &Signature) -> Signature {
+        let mut s = self.clone();
+        for &l in &other.0 {
+            s.push(l);
+        }
+        s
+    }
+
+    /// The word of the reversed path.
+    pub fn inverse(&self) -> Signature {
+        Signature(self.0.iter().rev().map(|l| -l).collect())
+    }
+
+    /// Whether it is the empty word.
+    pub fn is_identity(&self) -> bool {
+        self.0.is_empty()
+    }
+}
+
+impl std::fmt::Display for Signature {
+    /// A stable text form: `e` for the empty word, else letters such as `+3-1+12`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.0.is_empty() {
+            return f.write_str("e");
+        }
+        for l in &self.0 {
+            write!(f, "{}{}", if *l > 0 { '+' } else { '-' }, l.abs())?;
+        }
+        Ok(())
+    }
+}
+
+impl Rays {
+    /// Rays from `origins` in a fixed direction. The direction is tilted off the axes, and
+    /// turned further if two origins would lie on one ray.
+    pub fn new(origins: Vec<Point>) -> Self {
+        let mut angle: Real = 1.4137;
+        loop {
+            let dir = Vector::new(angle.cos(), angle.sin());
+            let collinear = origins.iter().enumerate().any(|(i, a)| {
+                origins[i + 1..].iter().any(|b| {
+                    let v = b - a;
+                    (dir.x * v.y - dir.y * v.x).abs() <= 1e-9 * (1.0 + v.norm())
+                })
+            });
+            if !collinear || angle > 1.7 {
+                return Self { origins, dir };
+            }
+            angle += 0.0123;
+        }
+    }
+
+    /// Number of rays.
+    pub fn len(&self) -> usize {
+        self.origins.len()
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.origins.is_empty()
+    }
+
+    /// The representative points.
+    pub fn origins(&self) -> &[Point] {
+        &self.origins
+    }
+
+    /// Side of `p` with respect to ray `i`'s line: `true` on the left (or on the line).
+    #[inline]
+    fn left(&self, i: usize, p: &Point) -> bool {
+        let v = p - self.origins[i];
+        self.dir.x * v.y - self.dir.y * v.x >= 0.0
+    }
+
+    /// Appends the crossings of segment `a -> b` to `word`, in the order along the segment.
+    pub fn cross_segment(&self, a: &Point, b: &Point, word: &mut Signature) {
+        let mut hits: Vec<(Real, i32)> = Vec::new();
+        for i in 0..self.origins.len() {
+            let (la, lb) = (self.left(i, a), self.left(i, b));
+            if la == lb {
+                continue;
+            }
+            // Where the segment meets the ray's line, and whether that is on the ray.
+            let o = self.origins[i];
+            let (da, db) = (self.dir.perp(&(a - o)), self.dir.perp(&(b - o)));
+            let t = da / (da - db);
+            let x = a + (b - a) * t;
+            if (x - o).dot(&self.dir) >= 0.0 {
+                hits.push((t, if lb { i as i32 + 1 } else { -(i as i32 + 1) }));
+            }
+        }
+        hits.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+        for (_, l) in hits {
+            word.push(l);
+        }
+    }
+
+    /// The signature of a polyline.
+    pub fn signature(&self, path: &[Point]) -> Signature {
+        let mut w = Signature::identity();
+        for s in path.windows(2) {
+            self.cross_segment(&s[0], &s[1], &mut w);
+        }
+        w
+    }
+}
+
+/// The H-signature of a polyline: per representative point `z_i`, the complex integral of
+/// `dz / (z - z_i)`, as `(real, imaginary)`. Each segment contributes `log((b - z_i) /
+/// (a - z_i))` on the principal branch (a segment turns by less than pi around a point off
+/// it). The real parts depend only on the ends; the imaginary parts are the winding angles.
+pub fn h_signature(path: &[Point], origins: &[Point]) -> Vec<(Real, Real)> {
+    origins
+        .iter()
+        .map(|z| {
+            let mut acc = (0.0, 0.0);
+            for s in path.windows(2) {
+                let (a, b) = (s[0] - z, s[1] - z);
+                // (b / a) as a complex number.
+                let den = a.norm_squared();
+                let re = (b.x * a.x + b.y * a.y) / den;
+                let im = (b.y * a.x - b.x * a.y) / den;
+                acc.0 += 0.5 * (re * re + im * im).ln();
+                acc.1 += im.atan2(re);
+            }
+            acc
+        })
+        .collect()
+}
+
+/// Distance between two H-signatures: the largest difference of winding numbers
+/// (imaginary parts over `2 pi`); 0 for homologous paths, at least 1 otherwise.
+pub fn h_distance(a: &[(Real, Real)], b: &[(Real, Real)]) -> Real {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| ((x.1 - y.1) / std::f64::consts::TAU).abs())
+        .fold(0.0, Real::max)
+}

@@ -1,0 +1,136 @@
+//! Property tests of the homotopy signature.
+
+use homospline_geom::{Point, Vector};
+use homospline_homotopy::{Rays, Signature, h_distance, h_signature};
+use proptest::prelude::*;
+
+fn pts(v: &[(f64, f64)]) -> Vec<Point> {
+    v.iter().map(|&(x, y)| Point::new(x, y)).collect()
+}
+
+/// Whether `p` lies in the closed triangle `abc`.
+fn in_triangle(p: &Point, a: &Point, b: &Point, c: &Point) -> bool {
+    let s = |u: &Point, v: &Point| (v - u).perp(&(p - u));
+    let (d1, d2, d3) = (s(a, b), s(b, c), s(c, a));
+    let neg = d1 < 0.0 || d2 < 0.0 || d3 < 0.0;
+    let pos = d1 > 0.0 || d2 > 0.0 || d3 > 0.0;
+    !(neg && pos)
+}
+
+fn path() -> impl Strategy<Value = Vec<Point>> {
+    prop::collection::vec((-50.0..50.0, -50.0..50.0), 1..8).prop_map(|mid| {
+        let mut v = vec![Point::new(-60.0, 0.0)];
+        v.extend(mid.into_iter().map(|(x, y)| Point::new(x, y)));
+        v.push(Point::new(60.0, 0.0));
+        v
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(512))]
+
+    /// Moving one vertex so that the swept triangles hold no obstacle keeps the class.
+    #[test]
+    fn signature_is_invariant_under_deformations_that_cross_no_obstacle(
+        reps in prop::collection::vec((-50.0..50.0, -50.0..50.0), 1..30),
+        p in path(),
+        k in any::<prop::sample::Index>(),
+        d in (-15.0..15.0, -15.0..15.0),
+    ) {
+        let rays = Rays::new(pts(&reps));
+        let i = 1 + k.index(p.len() - 2);
+        let mut q = p.clone();
+        q[i] += Vector::new(d.0, d.1);
+        let swept = rays.origins().iter().any(|o| in_triangle(o, &p[i - 1], &p[i], &q[i]) || in_triangle(o, &p[i], &q[i], &p[i + 1]));
+        if !swept {
+            prop_assert_eq!(rays.signature(&p), rays.signature(&q));
+            // The H-signatures agree too.
+            prop_assert!(h_distance(&h_signature(&p, rays.origins()), &h_signature(&q, rays.origins())) < 1e-9);
+        }
+        // Subdividing a segment never changes the class.
+        let mut r = p.clone();
+        r.insert(i, p[i - 1] + (p[i] - p[i - 1]) * 0.37);
+        prop_assert_eq!(rays.signature(&p), rays.signature(&r));
+    }
+
+    /// A path followed by its own reverse is null-homotopic.
+    #[test]
+    fn a_path_and_its_reverse_give_the_identity(reps in prop::collection::vec((-50.0..50.0, -50.0..50.0), 1..30), p in path()) {
+        let rays = Rays::new(pts(&reps));
+        let mut there_and_back = p.clone();
+        there_and_back.extend(p.iter().rev().skip(1));
+        prop_assert!(rays.signature(&there_and_back).is_identity());
+        let s = rays.signature(&p);
+        prop_assert!(s.concat(&s.inverse()).is_identity());
+    }
+
+    /// Going round any one obstacle on its two sides gives two classes, among 200.
+    #[test]
+    fn the_two_sides_of_an_obstacle_are_different_classes(
+        reps in prop::collection::vec((-50.0..50.0, -50.0..50.0), 200),
+        which in any::<prop::sample::Index>(),
+    ) {
+        let origins = pts(&reps);
+        let rays = Rays::new(origins.clone());
+        let o = origins[which.index(200)];
+        let (s, t) = (Point::new(-60.0, -60.0), Point::new(60.0, 60.0));
+        // Two paths that differ only by a small loop around `o`: above and below it.
+        let eps = 1e-3;
+        let above = vec![s, o + Vector::new(-eps, 0.0), o + Vector::new(0.0, eps), o + Vector::new(eps, 0.0), t];
+        let below = vec![s, o + Vector::new(-eps, 0.0), o + Vector::new(0.0, -eps), o + Vector::new(eps, 0.0), t];
+        let near = origins.iter().filter(|q| (*q - o).norm() < 2.0 * eps).count();
+        if near == 1 {
+            prop_assert_ne!(rays.signature(&above), rays.signature(&below));
+            // The loop above-then-back-below winds once around `o`: its word is a conjugate
+            // of `o`'s letter (other rays may pass through the small loop), so cyclic
+            // reduction leaves that one letter.
+            let mut lp = above.clone();
+            lp.extend(below.iter().rev().skip(1));
+            let mut w = rays.signature(&lp).0;
+            while w.len() > 1 && w[0] == -w[w.len() - 1] {
+                w.remove(0);
+                w.pop();
+            }
+            prop_assert_eq!(w.len(), 1);
+            prop_assert_eq!(w[0].unsigned_abs() as usize, origins.iter().position(|q| *q == o).unwrap() + 1);
+        }
+    }
+}
+
+#[test]
+fn text_form_is_stable() {
+    assert_eq!(Signature::identity().to_string(), "e");
+    assert_eq!(Signature(vec![3, -1, 12]).to_string(), "+3-1+12");
+}
+
+#[test]
+fn winding_twice_is_not_winding_once() {
+    // Homotopy, not homology: a commutator loop around two obstacles is not null-homotopic,
+    // though its H-signature (homology) is zero.
+    let rays = Rays::new(vec![Point::new(0.0, 0.0), Point::new(10.0, 0.0)]);
+    // Loops based at B = (5, -5), each going once round one obstacle from below.
+    let base = Point::new(5.0, -5.0);
+    let around = |c: Point, r: f64| -> Vec<Point> {
+        let mut v = vec![base];
+        v.extend((0..=16).map(|k| {
+            let a = -std::f64::consts::FRAC_PI_2 + k as f64 / 16.0 * std::f64::consts::TAU;
+            c + Vector::new(a.cos(), a.sin()) * r
+        }));
+        v.push(base);
+        v
+    };
+    let (a, b) = (
+        around(Point::new(0.0, 0.0), 2.0),
+        around(Point::new(10.0, 0.0), 2.0),
+    );
+    let a_inv: Vec<Point> = a.iter().rev().copied().collect();
+    let b_inv: Vec<Point> = b.iter().rev().copied().collect();
+    let mut lp = Vec::new();
+    for part in [&a, &b, &a_inv, &b_inv] {
+        lp.extend(part.iter().copied());
+    }
+    let w = rays.signature(&lp);
+    assert_eq!(w.0.len(), 4, "{w}");
+    let h = h_signature(&lp, rays.origins());
+    assert!(h.iter().all(|(_, im)| im.abs() < 1e-9), "{h:?}");
+}
