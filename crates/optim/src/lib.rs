@@ -1,1 +1,22 @@
-//! Nelder-Mead and the via-point growth loop of the planner (filled by the optim issue).
+//! Nelder-Mead, the via-point growth loop, and the homotopy-seeded planner (method.md
+//! sections 4 and 5).
+//!
+//! - [`nelder_mead`]: [`NelderMead`], standard and dimension-adaptive (Gao and Han 2012),
+//!   argmin-shaped: `init`, `step`, `terminate`, an [`nelder_mead::Observer`], restarts.
+//! - [`lbfgs`]: [`Lbfgs`], for the analytic gradient (an option; Nelder-Mead stays default).
+//! - [`growth`]: [`grow`], the paper's loop: optimise, add a via-point, repeat.
+//! - [`planner`]: [`plan`], scene to ranked plan. It is the only module that touches every
+//!   lower crate (voronoi, homotopy, spline), and it holds no algorithm of its own beyond
+//!   seeding and ranking.
+
+pub mod growth;
+pub mod lbfgs;
+pub mod nelder_mead;
+pub mod planner;
+
+pub use growth::{Grown, GrowthConfig, Guard, Optimizer, grow};
+pub use lbfgs::Lbfgs;
+pub use nelder_mead::{Coefficients, NelderMead, Outcome, Termination};
+pub use planner::{
+    ClassPlan, Plan, PlanConfig, PlanError, Seed, Timing, default_resolution, plan, plan_with_graph,
+};

@@ -1,0 +1,285 @@
+//! The paper's iterative optimisation (method.md section 4): optimise the inner via-points,
+//! add one via-point, warm-started from the current curve, and repeat until the round limit
+//! or a round that fails to improve.
+
+use homospline_geom::{Bounds, Point, Real};
+use homospline_homotopy::{Rays, Signature};
+use homospline_spline::{
+    ClearanceModel, CostConfig, CostTerms, EndCondition, Parametrization, Spline, SplineError,
+    evaluate, gradient, min_clearance,
+};
+
+use crate::lbfgs::Lbfgs;
+use crate::nelder_mead::NelderMead;
+
+/// Which local optimiser a round uses.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Optimizer {
+    /// Nelder-Mead, the paper's method (default).
+    #[default]
+    NelderMead,
+    /// L-BFGS on the analytic gradient (uniform parameters).
+    Lbfgs,
+}
+
+/// Settings of the growth loop.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GrowthConfig {
+    /// The cost.
+    pub cost: CostConfig,
+    /// Spline parameters.
+    pub parametrization: Parametrization,
+    /// Spline ends.
+    pub end: EndCondition,
+    /// Round limit (the paper's iteration limit).
+    pub max_rounds: usize,
+    /// No via-point is added beyond this many.
+    pub max_via_points: usize,
+    /// Evaluation budget of one round, per optimised coordinate.
+    pub evaluations_per_dimension: usize,
+    /// A round must lower the cost by this fraction to count as an improvement.
+    pub min_improvement: Real,
+    /// The optimiser.
+    pub optimizer: Optimizer,
+    /// Initial simplex step, as a fraction of the mean via-point spacing.
+    pub step_fraction: Real,
+    /// Samples per spline segment for the class and bounds checks of each candidate.
+    pub guard_samples: usize,
+}
+
+impl Default for GrowthConfig {
+    fn default() -> Self {
+        Self {
+            cost: CostConfig::paper_voronoi(),
+            parametrization: Parametrization::Uniform,
+            end: EndCondition::Natural,
+            max_rounds: 3,
+            max_via_points: 10,
+            evaluations_per_dimension: 30,
+            min_improvement: 1e-3,
+            optimizer: Optimizer::NelderMead,
+            step_fraction: 0.1,
+            guard_samples: 8,
+        }
+    }
+}
+
+/// What keeps candidates in place: the class to stay in and the bounds.
+#[derive(Clone, Debug)]
+pub struct Guard<'a> {
+    /// Ray system and the class's signature; `None` lets the curve change class.
+    pub class: Option<(&'a Rays, &'a Signature)>,
+    /// The robot stays inside.
+    pub bounds: Bounds,
+    /// Reject candidates whose clearance (at the quadrature nodes, refined near the minimum)
+    /// is not positive: a seed that is collision-free stays so. Off for the straight seed,
+    /// which starts in collision.
+    pub collision_free: bool,
+}
+
+impl Guard<'_> {
+    /// The cost of a candidate, or `+inf` when the guard rejects it.
+    pub fn cost(&self, spline: &Spline, model: &dyn ClearanceModel, cfg: &GrowthConfig) -> Real {
+        if !admissible(spline, self, model, cfg.guard_samples) {
+            return Real::INFINITY;
+        }
+        let terms = evaluate(spline, model, &cfg.cost);
+        if self.collision_free && terms.min_clearance <= 0.0 {
+            Real::INFINITY
+        } else {
+            terms.total
+        }
+    }
+}
+
+/// One round's outcome.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Round {
+    /// Inner via-points in this round.
+    pub via_points: usize,
+    /// Cost at the end of the round.
+    pub cost: Real,
+    /// Evaluations in the round.
+    pub evaluations: usize,
+}
+
+/// The optimised path of one seed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Grown {
+    /// `S`, via-points, `T`.
+    pub points: Vec<Point>,
+    /// The curve.
+    pub spline: Spline,
+    /// Its cost terms.
+    pub terms: CostTerms,
+    /// Rounds run.
+    pub rounds: Vec<Round>,
+    /// Cost evaluations in all.
+    pub evaluations: usize,
+}
+
+fn to_points(s: Point, t: Point, x: &[Real]) -> Vec<Point> {
+    let mut v = Vec::with_capacity(x.len() / 2 + 2);
+    v.push(s);
+    v.extend(x.chunks(2).map(|c| Point::new(c[0], c[1])));
+    v.push(t);
+    v
+}
+
+/// Whether the spline stays in bounds, (when asked) in its class and clear of obstacles, on
+/// dense samples.
+pub fn admissible(
+    spline: &Spline,
+    guard: &Guard<'_>,
+    model: &dyn ClearanceModel,
+    samples_per_segment: usize,
+) -> bool {
+    let pts = spline.sample_uniform(spline.segments() * samples_per_segment.max(2));
+    if !pts.iter().all(|p| guard.bounds.contains(p)) {
+        return false;
+    }
+    if guard.collision_free && pts.iter().any(|p| model.clearance(p).0 <= 0.0) {
+        return false;
+    }
+    match guard.class {
+        Some((rays, sig)) => &rays.signature(&pts) == sig,
+        None => true,
+    }
+}
+
+/// Runs the growth loop from `seed` (`S`, initial via-points, `T`).
+pub fn grow(
+    seed: &[Point],
+    model: &dyn ClearanceModel,
+    cfg: &GrowthConfig,
+    guard: &Guard<'_>,
+) -> Result<Grown, SplineError> {
+    let build = |pts: &[Point]| Spline::new(pts, cfg.parametrization, cfg.end).ok();
+    let mut spline = Spline::new(seed, cfg.parametrization, cfg.end)?;
+    let (s, t) = (seed[0], seed[seed.len() - 1]);
+    let mut points = seed.to_vec();
+    let mut evaluations = 0;
+    let mut rounds = Vec::new();
+    let mut best_cost = guard.cost(&spline, model, cfg);
+    for round in 0..cfg.max_rounds.max(1) {
+        let x0: Vec<Real> = points[1..points.len() - 1]
+            .iter()
+            .flat_map(|p| [p.x, p.y])
+            .collect();
+        if x0.is_empty() {
+            break;
+        }
+        let mut count = 0usize;
+        let mut objective = |x: &[Real]| -> Real {
+            count += 1;
+            let pts = to_points(s, t, x);
+            build(&pts).map_or(Real::INFINITY, |sp| guard.cost(&sp, model, cfg))
+        };
+        let spacing = points
+            .windows(2)
+            .map(|w| (w[1] - w[0]).norm())
+            .sum::<Real>()
+            / (points.len() - 1) as Real;
+        let step = (cfg.step_fraction * spacing).max(1e-6);
+        let budget = cfg.evaluations_per_dimension * x0.len();
+        let (x, value) = match cfg.optimizer {
+            Optimizer::NelderMead => {
+                let nm = NelderMead::new(x0.len())
+                    .with_initial_step(vec![step; x0.len()])
+                    .and_then(|n| n.with_tolerances(1e-7, 1e-4 * spacing))
+                    .and_then(|n| n.with_max_evaluations(budget.max(x0.len() + 2)));
+                match nm {
+                    Ok(nm) => {
+                        let out = nm.minimize(&mut objective, &x0, &mut ());
+                        (out.x, out.value)
+                    }
+                    Err(_) => (x0.clone(), best_cost),
+                }
+            }
+            Optimizer::Lbfgs => {
+                let lb = Lbfgs {
+                    max_evaluations: budget.max(4) / 4,
+                    ..Lbfgs::default()
+                };
+                let mut fg = |x: &[Real]| -> (Real, Vec<Real>) {
+                    count += 1;
+                    let pts = to_points(s, t, x);
+                    match build(&pts) {
+                        Some(sp) if admissible(&sp, guard, model, cfg.guard_samples) => {
+                            let (terms, g) = gradient(&sp, model, &cfg.cost);
+                            if guard.collision_free && terms.min_clearance <= 0.0 {
+                                (Real::INFINITY, vec![0.0; x.len()])
+                            } else {
+                                (terms.total, g.iter().flat_map(|v| [v.x, v.y]).collect())
+                            }
+                        }
+                        _ => (Real::INFINITY, vec![0.0; x.len()]),
+                    }
+                };
+                let out = lb.minimize(&mut fg, &x0);
+                (out.x, out.value)
+            }
+        };
+        evaluations += count;
+        let improved = value < best_cost - cfg.min_improvement * best_cost.abs().max(1e-12);
+        let before = best_cost;
+        if value < best_cost {
+            let candidate = to_points(s, t, &x);
+            // A guarded round's result must also be certified clear (samples can miss a thin
+            // overlap); otherwise the round's starting curve stands.
+            if let Some(sp) = build(&candidate)
+                && (!guard.collision_free || min_clearance(&sp, model, 1e-3).collision_free())
+            {
+                points = candidate;
+                spline = sp;
+                best_cost = value;
+            }
+        }
+        rounds.push(Round {
+            via_points: points.len() - 2,
+            cost: best_cost,
+            evaluations: count,
+        });
+        let improved = improved && best_cost < before;
+        if !improved && round > 0 {
+            break;
+        }
+        if points.len() - 2 >= cfg.max_via_points || round + 1 >= cfg.max_rounds {
+            break;
+        }
+        // One more via-point on the current curve, where it helps most: in the segment that
+        // holds the point of least clearance (the path is most threatened there), else the
+        // longest segment.
+        let sp = &spline;
+        let clear = min_clearance(sp, model, 1e-3);
+        let seg = if clear.upper < cfg.cost.dm {
+            sp.locate(clear.at).0
+        } else {
+            (0..sp.segments())
+                .max_by(|&a, &b| sp.segment_length(a).total_cmp(&sp.segment_length(b)))
+                .unwrap_or(0)
+        };
+        let k = sp.knots();
+        let mid = sp.position(0.5 * (k[seg] + k[seg + 1]));
+        let mut grown = points.clone();
+        grown.insert(seg + 1, mid);
+        // The curve through one more point of itself is nearly the same curve; keep it only
+        // if it is still admissible.
+        match build(&grown) {
+            Some(sp2) if guard.cost(&sp2, model, cfg).is_finite() => {
+                best_cost = evaluate(&sp2, model, &cfg.cost).total;
+                points = grown;
+                spline = sp2;
+            }
+            _ => break,
+        }
+    }
+    let terms = evaluate(&spline, model, &cfg.cost);
+    Ok(Grown {
+        points,
+        spline,
+        terms,
+        rounds,
+        evaluations,
+    })
+}

@@ -1,0 +1,478 @@
+//! The planner: one entry point from a scene to ranked, optimised, checked paths.
+//!
+//! [`plan`] builds the Voronoi graph (or takes a saved one), finds the k best homotopy
+//! classes, seeds a spline from each class path, runs the growth loop on every class in
+//! parallel (each class is independent and deterministic, so the result does not depend on
+//! the thread count), checks every curve for collisions, ranks the classes by the user's
+//! weights and reports the Pareto set over (length, roughness, minimum clearance).
+
+use std::time::Instant;
+
+use homospline_geom::{Point, Real, Scene};
+use homospline_homotopy::{Rays, SearchConfig, SearchError, Signature, k_best_classes};
+use homospline_spline::{CircleModel, ClearanceModel, CostTerms, Spline, min_clearance};
+use homospline_voronoi::{BuildError, VoronoiGraph};
+use rayon::prelude::*;
+use thiserror::Error;
+
+use crate::growth::{Grown, GrowthConfig, Guard, grow};
+
+/// How the initial spline is made.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Seed {
+    /// The paper's planner: one seed per class of the Voronoi graph.
+    #[default]
+    Voronoi,
+    /// The original planner: `S`, the midpoint, `T` (one class).
+    Straight,
+}
+
+impl Seed {
+    /// `voronoi` or `straight`, as in the plan result.
+    pub fn name(self) -> &'static str {
+        match self {
+            Seed::Voronoi => "voronoi",
+            Seed::Straight => "straight",
+        }
+    }
+}
+
+/// Settings of [`plan`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlanConfig {
+    /// Seeding.
+    pub seed: Seed,
+    /// Classes to optimise (the paper uses 5 to 7).
+    pub classes: usize,
+    /// Grid cells per map unit; `None` picks about 256 cells along the longer side.
+    pub resolution: Option<Real>,
+    /// Class search (its `k` is overridden by `classes`).
+    pub search: SearchConfig,
+    /// Growth loop and cost.
+    pub growth: GrowthConfig,
+    /// Worker threads; `None` uses rayon's default. The result is the same for any count.
+    pub threads: Option<usize>,
+    /// Tolerance of the certified clearance, map units.
+    pub certify_tolerance: Real,
+}
+
+impl Default for PlanConfig {
+    fn default() -> Self {
+        Self {
+            seed: Seed::Voronoi,
+            classes: 5,
+            resolution: None,
+            search: SearchConfig::default(),
+            growth: GrowthConfig::default(),
+            threads: None,
+            certify_tolerance: 1e-3,
+        }
+    }
+}
+
+/// Why planning failed before any class was optimised.
+#[derive(Debug, Error)]
+pub enum PlanError {
+    /// Grid or graph.
+    #[error(transparent)]
+    Build(#[from] BuildError),
+    /// Class search.
+    #[error(transparent)]
+    Search(#[from] SearchError),
+    /// Configuration.
+    #[error("{0}")]
+    Config(String),
+    /// Thread pool.
+    #[error("cannot start worker threads: {0}")]
+    Threads(String),
+}
+
+/// One optimised class.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ClassPlan {
+    /// 1 = best by the user's weights (collision-free classes first).
+    pub rank: usize,
+    /// Homotopy signature (stable text form).
+    pub signature: String,
+    /// The class path the seed came from (for `straight`: `S`, midpoint, `T`).
+    pub seed_path: Vec<Point>,
+    /// `S`, optimised via-points, `T`.
+    pub via_points: Vec<Point>,
+    /// The curve sampled at arc-length spacing of at most `min(0.5, length / 1000)`.
+    pub path: Vec<Point>,
+    /// Cost terms of the final curve.
+    pub cost: CostTerms,
+    /// Length of the curve.
+    pub length: Real,
+    /// Minimum clearance of the sampled path, segment by segment, to the (inflated) circles.
+    pub min_clearance: Real,
+    /// Certified lower bound of the curve's own minimum clearance.
+    pub certified_clearance: Real,
+    /// Collision-free: the sampled path and the certified curve both clear every circle,
+    /// and the path stays inside the bounds.
+    pub collision_free: bool,
+    /// Still in the class of its seed (always true for guarded Voronoi seeds).
+    pub in_class: bool,
+    /// Rounds of the growth loop.
+    pub iterations: usize,
+    /// Cost evaluations.
+    pub evaluations: usize,
+    /// Time spent on this class, milliseconds.
+    pub time_ms: Real,
+    /// Graph cost of the class path (Voronoi seeds).
+    pub graph_cost: Real,
+}
+
+/// A seed: the polyline, its class (none for the straight seed), its graph cost.
+type SeedPath = (Vec<Point>, Option<Signature>, Real);
+
+/// Time per stage, milliseconds.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Timing {
+    /// Grid, brushfire and graph.
+    pub voronoi: Real,
+    /// Class search.
+    pub classes: Real,
+    /// Seeding and optimisation of all classes.
+    pub optimize: Real,
+    /// Everything.
+    pub total: Real,
+}
+
+/// A plan: every class, ranked.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plan {
+    /// Scene name.
+    pub scene: String,
+    /// Seeding used.
+    pub seed: Seed,
+    /// Classes in rank order.
+    pub classes: Vec<ClassPlan>,
+    /// Rank of the chosen class: the best collision-free one; `None` if none is.
+    pub best: Option<usize>,
+    /// Ranks of the Pareto-optimal classes over (length, roughness, minimum clearance).
+    pub pareto: Vec<usize>,
+    /// Stage timings.
+    pub timing: Timing,
+    /// The graph (Voronoi seeds).
+    pub graph: Option<VoronoiGraph>,
+}
+
+fn ms(t: Instant) -> Real {
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+/// The default grid resolution for a scene: about 256 cells along the longer side.
+pub fn default_resolution(scene: &Scene) -> Real {
+    let e = scene.bounds.extent();
+    256.0 / e.x.max(e.y)
+}
+
+/// Plans `scene`.
+pub fn plan(scene: &Scene, cfg: &PlanConfig) -> Result<Plan, PlanError> {
+    plan_with_graph(scene, None, cfg)
+}
+
+/// Plans `scene`, reusing `graph` when given (built offline for this scene).
+pub fn plan_with_graph(
+    scene: &Scene,
+    graph: Option<VoronoiGraph>,
+    cfg: &PlanConfig,
+) -> Result<Plan, PlanError> {
+    if cfg.classes == 0 {
+        return Err(PlanError::Config("classes must be at least 1".into()));
+    }
+    cfg.growth
+        .cost
+        .validate()
+        .map_err(|e| PlanError::Config(e.to_string()))?;
+    let t0 = Instant::now();
+    let model = CircleModel::new(scene.circles());
+    let rays = Rays::new(
+        scene
+            .topological_obstacles()
+            .iter()
+            .map(|t| t.representative)
+            .collect(),
+    );
+    let mut timing = Timing::default();
+    // Seeds: (seed polyline, class signature, graph cost).
+    let (seeds, graph): (Vec<SeedPath>, Option<VoronoiGraph>) = match cfg.seed {
+        Seed::Straight => {
+            timing.voronoi = 0.0;
+            let mid = Point::from((scene.start.coords + scene.goal.coords) * 0.5);
+            (vec![(vec![scene.start, mid, scene.goal], None, 0.0)], None)
+        }
+        Seed::Voronoi => {
+            let tv = Instant::now();
+            let graph = match graph {
+                Some(g) => g,
+                None => {
+                    let res = cfg.resolution.unwrap_or_else(|| default_resolution(scene));
+                    homospline_voronoi::build(scene, res)?.2
+                }
+            };
+            timing.voronoi = ms(tv);
+            let tc = Instant::now();
+            // A passage narrower than one grid cell is below what the grid can tell apart
+            // from a wall: it is not offered unless the caller asks for less.
+            let min_clearance = cfg.search.min_clearance.max(1.0 / graph.resolution);
+            let search = SearchConfig {
+                k: cfg.classes,
+                min_clearance,
+                ..cfg.search.clone()
+            };
+            let found = k_best_classes(&graph, &rays, &search)?;
+            timing.classes = ms(tc);
+            let seeds = found
+                .classes
+                .into_iter()
+                .map(|c| {
+                    let mut poly = c.polyline;
+                    // The class path runs from the start node to the goal node, which sit at
+                    // the start and goal.
+                    poly[0] = scene.start;
+                    let last = poly.len() - 1;
+                    poly[last] = scene.goal;
+                    (poly, Some(c.signature), c.cost)
+                })
+                .collect();
+            (seeds, Some(graph))
+        }
+    };
+    let to = Instant::now();
+    let run = || -> Vec<ClassPlan> {
+        seeds
+            .par_iter()
+            .map(|(poly, sig, gcost)| {
+                optimise_class(scene, &model, &rays, poly, sig.as_ref(), *gcost, cfg)
+            })
+            .collect()
+    };
+    let mut classes = match cfg.threads {
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n.max(1))
+            .build()
+            .map_err(|e| PlanError::Threads(e.to_string()))?
+            .install(run),
+        None => run(),
+    };
+    timing.optimize = ms(to);
+    // Rank: collision-free first, then by cost; ties by signature for determinism.
+    classes.sort_by(|a, b| {
+        b.collision_free
+            .cmp(&a.collision_free)
+            .then(a.cost.total.total_cmp(&b.cost.total))
+            .then(a.signature.cmp(&b.signature))
+    });
+    for (i, c) in classes.iter_mut().enumerate() {
+        c.rank = i + 1;
+    }
+    let best = classes.first().filter(|c| c.collision_free).map(|c| c.rank);
+    let pareto = classes
+        .iter()
+        .filter(|a| {
+            !classes.iter().any(|b| {
+                let no_worse = b.length <= a.length
+                    && b.cost.roughness <= a.cost.roughness
+                    && b.min_clearance >= a.min_clearance;
+                let better = b.length < a.length
+                    || b.cost.roughness < a.cost.roughness
+                    || b.min_clearance > a.min_clearance;
+                no_worse && better
+            })
+        })
+        .map(|c| c.rank)
+        .collect();
+    timing.total = ms(t0);
+    Ok(Plan {
+        scene: scene.name.clone(),
+        seed: cfg.seed,
+        classes,
+        best,
+        pareto,
+        timing,
+        graph,
+    })
+}
+
+/// Via-points for a seed polyline: Douglas-Peucker vertices, the tolerance halved until the
+/// spline through them is admissible (in the class, inside the bounds, clear of obstacles);
+/// then evenly spaced points, more and more of them. The first admissible set wins; if none
+/// is, the densest set is returned and the class is reported as it ends up.
+fn seed_points(
+    poly: &[Point],
+    model: &dyn ClearanceModel,
+    guard: &Guard<'_>,
+    cfg: &GrowthConfig,
+) -> Vec<Point> {
+    let ok = |pts: &[Point]| {
+        Spline::new(pts, cfg.parametrization, cfg.end).is_ok_and(|sp| {
+            guard.cost(&sp, model, cfg).is_finite()
+                && min_clearance(&sp, model, 1e-3).collision_free()
+        })
+    };
+    let len: Real = poly.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    let mut tol = len / 8.0;
+    let limit = cfg.max_via_points + 2;
+    for _ in 0..16 {
+        let pts = simplify(poly, tol, limit);
+        if ok(&pts) {
+            return pts;
+        }
+        if pts.len() >= limit {
+            break;
+        }
+        tol *= 0.5;
+    }
+    let mut last = Vec::new();
+    for inner in 1..=cfg.max_via_points {
+        let pts = resample(poly, inner);
+        if ok(&pts) {
+            return pts;
+        }
+        last = pts;
+    }
+    last
+}
+
+fn simplify(poly: &[Point], tol: Real, max_points: usize) -> Vec<Point> {
+    let mut keep = vec![false; poly.len()];
+    keep[0] = true;
+    keep[poly.len() - 1] = true;
+    let mut stack = vec![(0, poly.len() - 1)];
+    while let Some((a, b)) = stack.pop() {
+        let (mut best, mut at) = (0.0, 0);
+        for k in a + 1..b {
+            let d = homospline_geom::math::distance_point_segment(&poly[k], &poly[a], &poly[b]);
+            if d > best {
+                best = d;
+                at = k;
+            }
+        }
+        if best > tol && keep.iter().filter(|k| **k).count() < max_points {
+            keep[at] = true;
+            stack.push((a, at));
+            stack.push((at, b));
+        }
+    }
+    poly.iter()
+        .zip(keep)
+        .filter(|(_, k)| *k)
+        .map(|(p, _)| *p)
+        .collect()
+}
+
+fn resample(poly: &[Point], inner: usize) -> Vec<Point> {
+    let cum: Vec<Real> = std::iter::once(0.0)
+        .chain(poly.windows(2).scan(0.0, |acc, w| {
+            *acc += (w[1] - w[0]).norm();
+            Some(*acc)
+        }))
+        .collect();
+    let total = *cum.last().unwrap_or(&0.0);
+    let mut out = vec![poly[0]];
+    for k in 1..=inner {
+        let target = total * k as Real / (inner + 1) as Real;
+        let i = cum
+            .partition_point(|&c| c < target)
+            .clamp(1, poly.len() - 1);
+        let seg = cum[i] - cum[i - 1];
+        let f = if seg > 0.0 {
+            (target - cum[i - 1]) / seg
+        } else {
+            0.0
+        };
+        out.push(poly[i - 1] + (poly[i] - poly[i - 1]) * f);
+    }
+    out.push(poly[poly.len() - 1]);
+    out.dedup();
+    out
+}
+
+fn optimise_class(
+    scene: &Scene,
+    model: &CircleModel,
+    rays: &Rays,
+    seed_poly: &[Point],
+    signature: Option<&Signature>,
+    graph_cost: Real,
+    cfg: &PlanConfig,
+) -> ClassPlan {
+    let t = Instant::now();
+    let growth = &cfg.growth;
+    let guard = Guard {
+        class: signature.map(|s| (rays, s)),
+        bounds: scene.bounds,
+        collision_free: signature.is_some(),
+    };
+    let seed = match signature {
+        Some(_) => seed_points(seed_poly, model, &guard, growth),
+        None => seed_poly.to_vec(),
+    };
+    let grown: Option<Grown> = grow(&seed, model, growth, &guard).ok();
+    let (via_points, spline, terms, iterations, evaluations) = match grown {
+        Some(g) => (
+            g.points,
+            Some(g.spline),
+            g.terms,
+            g.rounds.len(),
+            g.evaluations,
+        ),
+        None => (seed.clone(), None, CostTerms::default(), 0, 0),
+    };
+    let (path, length, min_clear, certified, free, in_class) = match &spline {
+        Some(sp) => {
+            let length = sp.length();
+            let path: Vec<Point> = sp
+                .sample_by_arc_length((length / 1000.0).min(0.5))
+                .into_iter()
+                .map(|(_, p)| p)
+                .collect();
+            let min_clear = path
+                .windows(2)
+                .map(|w| model.segment_clearance(&w[0], &w[1]))
+                .fold(Real::INFINITY, Real::min);
+            let cert = min_clearance(sp, model, cfg.certify_tolerance);
+            let inside = path.iter().all(|p| scene.bounds.contains(p));
+            let in_class = signature.is_none_or(|s| &rays.signature(&path) == s);
+            (
+                path,
+                length,
+                min_clear,
+                cert.lower,
+                min_clear > 0.0 && cert.collision_free() && inside,
+                in_class,
+            )
+        }
+        None => (
+            Vec::new(),
+            0.0,
+            Real::NEG_INFINITY,
+            Real::NEG_INFINITY,
+            false,
+            false,
+        ),
+    };
+    let sig_text = match signature {
+        Some(s) => s.to_string(),
+        None => rays.signature(&path).to_string(),
+    };
+    ClassPlan {
+        rank: 0,
+        signature: sig_text,
+        seed_path: seed_poly.to_vec(),
+        via_points,
+        path,
+        cost: terms,
+        length,
+        min_clearance: min_clear,
+        certified_clearance: certified,
+        collision_free: free,
+        in_class,
+        iterations,
+        evaluations,
+        time_ms: ms(t),
+        graph_cost,
+    }
+}

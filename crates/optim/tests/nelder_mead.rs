@@ -1,0 +1,157 @@
+//! Nelder-Mead and L-BFGS on standard test functions with known minima.
+
+use homospline_optim::nelder_mead::State;
+use homospline_optim::{Coefficients, Lbfgs, NelderMead, Termination};
+
+fn rosenbrock(x: &[f64]) -> f64 {
+    x.windows(2)
+        .map(|w| 100.0 * (w[1] - w[0] * w[0]).powi(2) + (1.0 - w[0]).powi(2))
+        .sum()
+}
+
+fn rosenbrock_grad(x: &[f64]) -> Vec<f64> {
+    let n = x.len();
+    let mut g = vec![0.0; n];
+    for i in 0..n - 1 {
+        g[i] += -400.0 * x[i] * (x[i + 1] - x[i] * x[i]) - 2.0 * (1.0 - x[i]);
+        g[i + 1] += 200.0 * (x[i + 1] - x[i] * x[i]);
+    }
+    g
+}
+
+#[test]
+fn adaptive_nelder_mead_finds_the_rosenbrock_minimum_in_2_to_10_dimensions() {
+    for n in 2..=10 {
+        let nm = NelderMead::new(n)
+            .with_tolerances(1e-14, 1e-12)
+            .unwrap()
+            .with_max_evaluations(400_000)
+            .unwrap()
+            .with_initial_step(vec![0.5; n])
+            .unwrap()
+            .with_restarts(5);
+        let x0 = vec![-1.2; n];
+        let out = nm.minimize(&mut |x: &[f64]| rosenbrock(x), &x0, &mut ());
+        let err = out.x.iter().map(|v| (v - 1.0).abs()).fold(0.0, f64::max);
+        assert!(
+            out.value < 1e-8 && err < 1e-3,
+            "n = {n}: f = {:e}, |x - 1| = {err:e}, {:?}",
+            out.value,
+            out.termination
+        );
+    }
+}
+
+#[test]
+fn standard_coefficients_solve_small_problems() {
+    let nm = NelderMead::new(2)
+        .with_coefficients(Coefficients::standard())
+        .unwrap()
+        .with_tolerances(1e-14, 1e-12)
+        .unwrap();
+    // Booth: minimum 0 at (1, 3).
+    let out = nm.minimize(
+        &mut |x: &[f64]| (x[0] + 2.0 * x[1] - 7.0).powi(2) + (2.0 * x[0] + x[1] - 5.0).powi(2),
+        &[0.0, 0.0],
+        &mut (),
+    );
+    assert!(
+        (out.x[0] - 1.0).abs() < 1e-5 && (out.x[1] - 3.0).abs() < 1e-5,
+        "{:?}",
+        out.x
+    );
+    // Beale: minimum 0 at (3, 0.5).
+    let beale = |x: &[f64]| {
+        (1.5 - x[0] + x[0] * x[1]).powi(2)
+            + (2.25 - x[0] + x[0] * x[1] * x[1]).powi(2)
+            + (2.625 - x[0] + x[0] * x[1].powi(3)).powi(2)
+    };
+    let out = nm.minimize(&mut |x: &[f64]| beale(x), &[1.0, 1.0], &mut ());
+    assert!(
+        (out.x[0] - 3.0).abs() < 1e-4 && (out.x[1] - 0.5).abs() < 1e-4,
+        "{:?}",
+        out.x
+    );
+    // Sphere in 8 dimensions, adaptive.
+    let nm = NelderMead::new(8)
+        .with_tolerances(1e-16, 1e-12)
+        .unwrap()
+        .with_max_evaluations(100_000)
+        .unwrap();
+    let out = nm.minimize(
+        &mut |x: &[f64]| x.iter().map(|v| (v - 2.0).powi(2)).sum(),
+        &[0.0; 8],
+        &mut (),
+    );
+    assert!(out.value < 1e-10, "{}", out.value);
+}
+
+#[test]
+fn termination_reasons_and_budget() {
+    let nm = NelderMead::new(4).with_max_evaluations(50).unwrap();
+    let out = nm.minimize(&mut |x: &[f64]| rosenbrock(x), &[-1.2; 4], &mut ());
+    assert_eq!(out.termination, Termination::MaxEvaluations);
+    assert!(out.evaluations <= 50 + 4, "{}", out.evaluations);
+    let nm = NelderMead::new(2).with_tolerances(1e-3, 0.0).unwrap();
+    let out = nm.minimize(
+        &mut |x: &[f64]| x[0] * x[0] + x[1] * x[1],
+        &[1.0, 1.0],
+        &mut (),
+    );
+    assert_eq!(out.termination, Termination::ValueTolerance);
+}
+
+#[test]
+fn setters_validate() {
+    assert!(
+        NelderMead::new(2)
+            .with_coefficients(Coefficients {
+                reflection: 1.0,
+                expansion: 0.5,
+                contraction: 0.5,
+                shrink: 0.5
+            })
+            .is_err()
+    );
+    assert!(NelderMead::new(2).with_initial_step(vec![1.0]).is_err());
+    assert!(
+        NelderMead::new(2)
+            .with_initial_step(vec![1.0, 0.0])
+            .is_err()
+    );
+    assert!(NelderMead::new(2).with_tolerances(-1.0, 0.0).is_err());
+    assert!(NelderMead::new(2).with_max_evaluations(3).is_err());
+    let a = Coefficients::adaptive(10);
+    assert!(
+        (a.expansion - 1.2).abs() < 1e-15
+            && (a.contraction - 0.7).abs() < 1e-15
+            && (a.shrink - 0.9).abs() < 1e-15
+    );
+}
+
+#[test]
+fn the_observer_sees_every_iteration_and_values_never_increase() {
+    let nm = NelderMead::new(3).with_max_evaluations(2000).unwrap();
+    let mut trace: Vec<(usize, f64)> = Vec::new();
+    let mut obs = |s: &State| trace.push((s.iterations, s.best().1));
+    let out = nm.minimize(&mut |x: &[f64]| rosenbrock(x), &[0.0; 3], &mut obs);
+    assert_eq!(trace.len(), out.iterations + 1);
+    assert!(trace.windows(2).all(|w| w[1].1 <= w[0].1));
+}
+
+#[test]
+fn lbfgs_finds_the_rosenbrock_minimum() {
+    for n in [2, 5, 10] {
+        let lb = Lbfgs {
+            max_evaluations: 20_000,
+            gradient_tolerance: 1e-10,
+            value_tolerance: 0.0,
+            ..Lbfgs::default()
+        };
+        let out = lb.minimize(
+            &mut |x: &[f64]| (rosenbrock(x), rosenbrock_grad(x)),
+            &vec![-1.2; n],
+        );
+        assert!(out.value < 1e-12, "n = {n}: {}", out.value);
+    }
+}

@@ -1,0 +1,191 @@
+//! The planner on the fixtures: every Voronoi-seeded class collision-free (checked here on
+//! the sampled path, segment by segment, independently of the planner), deterministic
+//! whatever the thread count; the straight seed's behaviour as the paper reports it.
+
+use std::path::Path;
+
+use homospline_geom::Scene;
+use homospline_homotopy::Rays;
+use homospline_optim::{GrowthConfig, Optimizer, Plan, PlanConfig, Seed, plan};
+
+fn fixtures() -> Vec<Scene> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/scenes");
+    let mut files: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    files.sort();
+    files
+        .iter()
+        .map(|p| Scene::from_bytes(&std::fs::read(p).unwrap(), &p.display().to_string()).unwrap())
+        .collect()
+}
+
+/// Independent check: the sampled path clears every inflated circle segment by segment,
+/// stays in bounds, starts and ends where it should, with the promised spacing.
+fn check_path(scene: &Scene, plan: &Plan) {
+    let set = scene.circle_set();
+    for c in &plan.classes {
+        let path = &c.path;
+        assert_eq!(path[0], scene.start);
+        assert_eq!(*path.last().unwrap(), scene.goal);
+        let spacing = (c.length / 1000.0).min(0.5);
+        assert!(
+            path.windows(2)
+                .all(|w| (w[1] - w[0]).norm() <= spacing * (1.0 + 1e-9)),
+            "{}: spacing",
+            scene.name
+        );
+        let min = path
+            .windows(2)
+            .map(|w| set.distance_to_segment(&w[0], &w[1]).unwrap().0)
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            (min - c.min_clearance).abs() < 1e-9,
+            "{}: reported clearance {} vs {}",
+            scene.name,
+            c.min_clearance,
+            min
+        );
+        if c.collision_free {
+            assert!(
+                min > 0.0 && path.iter().all(|p| scene.bounds.contains(p)),
+                "{} class {}",
+                scene.name,
+                c.signature
+            );
+        }
+    }
+}
+
+#[test]
+fn every_voronoi_class_of_every_fixture_is_collision_free_and_in_its_class() {
+    for scene in fixtures() {
+        let p = plan(&scene, &PlanConfig::default()).unwrap();
+        check_path(&scene, &p);
+        assert!(!p.classes.is_empty());
+        let rays = Rays::new(
+            scene
+                .topological_obstacles()
+                .iter()
+                .map(|t| t.representative)
+                .collect(),
+        );
+        for c in &p.classes {
+            assert!(
+                c.collision_free,
+                "{}: class {} collides (clearance {})",
+                scene.name, c.signature, c.min_clearance
+            );
+            assert!(
+                c.in_class,
+                "{}: class {} left its class",
+                scene.name, c.signature
+            );
+            assert_eq!(rays.signature(&c.path).to_string(), c.signature);
+        }
+        let mut sigs: Vec<&str> = p.classes.iter().map(|c| c.signature.as_str()).collect();
+        sigs.sort();
+        sigs.dedup();
+        assert_eq!(
+            sigs.len(),
+            p.classes.len(),
+            "{}: distinct classes",
+            scene.name
+        );
+        assert_eq!(p.best, Some(1));
+        assert!(
+            p.classes
+                .windows(2)
+                .all(|w| w[0].cost.total <= w[1].cost.total)
+        );
+        assert!(!p.pareto.is_empty());
+    }
+}
+
+#[test]
+fn the_straight_seed_behaves_as_the_paper_says() {
+    for scene in fixtures() {
+        let p = plan(
+            &scene,
+            &PlanConfig {
+                seed: Seed::Straight,
+                ..PlanConfig::default()
+            },
+        )
+        .unwrap();
+        check_path(&scene, &p);
+        assert_eq!(p.classes.len(), 1);
+        let free = p.classes[0].collision_free;
+        match scene.name.as_str() {
+            // Fig. 3: convex obstacles, the original planner succeeds.
+            "convex" => assert!(free, "convex: the straight seed should succeed"),
+            // Fig. 4 and 7: the straight line ends in the cup or the bracket.
+            "concave-cup" | "two-homotopies" => {
+                assert!(!free, "{}: the straight seed should fail", scene.name)
+            }
+            _ => {}
+        }
+    }
+}
+
+fn without_timings(mut p: Plan) -> Plan {
+    p.timing = Default::default();
+    for c in &mut p.classes {
+        c.time_ms = 0.0;
+    }
+    p
+}
+
+#[test]
+fn plans_are_the_same_for_any_thread_count() {
+    for scene in fixtures().into_iter().take(3) {
+        let one = plan(
+            &scene,
+            &PlanConfig {
+                threads: Some(1),
+                ..PlanConfig::default()
+            },
+        )
+        .unwrap();
+        let two = plan(
+            &scene,
+            &PlanConfig {
+                threads: Some(2),
+                ..PlanConfig::default()
+            },
+        )
+        .unwrap();
+        let four = plan(
+            &scene,
+            &PlanConfig {
+                threads: Some(4),
+                ..PlanConfig::default()
+            },
+        )
+        .unwrap();
+        let one = without_timings(one);
+        assert_eq!(one, without_timings(two));
+        assert_eq!(one, without_timings(four));
+    }
+}
+
+#[test]
+fn lbfgs_option_gives_collision_free_classes_too() {
+    for scene in fixtures() {
+        let cfg = PlanConfig {
+            growth: GrowthConfig {
+                optimizer: Optimizer::Lbfgs,
+                ..GrowthConfig::default()
+            },
+            ..PlanConfig::default()
+        };
+        let p = plan(&scene, &cfg).unwrap();
+        check_path(&scene, &p);
+        assert!(
+            p.classes.iter().all(|c| c.collision_free && c.in_class),
+            "{}",
+            scene.name
+        );
+    }
+}
