@@ -1,6 +1,14 @@
-//! Text the `homospline` command prints, kept in a library so tests and `xtask` share it.
+//! What the `homospline` command prints and writes (summaries, plan JSON, tables, SVG),
+//! kept in a library so that tests and `xtask` share it. File IO stays in `main.rs`.
+
+pub mod picture;
+pub mod report;
 
 use std::fmt::Write;
+
+/// The built-in example `homospline plan` uses without a scene: the paper's Fig. 5 (two
+/// concave obstacles with a narrow pass).
+pub const EXAMPLE_SCENE: &str = include_str!("../../../fixtures/scenes/narrow-pass.yaml");
 
 use homospline_geom::Scene;
 

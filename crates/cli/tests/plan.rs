@@ -1,0 +1,281 @@
+//! `homospline plan` and `homospline graph` end to end: exit codes, the plan JSON of
+//! formats.md, well-formed SVG with every layer, saved graphs reused.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn homospline() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_homospline"))
+}
+
+fn root() -> &'static Path {
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("homospline-cli-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+/// Parses the whole document and returns the ids of its `<g>` layers.
+fn svg_layers(text: &str) -> Vec<String> {
+    let mut reader = quick_xml::Reader::from_str(text);
+    let mut ids = Vec::new();
+    let mut depth = 0i64;
+    loop {
+        match reader.read_event().expect("well-formed SVG") {
+            quick_xml::events::Event::Start(e) => {
+                depth += 1;
+                if e.name().as_ref() == b"g" {
+                    for a in e.attributes() {
+                        let a = a.unwrap();
+                        if a.key.as_ref() == b"id" {
+                            ids.push(String::from_utf8(a.value.to_vec()).unwrap());
+                        }
+                    }
+                }
+            }
+            quick_xml::events::Event::End(_) => depth -= 1,
+            quick_xml::events::Event::Eof => break,
+            _ => {}
+        }
+    }
+    assert_eq!(depth, 0, "balanced tags");
+    ids
+}
+
+#[test]
+fn the_built_in_example_plans_with_json_and_a_picture() {
+    let (json, svg) = (tmp("plan.json"), tmp("plan.svg"));
+    let out = homospline()
+        .args([
+            "plan",
+            "--json",
+            json.to_str().unwrap(),
+            "--svg",
+            svg.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let table = String::from_utf8(out.stdout).unwrap();
+    assert!(table.contains("chosen: rank 1"), "{table}");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(v["scene"], "narrow-pass");
+    assert_eq!(v["seed"], "voronoi");
+    assert_eq!(v["best"], 1);
+    let classes = v["classes"].as_array().unwrap();
+    assert!(!classes.is_empty());
+    for (i, c) in classes.iter().enumerate() {
+        assert_eq!(c["rank"], i as u64 + 1);
+        for key in [
+            "signature",
+            "seed_path",
+            "via_points",
+            "path",
+            "cost",
+            "length",
+            "min_clearance",
+            "collision_free",
+            "iterations",
+            "evaluations",
+            "time_ms",
+        ] {
+            assert!(!c[key].is_null(), "class field {key}");
+        }
+        for key in ["total", "topology", "roughness", "length", "safety"] {
+            assert!(c["cost"][key].is_number(), "cost field {key}");
+        }
+        let path = c["path"].as_array().unwrap();
+        assert_eq!(path[0], serde_json::json!([5.0, 47.0]));
+        assert_eq!(path[path.len() - 1], serde_json::json!([95.0, 47.0]));
+    }
+    for key in ["voronoi", "classes", "optimize", "total"] {
+        assert!(v["timing_ms"][key].is_number());
+    }
+    let layers = svg_layers(&std::fs::read_to_string(&svg).unwrap());
+    for layer in [
+        "heatmap",
+        "obstacles",
+        "voronoi",
+        "seeds",
+        "paths",
+        "best",
+        "endpoints",
+        "legend",
+        "scale-bar",
+    ] {
+        assert!(
+            layers.iter().any(|l| l == layer),
+            "layer {layer} in {layers:?}"
+        );
+    }
+}
+
+#[test]
+fn the_straight_seed_in_the_cup_finds_no_plan_and_exits_1() {
+    let out = homospline()
+        .current_dir(root())
+        .args([
+            "plan",
+            "fixtures/scenes/concave-cup.yaml",
+            "--seed",
+            "straight",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        String::from_utf8(out.stdout)
+            .unwrap()
+            .contains("no collision-free class")
+    );
+}
+
+#[test]
+fn a_saved_graph_gives_the_same_plan() {
+    let (g, j1, j2, gj, gs) = (
+        tmp("g.msgpack"),
+        tmp("a.json"),
+        tmp("b.json"),
+        tmp("g.json"),
+        tmp("g.svg"),
+    );
+    let scene = "fixtures/scenes/two-homotopies.yaml";
+    let out = homospline()
+        .current_dir(root())
+        .args([
+            "graph",
+            scene,
+            "--resolution",
+            "3",
+            "--out",
+            g.to_str().unwrap(),
+            "--json",
+            gj.to_str().unwrap(),
+            "--svg",
+            gs.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let gv: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&gj).unwrap()).unwrap();
+    assert!(gv["nodes"].as_array().unwrap().len() > 2 && gv["start"].is_number());
+    assert!(svg_layers(&std::fs::read_to_string(&gs).unwrap()).contains(&"voronoi".to_owned()));
+    let run = |extra: &[&str], json: &Path| {
+        let mut args = vec![
+            "plan",
+            scene,
+            "--threads",
+            "1",
+            "--json",
+            json.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let out = homospline()
+            .current_dir(root())
+            .args(&args)
+            .output()
+            .unwrap();
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let mut v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap();
+        v.as_object_mut().unwrap().remove("timing_ms");
+        for c in v["classes"].as_array_mut().unwrap() {
+            c.as_object_mut().unwrap().remove("time_ms");
+        }
+        v
+    };
+    assert_eq!(
+        run(&["--resolution", "3"], &j1),
+        run(&["--graph", g.to_str().unwrap()], &j2)
+    );
+    // A graph of another scene is refused.
+    let out = homospline()
+        .current_dir(root())
+        .args([
+            "plan",
+            "fixtures/scenes/convex.yaml",
+            "--graph",
+            g.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        String::from_utf8(out.stderr)
+            .unwrap()
+            .contains("another start or goal")
+    );
+}
+
+#[test]
+fn bad_options_exit_2_with_the_option_named() {
+    for (args, needle) in [
+        (
+            vec!["plan", "--weight", "safety"],
+            "--weight safety: expected NAME=VALUE",
+        ),
+        (
+            vec!["plan", "--weight", "safty=1"],
+            "unknown weight or parameter 'safty'",
+        ),
+        (vec!["plan", "--weight", "alpha=-1"], "--weight alpha=-1"),
+        (
+            vec!["plan", "--preset", "fast"],
+            "--preset: unknown preset 'fast'",
+        ),
+        (vec!["plan", "--classes", "0"], "--classes 0"),
+        (vec!["plan", "--resolution", "0"], "--resolution 0"),
+        (vec!["plan", "no/such.yaml"], "no/such.yaml: cannot read"),
+        (
+            vec!["plan", "--graph", "no/such.msgpack"],
+            "no/such.msgpack: cannot read",
+        ),
+    ] {
+        let out = homospline().args(&args).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+    // A file that is not a graph.
+    let junk = tmp("junk.msgpack");
+    std::fs::write(&junk, b"not a graph").unwrap();
+    let out = homospline()
+        .args(["plan", "--graph", junk.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn every_command_has_help() {
+    for cmd in [
+        vec!["--help"],
+        vec!["plan", "--help"],
+        vec!["graph", "--help"],
+        vec!["check", "--help"],
+    ] {
+        let out = homospline().args(&cmd).output().unwrap();
+        assert_eq!(out.status.code(), Some(0), "{cmd:?}");
+        assert!(!out.stdout.is_empty());
+    }
+}
