@@ -140,17 +140,8 @@ pub fn plan_table(plan: &Plan) -> String {
     );
     let _ = writeln!(
         s,
-        "{:>4}  {:<14} {:>8} {:>9} {:>11} {:>11} {:>6} {:>6} {:>8}  {}",
-        "rank",
-        "class",
-        "length",
-        "clearance",
-        "roughness",
-        "cost",
-        "rounds",
-        "evals",
-        "time ms",
-        "collision-free"
+        "{:>4}  {:<14} {:>8} {:>9} {:>11} {:>11} {:>6} {:>6} {:>8}  collision-free",
+        "rank", "class", "length", "clearance", "roughness", "cost", "rounds", "evals", "time ms"
     );
     for c in &plan.classes {
         let _ = writeln!(
