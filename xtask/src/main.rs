@@ -1,11 +1,22 @@
-//! Project automation: `cargo xtask regress [--bless]` checks every fixture against its golden.
+//! Project automation.
+//!
+//! - `cargo xtask regress [--bless]` checks every fixture against its golden.
+//! - `cargo xtask gen-scenes` rewrites `fixtures/random/` from a seeded generator.
 //!
 //! Fixtures and their goldens:
 //! - `fixtures/scenes/NAME.yaml` -> `fixtures/golden/check/NAME.txt`: the summary that
-//!   `homospline check` prints. Floats are printed rounded to 3 decimals; that rounding is the
-//!   tolerance (1e-3 map units, far below any planning resolution, far above the last-bit
-//!   noise of a different but equivalent summation order).
+//!   `homospline check` prints.
+//! - `fixtures/scenes/NAME.yaml` -> `fixtures/golden/plan/NAME.voronoi.txt` and
+//!   `NAME.straight.txt`: the plan with each seed, one line per class (signature, length,
+//!   clearance, every cost term, collision-free, in class, rounds), never timings.
+//! - `fixtures/random/NAME.yaml` -> `fixtures/golden/plan/NAME.voronoi.txt`.
 //! - `fixtures/invalid/NAME.*` -> `fixtures/invalid/NAME.expected`: the exact error line.
+//!
+//! Tolerances are the rounding of the printed numbers: lengths and clearances to 1e-3 map
+//! units, cost terms to 6 significant digits. The planner is deterministic for a build (the
+//! same on any thread count), so on one platform goldens match exactly; the rounding absorbs
+//! last-bit differences of the maths library between platforms. A change of the optimiser or
+//! the cost moves paths by far more than that and must show up as a reviewed golden change.
 //!
 //! A mismatch prints a line diff and exits 1; `--bless` rewrites the goldens (review the diff
 //! with `git diff fixtures/` before committing).
@@ -14,11 +25,13 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result, bail};
-use homospline_geom::Scene;
+use homospline_geom::{Bounds, Circle, Obstacle, Point, Scene};
+use homospline_optim::{Plan, PlanConfig, Seed};
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
+        Some("gen-scenes") if args.len() == 1 => gen_scenes().map(|_| true),
         Some("regress") => {
             let bless = match &args[1..] {
                 [] => false,
@@ -31,7 +44,7 @@ fn main() -> ExitCode {
             regress(bless)
         }
         _ => {
-            eprintln!("usage: cargo xtask regress [--bless]");
+            eprintln!("usage: cargo xtask regress [--bless] | cargo xtask gen-scenes");
             return ExitCode::from(2);
         }
     };
@@ -118,6 +131,37 @@ fn regress(bless: bool) -> Result<bool> {
         )?;
         count += 1;
     }
+    let random = files(&root.join("fixtures/random"), |p| {
+        p.extension().is_some_and(|e| e == "yaml")
+    })?;
+    let plan_cases: Vec<(&PathBuf, Seed)> = scenes
+        .iter()
+        .flat_map(|p| [(p, Seed::Voronoi), (p, Seed::Straight)])
+        .chain(random.iter().map(|p| (p, Seed::Voronoi)))
+        .collect();
+    for (path, seed) in plan_cases {
+        let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("scene");
+        let bytes = std::fs::read(path)?;
+        let scene = Scene::from_bytes(&bytes, &path.display().to_string())?;
+        let plan = homospline_optim::plan(
+            &scene,
+            &PlanConfig {
+                seed,
+                ..PlanConfig::default()
+            },
+        )
+        .with_context(|| format!("planning {}", path.display()))?;
+        let golden = root
+            .join("fixtures/golden/plan")
+            .join(format!("{stem}.{}.txt", seed.name()));
+        ok &= compare(
+            &format!("plan {stem} --seed {}", seed.name()),
+            &golden,
+            &plan_golden(&plan),
+            bless,
+        )?;
+        count += 1;
+    }
     let invalid = files(&root.join("fixtures/invalid"), |p| {
         p.extension().is_none_or(|e| e != "expected")
     })?;
@@ -142,4 +186,160 @@ fn regress(bless: bool) -> Result<bool> {
         if ok { "all match" } else { "MISMATCHES" }
     );
     Ok(ok)
+}
+
+/// Six significant digits.
+fn sig6(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let digits = 5 - x.abs().log10().floor() as i32;
+    if digits >= 0 {
+        format!("{:.*}", digits as usize, x)
+    } else {
+        format!("{:.0}", x)
+    }
+}
+
+/// What a plan golden records: classes, never timings.
+fn plan_golden(plan: &Plan) -> String {
+    let mut s = format!(
+        "plan {} seed={} classes={} best={}\n",
+        plan.scene,
+        plan.seed.name(),
+        plan.classes.len(),
+        plan.best.map_or("none".to_owned(), |b| b.to_string())
+    );
+    for c in &plan.classes {
+        let t = &c.cost;
+        s += &format!(
+            "#{} {} length={:.3} clearance={:.3} free={} in_class={} rounds={} via={}\n   cost total={} T={} R={} L={} D={} maxc={} vis={}/{} danger={} critical={} shelter={} time={}\n",
+            c.rank,
+            c.signature,
+            c.length,
+            c.min_clearance,
+            c.collision_free,
+            c.in_class,
+            c.iterations,
+            c.via_points.len().saturating_sub(2),
+            sig6(t.total),
+            sig6(t.topology),
+            sig6(t.roughness),
+            sig6(t.length),
+            sig6(t.safety),
+            sig6(t.max_clearance),
+            sig6(t.start_visibility),
+            sig6(t.goal_visibility),
+            sig6(t.danger),
+            sig6(t.critical),
+            sig6(t.sheltered),
+            sig6(t.passing_time),
+        );
+    }
+    s
+}
+
+/// SplitMix64: a small seeded generator, so the random fixtures are reproducible.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// A random scene: `n` circles (grouped in compound obstacles of 1 to `group` circles) in a
+/// `size x size` square, none within `keep` of the start or goal.
+fn random_scene(name: &str, seed: u64, size: f64, n: usize, group: usize) -> Scene {
+    let mut rng = Rng(seed);
+    let start = Point::new((size * 0.04 * 1000.0).round() / 1000.0, size * 0.5);
+    let goal = Point::new((size * 0.96 * 1000.0).round() / 1000.0, size * 0.5);
+    let keep = size * 0.03;
+    let mut obstacles = Vec::new();
+    let mut placed = 0;
+    while placed < n {
+        let k = (1 + (rng.next() * group as f64) as usize).min(n - placed);
+        let c = Point::new(
+            size * (0.1 + 0.8 * rng.next()),
+            size * (0.05 + 0.9 * rng.next()),
+        );
+        let r = size * (0.01 + 0.03 * rng.next());
+        let circles: Vec<Circle> = (0..k)
+            .map(|_| {
+                let a = rng.next() * std::f64::consts::TAU;
+                let d = r * 1.2 * rng.next();
+                let rr = (r * (0.5 + 0.5 * rng.next()) * 1000.0).round() / 1000.0;
+                Circle::new(
+                    ((c.x + a.cos() * d) * 1000.0).round() / 1000.0,
+                    ((c.y + a.sin() * d) * 1000.0).round() / 1000.0,
+                    rr,
+                )
+            })
+            .collect();
+        if circles
+            .iter()
+            .any(|ci| ci.signed_distance(&start) < keep || ci.signed_distance(&goal) < keep)
+        {
+            continue;
+        }
+        placed += k;
+        obstacles.push(Obstacle {
+            name: format!("o{}", obstacles.len()),
+            circles,
+        });
+    }
+    Scene {
+        name: name.to_owned(),
+        bounds: Bounds {
+            min: Point::new(0.0, 0.0),
+            max: Point::new(size, size),
+        },
+        start,
+        goal,
+        robot_radius: 0.0,
+        obstacles,
+        danger_points: vec![],
+        critical_points: vec![],
+        hazards: vec![],
+    }
+}
+
+/// Writes `fixtures/random/`: 10 small scenes and 5 with hundreds of circles.
+fn gen_scenes() -> Result<()> {
+    let dir = root().join("fixtures/random");
+    std::fs::create_dir_all(&dir)?;
+    let mut scenes = Vec::new();
+    for i in 0..10u64 {
+        scenes.push(random_scene(
+            &format!("random-small-{i:02}"),
+            1000 + i,
+            60.0,
+            4 + (i as usize * 3) % 9,
+            3,
+        ));
+    }
+    for i in 0..5u64 {
+        scenes.push(random_scene(
+            &format!("random-large-{i:02}"),
+            2000 + i,
+            240.0,
+            200 + 50 * i as usize,
+            6,
+        ));
+    }
+    for s in &scenes {
+        s.validate(&s.name)
+            .with_context(|| format!("generated scene {}", s.name))?;
+        let text = format!(
+            "# Generated by `cargo xtask gen-scenes` (seeded); do not edit by hand.\n{}",
+            s.to_yaml()
+        );
+        std::fs::write(dir.join(format!("{}.yaml", s.name)), text)?;
+    }
+    println!("wrote {} scenes to {}", scenes.len(), dir.display());
+    Ok(())
 }
