@@ -1,0 +1,45 @@
+//! Criterion bench of the full plan of each fixture scene with 5 classes (graph, classes,
+//! seeding, growth loop, certification, ranking), Nelder-Mead and L-BFGS.
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use homospline_geom::Scene;
+use homospline_optim::{GrowthConfig, Optimizer, PlanConfig, plan};
+use std::hint::black_box;
+
+fn bench(c: &mut Criterion) {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/scenes");
+    let mut files: Vec<_> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
+    files.sort();
+    let mut g = c.benchmark_group("plan");
+    for p in files {
+        let scene = Scene::from_bytes(&std::fs::read(&p).unwrap(), &p.display().to_string()).unwrap();
+        for (name, optimizer) in [("nelder-mead", Optimizer::NelderMead), ("lbfgs", Optimizer::Lbfgs)] {
+            let cfg = PlanConfig { growth: GrowthConfig { optimizer, ..GrowthConfig::default() }, ..PlanConfig::default() };
+            let p = plan(&scene, &cfg).unwrap();
+            let evals: usize = p.classes.iter().map(|c| c.evaluations).sum();
+            let cost: f64 = p.classes.iter().map(|c| c.cost.total).sum();
+            eprintln!(
+                "{} {name}: {} classes, {} evaluations, summed cost {:.1}, stages voronoi {:.2} ms classes {:.2} ms optimise {:.2} ms",
+                scene.name,
+                p.classes.len(),
+                evals,
+                cost,
+                p.timing.voronoi,
+                p.timing.classes,
+                p.timing.optimize
+            );
+            g.bench_function(format!("{}/{name}", scene.name), |b| b.iter(|| plan(black_box(&scene), &cfg).unwrap()));
+        }
+    }
+    g.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default()
+        .sample_size(10)
+        .warm_up_time(std::time::Duration::from_millis(300))
+        .measurement_time(std::time::Duration::from_secs(2));
+    targets = bench
+}
+criterion_main!(benches);
