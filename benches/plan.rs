@@ -8,13 +8,26 @@ use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/scenes");
-    let mut files: Vec<_> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
+    let mut files: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
     files.sort();
     let mut g = c.benchmark_group("plan");
     for p in files {
-        let scene = Scene::from_bytes(&std::fs::read(&p).unwrap(), &p.display().to_string()).unwrap();
-        for (name, optimizer) in [("nelder-mead", Optimizer::NelderMead), ("lbfgs", Optimizer::Lbfgs)] {
-            let cfg = PlanConfig { growth: GrowthConfig { optimizer, ..GrowthConfig::default() }, ..PlanConfig::default() };
+        let scene =
+            Scene::from_bytes(&std::fs::read(&p).unwrap(), &p.display().to_string()).unwrap();
+        for (name, optimizer) in [
+            ("nelder-mead", Optimizer::NelderMead),
+            ("lbfgs", Optimizer::Lbfgs),
+        ] {
+            let cfg = PlanConfig {
+                growth: GrowthConfig {
+                    optimizer,
+                    ..GrowthConfig::default()
+                },
+                ..PlanConfig::default()
+            };
             let p = plan(&scene, &cfg).unwrap();
             let evals: usize = p.classes.iter().map(|c| c.evaluations).sum();
             let cost: f64 = p.classes.iter().map(|c| c.cost.total).sum();
@@ -28,7 +41,9 @@ fn bench(c: &mut Criterion) {
                 p.timing.classes,
                 p.timing.optimize
             );
-            g.bench_function(format!("{}/{name}", scene.name), |b| b.iter(|| plan(black_box(&scene), &cfg).unwrap()));
+            g.bench_function(format!("{}/{name}", scene.name), |b| {
+                b.iter(|| plan(black_box(&scene), &cfg).unwrap())
+            });
         }
     }
     g.finish();
