@@ -8,7 +8,7 @@
 
 use std::time::Instant;
 
-use homospline_geom::{Point, Real, Scene};
+use homospline_geom::{Bounds, Point, Real, Scene};
 use homospline_homotopy::{Rays, SearchConfig, SearchError, Signature, k_best_classes};
 use homospline_spline::{CircleModel, ClearanceModel, CostTerms, Spline, min_clearance};
 use homospline_voronoi::{BuildError, VoronoiGraph};
@@ -162,6 +162,23 @@ fn ms(t: Instant) -> Real {
     t.elapsed().as_secs_f64() * 1e3
 }
 
+/// What the planner plans in: bounds, start, goal, the obstacles as the cost sees them, and
+/// the rays that name homotopy classes. A scene of circles and an occupancy map are both one.
+pub struct World<'a> {
+    /// Name for the plan.
+    pub name: String,
+    /// The robot stays inside.
+    pub bounds: Bounds,
+    /// Start.
+    pub start: Point,
+    /// Goal.
+    pub goal: Point,
+    /// Obstacles for the cost and the collision checks.
+    pub model: &'a dyn ClearanceModel,
+    /// One ray per obstacle representative.
+    pub rays: Rays,
+}
+
 /// The default grid resolution for a scene: about 256 cells along the longer side.
 pub fn default_resolution(scene: &Scene) -> Real {
     let e = scene.bounds.extent();
@@ -179,6 +196,39 @@ pub fn plan_with_graph(
     graph: Option<VoronoiGraph>,
     cfg: &PlanConfig,
 ) -> Result<Plan, PlanError> {
+    let model = CircleModel::new(scene.circles());
+    let world = World {
+        name: scene.name.clone(),
+        bounds: scene.bounds,
+        start: scene.start,
+        goal: scene.goal,
+        model: &model,
+        rays: Rays::new(
+            scene
+                .topological_obstacles()
+                .iter()
+                .map(|t| t.representative)
+                .collect(),
+        ),
+    };
+    let resolution = cfg.resolution.unwrap_or_else(|| default_resolution(scene));
+    plan_world(
+        &world,
+        || match graph {
+            Some(g) => Ok(g),
+            None => Ok(homospline_voronoi::build(scene, resolution)?.2),
+        },
+        cfg,
+    )
+}
+
+/// Plans in `world`; `graph` gives the Voronoi graph (with start and goal attached) when the
+/// Voronoi seed asks for it.
+pub fn plan_world(
+    world: &World<'_>,
+    graph: impl FnOnce() -> Result<VoronoiGraph, BuildError>,
+    cfg: &PlanConfig,
+) -> Result<Plan, PlanError> {
     if cfg.classes == 0 {
         return Err(PlanError::Config("classes must be at least 1".into()));
     }
@@ -187,31 +237,18 @@ pub fn plan_with_graph(
         .validate()
         .map_err(|e| PlanError::Config(e.to_string()))?;
     let t0 = Instant::now();
-    let model = CircleModel::new(scene.circles());
-    let rays = Rays::new(
-        scene
-            .topological_obstacles()
-            .iter()
-            .map(|t| t.representative)
-            .collect(),
-    );
+    let rays = &world.rays;
     let mut timing = Timing::default();
     // Seeds: (seed polyline, class signature, graph cost).
     let (seeds, graph): (Vec<SeedPath>, Option<VoronoiGraph>) = match cfg.seed {
         Seed::Straight => {
             timing.voronoi = 0.0;
-            let mid = Point::from((scene.start.coords + scene.goal.coords) * 0.5);
-            (vec![(vec![scene.start, mid, scene.goal], None, 0.0)], None)
+            let mid = Point::from((world.start.coords + world.goal.coords) * 0.5);
+            (vec![(vec![world.start, mid, world.goal], None, 0.0)], None)
         }
         Seed::Voronoi => {
             let tv = Instant::now();
-            let graph = match graph {
-                Some(g) => g,
-                None => {
-                    let res = cfg.resolution.unwrap_or_else(|| default_resolution(scene));
-                    homospline_voronoi::build(scene, res)?.2
-                }
-            };
+            let graph = graph()?;
             timing.voronoi = ms(tv);
             let tc = Instant::now();
             // A passage narrower than one grid cell is below what the grid can tell apart
@@ -222,7 +259,7 @@ pub fn plan_with_graph(
                 min_clearance,
                 ..cfg.search.clone()
             };
-            let found = k_best_classes(&graph, &rays, &search)?;
+            let found = k_best_classes(&graph, rays, &search)?;
             timing.classes = ms(tc);
             let seeds = found
                 .classes
@@ -231,9 +268,9 @@ pub fn plan_with_graph(
                     let mut poly = c.polyline;
                     // The class path runs from the start node to the goal node, which sit at
                     // the start and goal.
-                    poly[0] = scene.start;
+                    poly[0] = world.start;
                     let last = poly.len() - 1;
-                    poly[last] = scene.goal;
+                    poly[last] = world.goal;
                     (poly, Some(c.signature), c.cost)
                 })
                 .collect();
@@ -244,9 +281,7 @@ pub fn plan_with_graph(
     let run = || -> Vec<ClassPlan> {
         seeds
             .par_iter()
-            .map(|(poly, sig, gcost)| {
-                optimise_class(scene, &model, &rays, poly, sig.as_ref(), *gcost, cfg)
-            })
+            .map(|(poly, sig, gcost)| optimise_class(world, poly, sig.as_ref(), *gcost, cfg))
             .collect()
     };
     let mut classes = match cfg.threads {
@@ -286,7 +321,7 @@ pub fn plan_with_graph(
         .collect();
     timing.total = ms(t0);
     Ok(Plan {
-        scene: scene.name.clone(),
+        scene: world.name.clone(),
         seed: cfg.seed,
         classes,
         best,
@@ -391,19 +426,18 @@ fn resample(poly: &[Point], inner: usize) -> Vec<Point> {
 }
 
 fn optimise_class(
-    scene: &Scene,
-    model: &CircleModel,
-    rays: &Rays,
+    world: &World<'_>,
     seed_poly: &[Point],
     signature: Option<&Signature>,
     graph_cost: Real,
     cfg: &PlanConfig,
 ) -> ClassPlan {
     let t = Instant::now();
+    let (model, rays) = (world.model, &world.rays);
     let growth = &cfg.growth;
     let guard = Guard {
         class: signature.map(|s| (rays, s)),
-        bounds: scene.bounds,
+        bounds: world.bounds,
         collision_free: signature.is_some(),
     };
     let seed = match signature {
@@ -434,7 +468,7 @@ fn optimise_class(
                 .map(|w| model.segment_clearance(&w[0], &w[1]))
                 .fold(Real::INFINITY, Real::min);
             let cert = min_clearance(sp, model, cfg.certify_tolerance);
-            let inside = path.iter().all(|p| scene.bounds.contains(p));
+            let inside = path.iter().all(|p| world.bounds.contains(p));
             let in_class = signature.is_none_or(|s| &rays.signature(&path) == s);
             (
                 path,
