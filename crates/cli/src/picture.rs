@@ -2,7 +2,8 @@
 //! obstacles, the Voronoi graph, the class seeds, the optimised paths (the chosen one bold),
 //! start and goal, a legend and a scale bar. Each layer is a `<g>` with its own `id`.
 
-use homospline_geom::{Point, Real, Scene};
+use homospline_geom::{Bounds, Point, Real, Scene};
+use homospline_maps::OccupancyMap;
 use homospline_optim::Plan;
 use homospline_voronoi::VoronoiGraph;
 use svg::Document;
@@ -18,26 +19,67 @@ const PALETTE: [&str; 8] = [
     "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf", "#7f7f7f",
 ];
 
+/// What is drawn under the graph and the paths.
+pub enum Background<'a> {
+    /// A scene of circles, with the potential of `alpha` as a heat map.
+    Scene(&'a Scene, Real),
+    /// An occupancy map: its occupied cells.
+    Map(&'a OccupancyMap),
+}
+
+impl Background<'_> {
+    fn bounds(&self) -> Bounds {
+        match self {
+            Background::Scene(s, _) => s.bounds,
+            Background::Map(m) => m.bounds(),
+        }
+    }
+
+    fn y_down(&self) -> bool {
+        matches!(self, Background::Map(m) if m.y_down)
+    }
+
+    fn endpoints(&self, start: Point, goal: Point, v: &View) -> Group {
+        endpoints(start, goal, v)
+    }
+
+    fn layers(&self, v: &View, doc: Document) -> Document {
+        match self {
+            Background::Scene(scene, alpha) => {
+                doc.add(heat_map(scene, v, *alpha)).add(obstacles(scene, v))
+            }
+            Background::Map(map) => doc.add(cells(map, v)),
+        }
+    }
+}
+
 struct View {
     min: Point,
     max: Point,
     scale: Real,
+    y_down: bool,
 }
 
 impl View {
-    fn new(scene: &Scene) -> Self {
-        let e = scene.bounds.extent();
+    fn new(bg: &Background<'_>) -> Self {
+        let b = bg.bounds();
+        let e = b.extent();
         Self {
-            min: scene.bounds.min,
-            max: scene.bounds.max,
+            min: b.min,
+            max: b.max,
             scale: WIDTH / e.x.max(e.y),
+            y_down: bg.y_down(),
         }
     }
     fn x(&self, x: Real) -> Real {
         (x - self.min.x) * self.scale
     }
     fn y(&self, y: Real) -> Real {
-        (self.max.y - y) * self.scale
+        if self.y_down {
+            (y - self.min.y) * self.scale
+        } else {
+            (self.max.y - y) * self.scale
+        }
     }
     fn w(&self) -> Real {
         (self.max.x - self.min.x) * self.scale
@@ -79,7 +121,7 @@ fn heat_map(scene: &Scene, v: &View, alpha: Real) -> Group {
             g = g.add(
                 Rectangle::new()
                     .set("x", v.x(p.x - cell / 2.0))
-                    .set("y", v.y(p.y + cell / 2.0))
+                    .set("y", v.y(p.y + cell / 2.0).min(v.y(p.y - cell / 2.0)))
                     .set("width", cell * v.scale + 0.5)
                     .set("height", cell * v.scale + 0.5)
                     .set("fill", format!("rgb({:.0},{:.0},{:.0})", r, gg, b)),
@@ -130,9 +172,41 @@ fn voronoi(graph: &VoronoiGraph, v: &View) -> Group {
     g
 }
 
-fn endpoints(scene: &Scene, v: &View) -> Group {
+/// Occupied cells, one rectangle per run along a row.
+fn cells(map: &OccupancyMap, v: &View) -> Group {
+    let mut g = Group::new().set("id", "obstacles");
+    for j in 0..map.height {
+        let mut i = 0;
+        while i < map.width {
+            if !map.occupied[j * map.width + i] {
+                i += 1;
+                continue;
+            }
+            let start = i;
+            while i < map.width && map.occupied[j * map.width + i] {
+                i += 1;
+            }
+            let (x0, y0) = (
+                map.origin.x + start as Real * map.cell,
+                map.origin.y + j as Real * map.cell,
+            );
+            let (y_a, y_b) = (v.y(y0), v.y(y0 + map.cell));
+            g = g.add(
+                Rectangle::new()
+                    .set("x", v.x(x0))
+                    .set("y", y_a.min(y_b))
+                    .set("width", (i - start) as Real * map.cell * v.scale)
+                    .set("height", (y_a - y_b).abs())
+                    .set("fill", "#555"),
+            );
+        }
+    }
+    g
+}
+
+fn endpoints(start: Point, goal: Point, v: &View) -> Group {
     let mut g = Group::new().set("id", "endpoints");
-    for (p, label, colour) in [(scene.start, "S", "#2ca02c"), (scene.goal, "T", "#d62728")] {
+    for (p, label, colour) in [(start, "S", "#2ca02c"), (goal, "T", "#d62728")] {
         g = g
             .add(
                 Circle::new()
@@ -231,13 +305,11 @@ fn document(v: &View) -> Document {
         )
 }
 
-/// A plan: heat map, obstacles, Voronoi graph, seeds, paths (chosen bold), start and goal,
-/// legend, scale bar.
-pub fn plan_svg(scene: &Scene, plan: &Plan, alpha: Real) -> String {
-    let v = View::new(scene);
-    let mut doc = document(&v)
-        .add(heat_map(scene, &v, alpha))
-        .add(obstacles(scene, &v));
+/// A plan: background (heat map and circles, or map cells), Voronoi graph, seeds, paths
+/// (chosen bold), start and goal, legend, scale bar.
+pub fn plan_svg(bg: &Background<'_>, plan: &Plan) -> String {
+    let v = View::new(bg);
+    let mut doc = bg.layers(&v, document(&v));
     if let Some(g) = &plan.graph {
         doc = doc.add(voronoi(g, &v));
     }
@@ -279,18 +351,23 @@ pub fn plan_svg(scene: &Scene, plan: &Plan, alpha: Real) -> String {
         ));
     }
     items.push(("#555", "class seeds: dashed".to_owned(), true));
+    let (start, goal) = plan
+        .classes
+        .first()
+        .and_then(|c| Some((*c.path.first()?, *c.path.last()?)))
+        .unwrap_or((v.min, v.max));
     doc.add(seeds)
         .add(paths)
         .add(best)
-        .add(endpoints(scene, &v))
+        .add(bg.endpoints(start, goal, &v))
         .add(legend(&items, &v))
         .add(scale_bar(&v))
         .to_string()
 }
 
-/// The Voronoi graph of a scene: heat map, obstacles, graph, start and goal, legend, scale bar.
-pub fn graph_svg(scene: &Scene, graph: &VoronoiGraph, alpha: Real) -> String {
-    let v = View::new(scene);
+/// A Voronoi graph: background, graph, start and goal, legend, scale bar.
+pub fn graph_svg(bg: &Background<'_>, graph: &VoronoiGraph) -> String {
+    let v = View::new(bg);
     let items = vec![(
         "#999",
         format!(
@@ -300,12 +377,13 @@ pub fn graph_svg(scene: &Scene, graph: &VoronoiGraph, alpha: Real) -> String {
         ),
         false,
     )];
-    document(&v)
-        .add(heat_map(scene, &v, alpha))
-        .add(obstacles(scene, &v))
-        .add(voronoi(graph, &v))
-        .add(endpoints(scene, &v))
-        .add(legend(&items, &v))
-        .add(scale_bar(&v))
-        .to_string()
+    let at = |n: Option<usize>| {
+        n.and_then(|i| graph.nodes.get(i))
+            .map(|n| Point::new(n.at[0], n.at[1]))
+    };
+    let mut doc = bg.layers(&v, document(&v)).add(voronoi(graph, &v));
+    if let (Some(s), Some(t)) = (at(graph.start), at(graph.goal)) {
+        doc = doc.add(bg.endpoints(s, t, &v));
+    }
+    doc.add(legend(&items, &v)).add(scale_bar(&v)).to_string()
 }

@@ -177,6 +177,9 @@ pub struct World<'a> {
     pub model: &'a dyn ClearanceModel,
     /// One ray per obstacle representative.
     pub rays: Rays,
+    /// Whether the Voronoi grid is the world itself (an occupancy map) rather than a
+    /// rasterisation of it (circles). Passages narrower than one cell are offered only then.
+    pub grid_is_exact: bool,
 }
 
 /// The default grid resolution for a scene: about 256 cells along the longer side.
@@ -210,6 +213,7 @@ pub fn plan_with_graph(
                 .map(|t| t.representative)
                 .collect(),
         ),
+        grid_is_exact: false,
     };
     let resolution = cfg.resolution.unwrap_or_else(|| default_resolution(scene));
     plan_world(
@@ -251,9 +255,15 @@ pub fn plan_world(
             let graph = graph()?;
             timing.voronoi = ms(tv);
             let tc = Instant::now();
-            // A passage narrower than one grid cell is below what the grid can tell apart
-            // from a wall: it is not offered unless the caller asks for less.
-            let min_clearance = cfg.search.min_clearance.max(1.0 / graph.resolution);
+            // A passage narrower than one grid cell of a rasterised scene is below what the
+            // grid can tell apart from a wall: it is not offered. On a map the cells are the
+            // truth, and a one-cell door is a door.
+            let floor = if world.grid_is_exact {
+                0.0
+            } else {
+                1.0 / graph.resolution
+            };
+            let min_clearance = cfg.search.min_clearance.max(floor);
             let search = SearchConfig {
                 k: cfg.classes,
                 min_clearance,
@@ -271,6 +281,12 @@ pub fn plan_world(
                     poly[0] = world.start;
                     let last = poly.len() - 1;
                     poly[last] = world.goal;
+                    let centred = centre(&poly, world.model, 1.0 / graph.resolution);
+                    let poly = if rays.signature(&centred) == c.signature {
+                        centred
+                    } else {
+                        poly
+                    };
                     (poly, Some(c.signature), c.cost)
                 })
                 .collect();
@@ -329,6 +345,31 @@ pub fn plan_world(
         timing,
         graph,
     })
+}
+
+/// The graph's edges run along cell sides, so in a passage one cell wide a class path can lie
+/// on an obstacle's boundary. This resamples the path every half cell and moves each inner
+/// point up the clearance gradient, a quarter cell at a time, until it is two cells clear or
+/// stops gaining: the seed runs down the middle of passages.
+fn centre(poly: &[Point], model: &dyn ClearanceModel, cell: Real) -> Vec<Point> {
+    let len: Real = poly.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    let n = ((len / (0.5 * cell)).ceil() as usize).clamp(2, 20_000);
+    let mut pts = resample(poly, n - 1);
+    let last = pts.len() - 1;
+    for p in &mut pts[1..last] {
+        for _ in 0..8 {
+            let (d, g) = model.clearance(p);
+            if d >= 2.0 * cell || g.norm() < 1e-9 {
+                break;
+            }
+            let q = *p + g.normalize() * (0.25 * cell);
+            if model.clearance(&q).0 <= d {
+                break;
+            }
+            *p = q;
+        }
+    }
+    pts
 }
 
 /// Via-points for a seed polyline: Douglas-Peucker vertices, the tolerance halved until the

@@ -6,7 +6,8 @@
 //! interval is at least `segment_clearance(chord) - e`, and at most the clearance of either
 //! end. Intervals are split until every lower bound is within `tol` of the best upper bound
 //! found; the result brackets the true minimum: `lower <= min clearance <= upper`,
-//! `upper - lower <= tol`.
+//! `upper - lower <= tol`. Clearance here is the model's
+//! [`ClearanceModel::exact_clearance`], the function its `segment_clearance` bounds.
 
 use homospline_geom::{Point, Real};
 
@@ -46,7 +47,7 @@ pub fn min_clearance(spline: &Spline, model: &dyn ClearanceModel, tol: Real) -> 
     let first = spline.points()[0];
     let mut best = CertifiedClearance {
         lower: Real::INFINITY,
-        upper: model.clearance(&first).0,
+        upper: model.exact_clearance(&first),
         at: 0.0,
         point: first,
         checks: 0,
@@ -68,7 +69,7 @@ pub fn min_clearance(spline: &Spline, model: &dyn ClearanceModel, tol: Real) -> 
         let (p0, _, a0) = spline.eval_segment(seg, s0);
         let (p1, _, a1) = spline.eval_segment(seg, s1);
         for (s, p) in [(s0, p0), (s1, p1)] {
-            let d = model.clearance(&p).0;
+            let d = model.exact_clearance(&p);
             if d < best.upper {
                 best.upper = d;
                 best.at = knots[seg] + s;

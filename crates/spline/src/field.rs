@@ -85,6 +85,12 @@ pub trait ClearanceModel: Send + Sync {
 
     /// A lower bound of the clearance over the segment `[a, b]` (exact for circles).
     fn segment_clearance(&self, a: &Point, b: &Point) -> Real;
+
+    /// The clearance that collision checks trust, at one point: the same function that
+    /// `segment_clearance` bounds from below. By default the cost's clearance.
+    fn exact_clearance(&self, p: &Point) -> Real {
+        self.clearance(p).0
+    }
 }
 
 /// Exact model of a circle set (circles already inflated by the robot radius).

@@ -1,0 +1,203 @@
+//! Real maps: MovingAI benchmark grids and ROS map_server occupancy maps, the grid clearance
+//! model, and planning on them (the Voronoi graph straight from the grid).
+//!
+//! - [`movingai`]: `.map` and `.scen` from text, with errors that name the line.
+//! - [`ros`]: the map YAML and its PGM or PNG image (nav2's conversion rules).
+//! - [`model`]: [`GridModel`], the [`homospline_spline::ClearanceModel`] of a grid.
+//! - [`plan_map`]: a plan on an [`OccupancyMap`], with the same result as on a scene.
+//!
+//! Topological obstacles of a map are the 8-connected components of occupied cells not
+//! touching the map's border (those merge with the wall); each is represented by the centre
+//! of its first cell in raster order, which is inside it.
+
+pub mod model;
+pub mod movingai;
+pub mod ros;
+
+pub use model::GridModel;
+
+use homospline_geom::{Bounds, Point, Real};
+use homospline_homotopy::Rays;
+use homospline_optim::{Plan, PlanConfig, PlanError, World, plan_world};
+use homospline_voronoi::{BuildError, DistanceField, Grid, GridError, VoronoiGraph};
+use thiserror::Error;
+
+/// An occupancy map in map coordinates.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OccupancyMap {
+    /// Name (the file stem).
+    pub name: String,
+    /// Cells across.
+    pub width: usize,
+    /// Cells up (or down, see `y_down`).
+    pub height: usize,
+    /// Cell size, map units.
+    pub cell: Real,
+    /// Map coordinates of the corner of cell `(0, 0)` with the smallest x and y.
+    pub origin: Point,
+    /// Row-major, row `j` holding the cells whose y index is `j`; `true` is occupied.
+    pub occupied: Vec<bool>,
+    /// Whether y grows downwards on screen (MovingAI) rather than upwards (ROS).
+    pub y_down: bool,
+}
+
+/// Why a map cannot be read or planned on.
+#[derive(Debug, Error)]
+pub enum MapError {
+    /// The file is malformed.
+    #[error("{source_name}{}: {problem}", line.map_or(String::new(), |l| format!(":{l}")))]
+    Format {
+        /// The file.
+        source_name: String,
+        /// 1-based line, when known.
+        line: Option<usize>,
+        /// What is wrong.
+        problem: String,
+    },
+    /// Start or goal unusable.
+    #[error("{what} [{x}, {y}] {problem}")]
+    Endpoint {
+        /// `start` or `goal`.
+        what: &'static str,
+        /// x.
+        x: Real,
+        /// y.
+        y: Real,
+        /// What is wrong.
+        problem: String,
+    },
+    /// Grid.
+    #[error(transparent)]
+    Grid(#[from] GridError),
+    /// Graph.
+    #[error(transparent)]
+    Build(#[from] BuildError),
+    /// Planner.
+    #[error(transparent)]
+    Plan(#[from] PlanError),
+}
+
+impl OccupancyMap {
+    /// The bounds in map coordinates.
+    pub fn bounds(&self) -> Bounds {
+        Bounds {
+            min: self.origin,
+            max: Point::new(
+                self.origin.x + self.width as Real * self.cell,
+                self.origin.y + self.height as Real * self.cell,
+            ),
+        }
+    }
+
+    /// Whether the cell holding `p` is free; `None` outside the map.
+    pub fn free_at(&self, p: &Point) -> Option<bool> {
+        let fx = (p.x - self.origin.x) / self.cell;
+        let fy = (p.y - self.origin.y) / self.cell;
+        if !(fx >= 0.0 && fy >= 0.0) {
+            return None;
+        }
+        let (i, j) = (fx as usize, fy as usize);
+        (i < self.width && j < self.height).then(|| !self.occupied[j * self.width + i])
+    }
+
+    /// The grid: the map plus a one-cell wall ring around it.
+    pub fn to_grid(&self) -> Result<Grid, GridError> {
+        let (w, h) = (self.width + 2, self.height + 2);
+        let mut occ = vec![true; w * h];
+        for j in 0..self.height {
+            for i in 0..self.width {
+                occ[(j + 1) * w + i + 1] = self.occupied[j * self.width + i];
+            }
+        }
+        Grid::from_occupancy(
+            w,
+            h,
+            Point::new(self.origin.x - self.cell, self.origin.y - self.cell),
+            self.cell,
+            occ,
+        )
+    }
+
+    fn check_endpoint(&self, what: &'static str, p: &Point) -> Result<(), MapError> {
+        let err = |problem: &str| MapError::Endpoint {
+            what,
+            x: p.x,
+            y: p.y,
+            problem: problem.to_owned(),
+        };
+        match self.free_at(p) {
+            None => Err(err(&format!("is outside the map {:?}", self.bounds()))),
+            Some(false) => Err(err("is in an occupied cell")),
+            Some(true) => Ok(()),
+        }
+    }
+}
+
+/// Everything planning on a map needs, built once: grid, brushfire, graph, clearance model.
+pub struct Prepared {
+    /// The grid (map plus wall ring).
+    pub grid: Grid,
+    /// The brushfire.
+    pub field: DistanceField,
+    /// The Voronoi graph with start and goal attached.
+    pub graph: VoronoiGraph,
+    /// The clearance model.
+    pub model: GridModel,
+}
+
+/// Builds the grid, brushfire, graph (start and goal attached) and clearance model.
+pub fn prepare(map: &OccupancyMap, start: Point, goal: Point) -> Result<Prepared, MapError> {
+    map.check_endpoint("start", &start)?;
+    map.check_endpoint("goal", &goal)?;
+    let grid = map.to_grid()?;
+    let field = DistanceField::build(&grid);
+    let graph =
+        VoronoiGraph::build(&grid, &field, Some(start), Some(goal)).map_err(BuildError::from)?;
+    let model = GridModel::new(&grid, &field);
+    Ok(Prepared {
+        grid,
+        field,
+        graph,
+        model,
+    })
+}
+
+/// Plans on `map` from `start` to `goal` (map coordinates), with the same result as on a
+/// scene; the Voronoi graph comes from the grid directly.
+pub fn plan_map(
+    map: &OccupancyMap,
+    start: Point,
+    goal: Point,
+    cfg: &PlanConfig,
+) -> Result<(Plan, Prepared), MapError> {
+    let prepared = prepare(map, start, goal)?;
+    let rays = Rays::new(
+        prepared
+            .graph
+            .obstacles
+            .iter()
+            .map(|o| Point::new(o.representative[0], o.representative[1]))
+            .collect(),
+    );
+    let world = World {
+        name: map.name.clone(),
+        bounds: map.bounds(),
+        start,
+        goal,
+        model: &prepared.model,
+        rays,
+        grid_is_exact: true,
+    };
+    let graph = prepared.graph.clone();
+    let plan = plan_world(&world, || Ok(graph), cfg)?;
+    Ok((plan, prepared))
+}
+
+/// A file stem for names.
+pub(crate) fn stem(source: &str) -> String {
+    std::path::Path::new(source)
+        .file_name()
+        .and_then(|s| s.to_str())
+        .map(|s| s.split('.').next().unwrap_or(s).to_owned())
+        .unwrap_or_else(|| "map".to_owned())
+}

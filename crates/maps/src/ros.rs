@@ -1,0 +1,149 @@
+//! ROS map_server maps: the YAML (`image`, `resolution`, `origin`, `negate`,
+//! `occupied_thresh`, `free_thresh`, `mode`) and its PGM or PNG image.
+//!
+//! Conversion as nav2's map_io: `p = value / 255`, `p = 1 - p` unless `negate`;
+//! `p >= occupied_thresh` is occupied, `p <= free_thresh` free, anything between unknown.
+//! Unknown cells are treated as occupied: a robot plans only through space known to be free.
+//! Image row 0 is the top of the map; the world's y axis points up from `origin`. A rotated
+//! origin (yaw != 0) is refused rather than silently ignored.
+
+use homospline_geom::Point;
+use serde::Deserialize;
+
+use crate::{MapError, OccupancyMap, stem};
+
+/// The map YAML.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RosMapYaml {
+    /// Image file, relative to the YAML.
+    pub image: String,
+    /// Metres per cell.
+    pub resolution: f64,
+    /// Pose of the lower-left pixel: x, y, yaw.
+    pub origin: [f64; 3],
+    /// Whether white means occupied.
+    #[serde(default)]
+    pub negate: i32,
+    /// Threshold for occupied.
+    pub occupied_thresh: f64,
+    /// Threshold for free.
+    pub free_thresh: f64,
+    /// `trinary` (default), `scale` or `raw`.
+    #[serde(default)]
+    pub mode: Option<String>,
+}
+
+fn err(source: &str, line: Option<usize>, problem: impl Into<String>) -> MapError {
+    MapError::Format {
+        source_name: source.to_owned(),
+        line,
+        problem: problem.into(),
+    }
+}
+
+/// Reads and checks the YAML.
+pub fn read_yaml(text: &str, source: &str) -> Result<RosMapYaml, MapError> {
+    let y: RosMapYaml = serde_saphyr::from_str(text).map_err(|e| {
+        let line = e.location().map(|l| l.line() as usize).filter(|&l| l > 0);
+        let msg = e.to_string();
+        err(
+            source,
+            line,
+            msg.lines()
+                .next()
+                .unwrap_or("malformed map YAML")
+                .to_owned(),
+        )
+    })?;
+    if !(y.resolution.is_finite() && y.resolution > 0.0) {
+        return Err(err(
+            source,
+            None,
+            format!("resolution: must be positive, got {}", y.resolution),
+        ));
+    }
+    if !y.origin.iter().all(|v| v.is_finite()) {
+        return Err(err(source, None, "origin: must be finite"));
+    }
+    if y.origin[2] != 0.0 {
+        return Err(err(
+            source,
+            None,
+            format!(
+                "origin: yaw {} is not supported (rotate the map image instead)",
+                y.origin[2]
+            ),
+        ));
+    }
+    if !(0.0..=1.0).contains(&y.free_thresh)
+        || !(0.0..=1.0).contains(&y.occupied_thresh)
+        || y.free_thresh >= y.occupied_thresh
+    {
+        return Err(err(
+            source,
+            None,
+            format!(
+                "free_thresh {} and occupied_thresh {} must satisfy 0 <= free < occupied <= 1",
+                y.free_thresh, y.occupied_thresh
+            ),
+        ));
+    }
+    if !(y.negate == 0 || y.negate == 1) {
+        return Err(err(
+            source,
+            None,
+            format!("negate: must be 0 or 1, got {}", y.negate),
+        ));
+    }
+    match y.mode.as_deref() {
+        None | Some("trinary") | Some("scale") => {}
+        Some(m) => {
+            return Err(err(
+                source,
+                None,
+                format!("mode: '{m}' is not supported (trinary or scale)"),
+            ));
+        }
+    }
+    Ok(y)
+}
+
+/// The map from its YAML and the image's bytes (`image_source` names it in errors).
+pub fn read_map(
+    yaml: &RosMapYaml,
+    yaml_source: &str,
+    image: &[u8],
+    image_source: &str,
+) -> Result<OccupancyMap, MapError> {
+    let img = image::load_from_memory(image)
+        .map_err(|e| err(image_source, None, format!("cannot decode the image: {e}")))?;
+    let gray = img.to_luma8();
+    let (w, h) = (gray.width() as usize, gray.height() as usize);
+    if w == 0 || h == 0 || w * h > 1 << 24 {
+        return Err(err(
+            image_source,
+            None,
+            format!("image size {w} x {h} is not supported"),
+        ));
+    }
+    let mut occupied = vec![true; w * h];
+    for (col, row, px) in gray.enumerate_pixels() {
+        let mut p = px.0[0] as f64 / 255.0;
+        if yaml.negate == 0 {
+            p = 1.0 - p;
+        }
+        let free = p <= yaml.free_thresh;
+        let j = h - 1 - row as usize;
+        occupied[j * w + col as usize] = !free;
+    }
+    Ok(OccupancyMap {
+        name: stem(yaml_source),
+        width: w,
+        height: h,
+        cell: yaml.resolution,
+        origin: Point::new(yaml.origin[0], yaml.origin[1]),
+        occupied,
+        y_down: false,
+    })
+}
