@@ -10,7 +10,7 @@
 //!
 //! The topological layer: nodes (junctions, plus one anchor on each crack loop that meets no
 //! junction) and edges (the crack chains between them, with length, minimum and mean
-//! clearance, and a polyline simplified to within 0.75 cell of the chain).
+//! clearance, and a polyline simplified to within [`POLYLINE_TOLERANCE`] cell of the chain).
 
 use homospline_geom::{Point, Real};
 use serde::{Deserialize, Serialize};
@@ -18,6 +18,10 @@ use thiserror::Error;
 
 use crate::field::DistanceField;
 use crate::grid::Grid;
+
+/// Edge polylines stay within this many cells of their crack chains (Douglas-Peucker): a
+/// chain along an obstacle's side must not be simplified into the obstacle.
+pub const POLYLINE_TOLERANCE: Real = 0.3;
 
 /// Version of the serialised graph ([`VoronoiGraph::to_msgpack`]).
 pub const GRAPH_FORMAT_VERSION: u32 = 1;
@@ -879,7 +883,7 @@ impl Builder<'_> {
 
     fn edge(&self, ch: &Chain) -> Edge {
         let pts: Vec<Point> = ch.corners.iter().map(|&c| self.corner_point(c)).collect();
-        let simplified = douglas_peucker(&pts, 0.75 * self.grid.cell());
+        let simplified = douglas_peucker(&pts, POLYLINE_TOLERANCE * self.grid.cell());
         let length = simplified.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
         let cl: Vec<Real> = ch.cracks.iter().map(|&k| self.crack_clearance(k)).collect();
         let min_clearance = cl.iter().copied().fold(Real::INFINITY, Real::min);
@@ -975,7 +979,7 @@ fn connector(
     pts.push(first);
     pts.extend(path.iter().skip(1).map(|&(i, j)| grid.center(i, j)));
     pts.push(b.corner_point(corner));
-    let simplified = douglas_peucker(&pts, 0.75 * grid.cell());
+    let simplified = douglas_peucker(&pts, POLYLINE_TOLERANCE * grid.cell());
     let cl: Vec<Real> = path
         .iter()
         .map(|&(i, j)| b.field.clearance_cells(i, j) * grid.cell())
