@@ -258,7 +258,16 @@ impl Spline {
             // Uniform in s first, then split any piece longer than the spacing.
             let mut stack: Vec<(Real, Real)> = (0..n)
                 .rev()
-                .map(|k| (h * k as Real / n as Real, h * (k + 1) as Real / n as Real))
+                .map(|k| {
+                    (
+                        h * k as Real / n as Real,
+                        if k + 1 == n {
+                            h
+                        } else {
+                            h * (k + 1) as Real / n as Real
+                        },
+                    )
+                })
                 .collect();
             while let Some((a, b)) = stack.pop() {
                 if self.arc_length(i, a, b) > spacing && b - a > 1e-12 {

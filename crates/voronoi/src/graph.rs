@@ -726,6 +726,34 @@ impl VoronoiGraph {
             g.edges.push(connector(&b, id, at_node, &path, corner));
             Ok(id)
         };
+        if let (Some(s), Some(t)) = (start, goal)
+            && let Some(path) = direct_path(&b, s, t)?
+        {
+            // No crack in the free region that holds both: it has no obstacle inside, so
+            // there is one class, and the free-cell path between them is its seed.
+            let (ns, nt) = (g.nodes.len(), g.nodes.len() + 1);
+            g.nodes.push(Node {
+                id: ns,
+                at: [s.x, s.y],
+                clearance: b.field_clearance_at(&s),
+                kind: NodeKind::Start,
+            });
+            g.nodes.push(Node {
+                id: nt,
+                at: [t.x, t.y],
+                clearance: b.field_clearance_at(&t),
+                kind: NodeKind::Goal,
+            });
+            g.start = Some(ns);
+            g.goal = Some(nt);
+            let mut e = connector(&b, ns, nt, &path, 0);
+            let last = e.polyline.len() - 1;
+            e.polyline[last] = [t.x, t.y];
+            e.polyline[0] = [s.x, s.y];
+            g.edges = chains.iter().map(|ch| b.edge(ch)).collect();
+            g.edges.push(e);
+            return Ok(g);
+        }
         if let Some(s) = start {
             g.start = Some(attach(&mut g, &mut chains, s, "start", NodeKind::Start)?);
         }
@@ -963,6 +991,67 @@ fn attach_path(
             }
         }
     }
+    Err(GraphError::DifferentRegions)
+}
+
+/// When start and goal share a free region without any crack (no obstacle inside it), the
+/// breadth-first free-cell path from start to goal; `None` otherwise.
+fn direct_path(
+    b: &Builder<'_>,
+    s: Point,
+    t: Point,
+) -> Result<Option<Vec<(usize, usize)>>, GraphError> {
+    let grid = b.grid;
+    let (si, sj) = grid
+        .cell_of(&s)
+        .ok_or(GraphError::Outside("start", s.x, s.y))?;
+    let (ti, tj) = grid
+        .cell_of(&t)
+        .ok_or(GraphError::Outside("goal", t.x, t.y))?;
+    if grid.occupied(si, sj) {
+        return Err(GraphError::Occupied("start", s.x, s.y));
+    }
+    if grid.occupied(ti, tj) {
+        return Err(GraphError::Occupied("goal", t.x, t.y));
+    }
+    let (w, h, cw) = (grid.width(), grid.height(), b.cracks.cw);
+    let borders_crack = |ci: usize, cj: usize| {
+        b.cracks.v[cj * cw + ci]
+            || b.cracks.v[cj * cw + ci + 1]
+            || b.cracks.h[cj * cw + ci]
+            || b.cracks.h[(cj + 1) * cw + ci]
+    };
+    let mut parent = std::collections::HashMap::new();
+    let mut queue = std::collections::VecDeque::new();
+    parent.insert((si, sj), (si, sj));
+    queue.push_back((si, sj));
+    while let Some((ci, cj)) = queue.pop_front() {
+        if borders_crack(ci, cj) {
+            return Ok(None);
+        }
+        if (ci, cj) == (ti, tj) {
+            let mut path = vec![(ci, cj)];
+            let mut cur = (ci, cj);
+            while parent[&cur] != cur {
+                cur = parent[&cur];
+                path.push(cur);
+            }
+            path.reverse();
+            return Ok(Some(path));
+        }
+        for (di, dj) in [(1i64, 0i64), (0, 1), (-1, 0), (0, -1)] {
+            let (ni, nj) = (ci as i64 + di, cj as i64 + dj);
+            if ni < 0 || nj < 0 || ni as usize >= w || nj as usize >= h {
+                continue;
+            }
+            let n = (ni as usize, nj as usize);
+            if !grid.occupied(n.0, n.1) && !parent.contains_key(&n) {
+                parent.insert(n, (ci, cj));
+                queue.push_back(n);
+            }
+        }
+    }
+    // The region holds no crack and not the goal: they are apart.
     Err(GraphError::DifferentRegions)
 }
 

@@ -1,0 +1,209 @@
+//! Maps: readers, the grid clearance model against brute force, and plans on real maps
+//! checked independently of the planner.
+
+use homospline_geom::Point;
+use homospline_maps::{GridModel, OccupancyMap, movingai, plan_map, ros};
+use homospline_optim::PlanConfig;
+use homospline_voronoi::DistanceField;
+use proptest::prelude::*;
+
+fn fixture(rel: &str) -> String {
+    format!("{}/../../fixtures/maps/{rel}", env!("CARGO_MANIFEST_DIR"))
+}
+
+fn movingai_map(name: &str) -> OccupancyMap {
+    let path = fixture(&format!("movingai/{name}.map"));
+    movingai::read_map(&std::fs::read_to_string(&path).unwrap(), &path).unwrap()
+}
+
+/// Independent check: every point of the path, sampled every 0.01 cell, is in a free cell.
+fn path_is_free(map: &OccupancyMap, path: &[Point]) -> bool {
+    path.windows(2).all(|w| {
+        let n = (((w[1] - w[0]).norm() / (0.01 * map.cell)).ceil() as usize).max(1);
+        (0..=n).all(|k| map.free_at(&(w[0] + (w[1] - w[0]) * (k as f64 / n as f64))) == Some(true))
+    })
+}
+
+#[test]
+fn movingai_maps_and_scenarios_read() {
+    let map = movingai_map("room-32-32-4");
+    assert_eq!((map.width, map.height), (32, 32));
+    assert!(map.y_down);
+    // Row 0 of the file starts "@@@.": cell (3, 0) is free, (0, 0) blocked.
+    assert_eq!(map.free_at(&Point::new(3.5, 0.5)), Some(true));
+    assert_eq!(map.free_at(&Point::new(0.5, 0.5)), Some(false));
+    let path = fixture("movingai/room-32-32-4-random-1.scen");
+    let scen = movingai::read_scen(&std::fs::read_to_string(&path).unwrap(), &path).unwrap();
+    assert!(scen.len() > 10);
+    assert_eq!(scen[0].start, Point::new(21.5, 14.5));
+    assert_eq!(scen[0].goal, Point::new(9.5, 0.5));
+    for s in &scen {
+        assert_eq!(map.free_at(&s.start), Some(true));
+        assert_eq!(map.free_at(&s.goal), Some(true));
+    }
+}
+
+#[test]
+fn ros_maps_read_with_y_up_from_the_origin() {
+    let path = fixture("ros/turtlebot3_world/map.yaml");
+    let yaml = ros::read_yaml(&std::fs::read_to_string(&path).unwrap(), &path).unwrap();
+    let img_path = fixture(&format!("ros/turtlebot3_world/{}", yaml.image));
+    let map = ros::read_map(&yaml, &path, &std::fs::read(&img_path).unwrap(), &img_path).unwrap();
+    assert_eq!((map.width, map.height, map.cell), (384, 384, 0.05));
+    assert_eq!(map.origin, Point::new(-10.0, -10.0));
+    assert!(!map.y_down);
+    // The world's middle is free, the image's outskirts unknown (so blocked).
+    assert_eq!(map.free_at(&Point::new(-0.5, 0.0)), Some(true));
+    assert_eq!(map.free_at(&Point::new(-9.9, -9.9)), Some(false));
+    // A rotated origin is refused, not ignored.
+    let rot = fixture("ros/nav2/testmap.yaml");
+    let e = ros::read_yaml(&std::fs::read_to_string(&rot).unwrap(), &rot)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("testmap.yaml") && e.contains("yaw 1"), "{e}");
+}
+
+#[test]
+fn malformed_maps_are_named_errors() {
+    for (file, needle) in [
+        (
+            "invalid/short-row.map",
+            "short-row.map:6: row 1 has 3 cells, expected 4",
+        ),
+        (
+            "invalid/unknown-cell.map",
+            "unknown-cell.map:5: unknown cell 'x' at column 1",
+        ),
+        ("invalid/missing-height.map", "missing `height` line"),
+        (
+            "invalid/too-few-rows.map",
+            "expected 3 rows after `map`, found 2",
+        ),
+        (
+            "invalid/not-a-map.map",
+            "not-a-map.map:1: expected `type`, `height`, `width` or `map`",
+        ),
+    ] {
+        let path = fixture(file);
+        let e = movingai::read_map(&std::fs::read_to_string(&path).unwrap(), &path)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(needle), "{file}: {e}");
+    }
+    for (file, needle) in [
+        ("invalid/short-record.map.scen", ":2:"),
+        ("invalid/bad-number.map.scen", ":2:"),
+    ] {
+        let path = fixture(file);
+        let e = movingai::read_scen(&std::fs::read_to_string(&path).unwrap(), &path)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(needle), "{file}: {e}");
+    }
+    for (file, needle) in [
+        (
+            "invalid/bad-thresholds.yaml",
+            "must satisfy 0 <= free < occupied <= 1",
+        ),
+        ("invalid/unknown-key.yaml", "unknown field `colour`"),
+    ] {
+        let path = fixture(file);
+        let e = ros::read_yaml(&std::fs::read_to_string(&path).unwrap(), &path)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(needle), "{file}: {e}");
+    }
+    let path = fixture("invalid/corrupt-image.yaml");
+    let yaml = ros::read_yaml(&std::fs::read_to_string(&path).unwrap(), &path).unwrap();
+    let img = fixture("invalid/corrupt.pgm");
+    let e = ros::read_map(&yaml, &path, &std::fs::read(&img).unwrap(), &img)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("corrupt.pgm: cannot decode the image"), "{e}");
+}
+
+#[test]
+fn plans_on_movingai_scenarios_are_collision_free_when_reported_so() {
+    for name in [
+        "random-32-32-10",
+        "room-32-32-4",
+        "maze-32-32-2",
+        "warehouse-10-20-10-2-1",
+    ] {
+        let map = movingai_map(name);
+        let path = fixture(&format!("movingai/{name}-random-1.scen"));
+        let scen = movingai::read_scen(&std::fs::read_to_string(&path).unwrap(), &path).unwrap();
+        let mut found = 0;
+        for s in scen.iter().step_by(7).take(4) {
+            let cfg = PlanConfig {
+                classes: 3,
+                ..PlanConfig::default()
+            };
+            let (plan, _) = plan_map(&map, s.start, s.goal, &cfg).unwrap();
+            for c in &plan.classes {
+                assert_eq!(c.path[0], s.start);
+                assert_eq!(*c.path.last().unwrap(), s.goal);
+                if c.collision_free {
+                    assert!(
+                        path_is_free(&map, &c.path),
+                        "{name}: class {} reported free",
+                        c.signature
+                    );
+                }
+            }
+            found += usize::from(plan.best.is_some());
+        }
+        // One-cell maze corridors need more via-points than a plan may use: there the
+        // planner reports its classes as colliding, which the loop above checks is honest.
+        if name != "maze-32-32-2" {
+            assert!(found >= 1, "{name}: no scenario planned");
+        }
+    }
+}
+
+#[test]
+fn plans_on_a_ros_map() {
+    let path = fixture("ros/turtlebot3_world/map.yaml");
+    let yaml = ros::read_yaml(&std::fs::read_to_string(&path).unwrap(), &path).unwrap();
+    let img_path = fixture(&format!("ros/turtlebot3_world/{}", yaml.image));
+    let map = ros::read_map(&yaml, &path, &std::fs::read(&img_path).unwrap(), &img_path).unwrap();
+    let (s, g) = (Point::new(-2.0, -0.5), Point::new(1.5, 0.5));
+    let (plan, prepared) = plan_map(&map, s, g, &PlanConfig::default()).unwrap();
+    assert!(prepared.graph.cycle_rank() >= 1);
+    let best = &plan.classes[plan.best.expect("a plan on turtlebot3_world") - 1];
+    assert!(path_is_free(&map, &best.path));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// The exact clearance is the distance to the nearest occupied square, by brute force.
+    #[test]
+    fn exact_clearance_is_the_distance_to_the_nearest_occupied_cell(
+        bits in prop::collection::vec(prop::bool::weighted(0.15), 12 * 10),
+        px in 0.0..12.0, py in 0.0..10.0,
+    ) {
+        let map = OccupancyMap { name: "t".into(), width: 12, height: 10, cell: 1.0, origin: Point::origin(), occupied: bits, y_down: false };
+        let grid = map.to_grid().unwrap();
+        let model = GridModel::new(&grid, &DistanceField::build(&grid));
+        let p = Point::new(px, py);
+        // Brute force over the grid (map plus wall ring), distance to closed squares.
+        let mut best = f64::INFINITY;
+        for j in 0..grid.height() {
+            for i in 0..grid.width() {
+                if grid.occupied(i, j) {
+                    let c = grid.corner(i, j);
+                    let dx = (c.x - p.x).max(p.x - c.x - 1.0).max(0.0);
+                    let dy = (c.y - p.y).max(p.y - c.y - 1.0).max(0.0);
+                    best = best.min((dx * dx + dy * dy).sqrt());
+                }
+            }
+        }
+        let e = model.exact(&p);
+        if e >= 0.0 {
+            prop_assert!((e - best).abs() < 1e-12, "exact {} brute {}", e, best);
+        } else {
+            prop_assert_eq!(best, 0.0);
+        }
+    }
+}
