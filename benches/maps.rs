@@ -7,6 +7,8 @@ use homospline_maps::{OccupancyMap, plan_map, prepare};
 use homospline_optim::PlanConfig;
 use std::hint::black_box;
 
+// Only the generator is used here, not the scenes.
+#[allow(dead_code)]
 #[path = "scenes.rs"]
 mod scenes;
 
