@@ -12,6 +12,9 @@ use homospline_geom::{Point, Real, Vector};
 use homospline_spline::field::{ClearanceModel, FieldSample};
 use homospline_voronoi::{DistanceField, Grid};
 
+/// Rings of depth inside obstacles that the smooth clearance tells apart.
+pub const DEPTH_RINGS: u8 = 6;
+
 /// Clearance model of an occupancy grid.
 #[derive(Clone, Debug)]
 pub struct GridModel {
@@ -27,21 +30,58 @@ pub struct GridModel {
 }
 
 impl GridModel {
-    /// The model of `grid`, whose brushfire is `field`.
+    /// The model of `grid`, whose brushfire is `field`. Inside obstacles the clearance is
+    /// minus the depth in cells, by rings from the free space (4-connected, up to
+    /// [`DEPTH_RINGS`]), so that its gradient points out.
     pub fn new(grid: &Grid, field: &DistanceField) -> Self {
         let (w, h) = (grid.width(), grid.height());
         let cell = grid.cell();
+        let occ = grid.occupancy();
         let mut d = vec![0.0; w * h];
         let mut d2 = vec![0; w * h];
+        let mut ring = vec![0u8; w * h];
+        let mut frontier = Vec::new();
         for j in 0..h {
             for i in 0..w {
                 let k = j * w + i;
                 d2[k] = field.d2(i, j);
-                d[k] = if grid.occupied(i, j) {
-                    -0.5 * cell
-                } else {
-                    field.clearance_cells(i, j) * cell
-                };
+                if !occ[k] {
+                    d[k] = field.clearance_cells(i, j) * cell;
+                } else if (i > 0 && !occ[k - 1])
+                    || (i + 1 < w && !occ[k + 1])
+                    || (j > 0 && !occ[k - w])
+                    || (j + 1 < h && !occ[k + w])
+                {
+                    ring[k] = 1;
+                    frontier.push(k);
+                }
+            }
+        }
+        let mut r = 1u8;
+        while !frontier.is_empty() && r < DEPTH_RINGS {
+            let mut next = Vec::new();
+            for &k in &frontier {
+                let (i, j) = (k % w, k / w);
+                let around = [
+                    (i > 0).then(|| k - 1),
+                    (i + 1 < w).then(|| k + 1),
+                    (j > 0).then(|| k - w),
+                    (j + 1 < h).then(|| k + w),
+                ];
+                for n in around.into_iter().flatten() {
+                    if occ[n] && ring[n] == 0 {
+                        ring[n] = r + 1;
+                        next.push(n);
+                    }
+                }
+            }
+            frontier = next;
+            r += 1;
+        }
+        for k in 0..w * h {
+            if occ[k] {
+                let depth = if ring[k] == 0 { DEPTH_RINGS } else { ring[k] };
+                d[k] = -(depth as Real - 0.5) * cell;
             }
         }
         Self {
@@ -49,7 +89,7 @@ impl GridModel {
             h,
             origin: grid.origin(),
             cell,
-            occ: grid.occupancy().to_vec(),
+            occ: occ.to_vec(),
             d,
             d2,
         }
