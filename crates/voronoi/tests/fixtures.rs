@@ -64,3 +64,53 @@ fn graphs_round_trip_through_messagepack_and_json() {
         assert!(json["nodes"][0]["kind"].is_string());
     }
 }
+
+#[test]
+fn short_dead_end_spurs_are_pruned_and_long_ones_kept() {
+    use homospline_voronoi::{Edge, Node, NodeKind};
+    let node = |id: usize, x: f64, kind: NodeKind| Node {
+        id,
+        at: [x, 0.0],
+        clearance: 1.0,
+        kind,
+    };
+    let edge = |from: usize, to: usize, length: f64| Edge {
+        from,
+        to,
+        length,
+        min_clearance: 1.0,
+        mean_clearance: 1.0,
+        polyline: vec![[from as f64, 0.0], [to as f64, 0.0]],
+    };
+    // start - a - goal, with a short spur a - b - c (two edges) and a long spur a - d.
+    let mut g = VoronoiGraph {
+        resolution: 1.0,
+        nodes: vec![
+            node(0, 0.0, NodeKind::Start),
+            node(1, 1.0, NodeKind::Junction),
+            node(2, 2.0, NodeKind::Goal),
+            node(3, 3.0, NodeKind::Junction),
+            node(4, 4.0, NodeKind::DeadEnd),
+            node(5, 5.0, NodeKind::DeadEnd),
+        ],
+        edges: vec![
+            edge(0, 1, 1.0),
+            edge(1, 2, 1.0),
+            edge(1, 3, 0.5),
+            edge(3, 4, 0.5),
+            edge(1, 5, 9.0),
+        ],
+        start: Some(0),
+        goal: Some(2),
+        obstacles: vec![],
+    };
+    g.prune_spurs(2.0);
+    // The spur's tip goes first, then the edge it leaves dangling; the long spur stays.
+    assert_eq!(g.edges.len(), 3, "{:?}", g.edges);
+    assert_eq!(g.nodes.len(), 4);
+    assert!(g.edges.iter().any(|e| e.length == 9.0));
+    let (s, t) = (g.start.unwrap(), g.goal.unwrap());
+    assert_eq!(g.nodes[s].kind, NodeKind::Start);
+    assert_eq!(g.nodes[t].kind, NodeKind::Goal);
+    assert!(g.connected(s, t));
+}
