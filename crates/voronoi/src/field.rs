@@ -58,54 +58,74 @@ pub struct DistanceField {
 pub fn obstacle_keys(grid: &Grid) -> Vec<u32> {
     let (w, h) = (grid.width(), grid.height());
     let occ = grid.occupancy();
-    let mut parent: Vec<u32> = (0..(w * h) as u32).collect();
-    fn find(p: &mut [u32], mut i: u32) -> u32 {
-        while p[i as usize] != i {
-            p[i as usize] = p[p[i as usize] as usize];
-            i = p[i as usize];
+    // Runs of occupied cells along each row: (first cell's raster index, end column).
+    let mut runs: Vec<(usize, usize)> = Vec::new();
+    let mut row_start = vec![0usize; h + 1];
+    for j in 0..h {
+        row_start[j] = runs.len();
+        let row = &occ[j * w..(j + 1) * w];
+        let mut i = 0;
+        while i < w {
+            if !row[i] {
+                i += 1;
+                continue;
+            }
+            let b = i;
+            while i < w && row[i] {
+                i += 1;
+            }
+            runs.push((j * w + b, i));
+        }
+    }
+    row_start[h] = runs.len();
+    // Union-find over runs; the root is the run whose first cell has the smallest raster
+    // index, which is the component's key.
+    let mut parent: Vec<usize> = (0..runs.len()).collect();
+    fn find(p: &mut [usize], mut i: usize) -> usize {
+        while p[i] != i {
+            p[i] = p[p[i]];
+            i = p[i];
         }
         i
     }
-    for j in 0..h {
-        for i in 0..w {
-            let c = j * w + i;
-            if !occ[c] {
-                continue;
+    for j in 1..h {
+        let (mut a, a_end) = (row_start[j - 1], row_start[j]);
+        for r in row_start[j]..row_start[j + 1] {
+            let (b0, b1) = (runs[r].0 - j * w, runs[r].1);
+            // 8-connected: runs touch when their column spans, widened by one, overlap.
+            while a < a_end && runs[a].1 < b0 {
+                a += 1;
             }
-            let mut link = |n: usize| {
-                if occ[n] {
-                    let (a, b) = (find(&mut parent, c as u32), find(&mut parent, n as u32));
-                    // The smaller index is the root: the root is the component's key.
-                    if a < b {
-                        parent[b as usize] = a;
-                    } else if b < a {
-                        parent[a as usize] = b;
+            let mut k = a;
+            while k < a_end {
+                let (c0, c1) = (runs[k].0 - (j - 1) * w, runs[k].1);
+                if c0 > b1 {
+                    break;
+                }
+                if c1 >= b0 {
+                    let (x, y) = (find(&mut parent, r), find(&mut parent, k));
+                    if x != y {
+                        let (lo, hi) = if runs[x].0 < runs[y].0 {
+                            (x, y)
+                        } else {
+                            (y, x)
+                        };
+                        parent[hi] = lo;
                     }
                 }
-            };
-            if i > 0 {
-                link(c - 1);
-            }
-            if j > 0 {
-                link(c - w);
-                if i > 0 {
-                    link(c - w - 1);
-                }
-                if i + 1 < w {
-                    link(c - w + 1);
-                }
+                k += 1;
             }
         }
     }
-    (0..w * h)
-        .map(|c| {
-            if occ[c] {
-                find(&mut parent, c as u32)
-            } else {
-                u32::MAX
-            }
-        })
-        .collect()
+    let mut keys = vec![u32::MAX; w * h];
+    for r in 0..runs.len() {
+        let root = find(&mut parent, r);
+        let key = runs[root].0 as u32;
+        let start = runs[r].0;
+        let end = start - start % w + runs[r].1;
+        keys[start..end].iter_mut().for_each(|k| *k = key);
+    }
+    keys
 }
 
 /// The exact transform over the window `[i0, i1) x [j0, j1)` with sources `key(i, j)`

@@ -36,6 +36,39 @@ proptest! {
         }
     }
 
+    /// Obstacle keys are the 8-connected components, each keyed by its smallest raster index.
+    #[test]
+    fn obstacle_keys_are_8_connected_components(w in 3usize..30, h in 3usize..30, bits in prop::collection::vec(prop::bool::weighted(0.4), 900)) {
+        let grid = random_grid(w, h, &bits);
+        let keys = obstacle_keys(&grid);
+        let mut expect = vec![u32::MAX; w * h];
+        for start in 0..w * h {
+            if !grid.occupancy()[start] || expect[start] != u32::MAX {
+                continue;
+            }
+            // Raster order: the first unlabelled cell of a component is its smallest.
+            let mut stack = vec![start];
+            expect[start] = start as u32;
+            while let Some(c) = stack.pop() {
+                let (i, j) = ((c % w) as i64, (c / w) as i64);
+                for dj in -1..=1 {
+                    for di in -1..=1 {
+                        let (a, b) = (i + di, j + dj);
+                        if a < 0 || b < 0 || a >= w as i64 || b >= h as i64 {
+                            continue;
+                        }
+                        let n = b as usize * w + a as usize;
+                        if grid.occupancy()[n] && expect[n] == u32::MAX {
+                            expect[n] = start as u32;
+                            stack.push(n);
+                        }
+                    }
+                }
+            }
+        }
+        prop_assert_eq!(keys, expect);
+    }
+
     /// Random scenes: one independent cycle per obstacle inside the wall, start and goal
     /// joined whenever their free cells are joined.
     #[test]
