@@ -5,17 +5,11 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use homospline_geom::{Circle, CircleSet, Point, QueryBackend, Vector};
 use std::hint::black_box;
 
-/// A small deterministic generator (SplitMix64), so every run sees the same scene.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
+// Only the generator is used here, not the scenes.
+#[allow(dead_code)]
+#[path = "scenes.rs"]
+mod scenes;
+use scenes::Rng;
 
 /// `n` circles in a square sized so that about 15 % of it is covered.
 fn scene(n: usize) -> (Vec<Circle>, Vec<Point>) {

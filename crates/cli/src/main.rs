@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, bail};
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 use homospline_cli::{EXAMPLE_SCENE, picture, report};
 use homospline_geom::{Point, Scene};
 use homospline_maps::OccupancyMap;
@@ -50,51 +50,7 @@ enum OptimizerArg {
 enum Command {
     /// Plan paths: a table of classes and the chosen one; exit 0 with a collision-free plan,
     /// 1 when there is none, 2 on bad input.
-    Plan {
-        /// Scene file (YAML or JSON), MovingAI `.map` or ROS map YAML; without it, the
-        /// built-in example (the paper's Fig. 5).
-        scene: Option<PathBuf>,
-        /// Start in map coordinates, `X,Y` (required for maps; overrides a scene's).
-        #[arg(long, value_name = "X,Y", allow_hyphen_values = true)]
-        start: Option<String>,
-        /// Goal in map coordinates, `X,Y` (required for maps; overrides a scene's).
-        #[arg(long, value_name = "X,Y", allow_hyphen_values = true)]
-        goal: Option<String>,
-        /// How the splines are seeded.
-        #[arg(long, value_enum, default_value = "voronoi")]
-        seed: SeedArg,
-        /// Homotopy classes to optimise.
-        #[arg(long, default_value_t = 5)]
-        classes: usize,
-        /// Cost preset: paper-voronoi (cost 10) or paper-original (cost 9).
-        #[arg(long, default_value = "paper-voronoi")]
-        preset: String,
-        /// Set a weight or parameter, e.g. --weight safety=2 --weight dm=4 (repeatable).
-        #[arg(long = "weight", value_name = "NAME=VALUE")]
-        weights: Vec<String>,
-        /// Grid cells per map unit for the Voronoi graph (default: 256 cells along the longer side).
-        #[arg(long)]
-        resolution: Option<f64>,
-        /// Reuse a graph saved by `homospline graph --out`.
-        #[arg(long, value_name = "FILE.msgpack")]
-        graph: Option<PathBuf>,
-        /// Local optimiser.
-        #[arg(long, value_enum, default_value = "nelder-mead")]
-        optimizer: OptimizerArg,
-        /// Worker threads (the result does not depend on it).
-        #[arg(long)]
-        threads: Option<usize>,
-        /// Most via-points a spline may have (default 10 for scenes, 32 for maps, whose
-        /// one-cell doors need more).
-        #[arg(long)]
-        max_via: Option<usize>,
-        /// Write the plan result (formats.md) here.
-        #[arg(long, value_name = "FILE")]
-        json: Option<PathBuf>,
-        /// Write a picture of the plan here.
-        #[arg(long, value_name = "FILE")]
-        svg: Option<PathBuf>,
-    },
+    Plan(PlanArgs),
     /// Plan every scenario of a MovingAI `.scen` file (its map sits beside it) and report the
     /// success rate, time per plan and path length over the scenario's octile optimum.
     BenchScen {
@@ -168,37 +124,7 @@ fn main() -> ExitCode {
             json,
             svg,
         } => graph(&scene, resolution, out, json, svg),
-        Command::Plan {
-            scene,
-            start,
-            goal,
-            seed,
-            classes,
-            preset,
-            weights,
-            resolution,
-            graph,
-            optimizer,
-            threads,
-            max_via,
-            json,
-            svg,
-        } => plan(PlanArgs {
-            scene,
-            start,
-            goal,
-            seed,
-            classes,
-            preset,
-            weights,
-            resolution,
-            graph,
-            optimizer,
-            threads,
-            max_via,
-            json,
-            svg,
-        }),
+        Command::Plan(args) => plan(args),
         Command::BenchScen {
             scen,
             limit,
@@ -275,20 +201,51 @@ fn graph(
     Ok(0)
 }
 
+/// The options of `plan`.
+#[derive(Args, Debug)]
 struct PlanArgs {
+    /// Scene file (YAML or JSON), MovingAI `.map` or ROS map YAML; without it, the
+    /// built-in example (the paper's Fig. 5).
     scene: Option<PathBuf>,
+    /// Start in map coordinates, `X,Y` (required for maps; overrides a scene's).
+    #[arg(long, value_name = "X,Y", allow_hyphen_values = true)]
     start: Option<String>,
+    /// Goal in map coordinates, `X,Y` (required for maps; overrides a scene's).
+    #[arg(long, value_name = "X,Y", allow_hyphen_values = true)]
     goal: Option<String>,
+    /// How the splines are seeded.
+    #[arg(long, value_enum, default_value = "voronoi")]
     seed: SeedArg,
+    /// Homotopy classes to optimise.
+    #[arg(long, default_value_t = 5)]
     classes: usize,
+    /// Cost preset: paper-voronoi (cost 10) or paper-original (cost 9).
+    #[arg(long, default_value = "paper-voronoi")]
     preset: String,
+    /// Set a weight or parameter, e.g. --weight safety=2 --weight dm=4 (repeatable).
+    #[arg(long = "weight", value_name = "NAME=VALUE")]
     weights: Vec<String>,
+    /// Grid cells per map unit for the Voronoi graph (default: 256 cells along the longer side).
+    #[arg(long)]
     resolution: Option<f64>,
+    /// Reuse a graph saved by `homospline graph --out`.
+    #[arg(long, value_name = "FILE.msgpack")]
     graph: Option<PathBuf>,
+    /// Local optimiser.
+    #[arg(long, value_enum, default_value = "nelder-mead")]
     optimizer: OptimizerArg,
+    /// Worker threads (the result does not depend on it).
+    #[arg(long)]
     threads: Option<usize>,
+    /// Most via-points a spline may have (default 10 for scenes, 32 for maps, whose
+    /// one-cell doors need more).
+    #[arg(long)]
     max_via: Option<usize>,
+    /// Write the plan result (formats.md) here.
+    #[arg(long, value_name = "FILE")]
     json: Option<PathBuf>,
+    /// Write a picture of the plan here.
+    #[arg(long, value_name = "FILE")]
     svg: Option<PathBuf>,
 }
 

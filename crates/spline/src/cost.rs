@@ -163,7 +163,21 @@ impl CostConfig {
     /// `sheltered`, `passing_time`) or a parameter (`alpha`, `dm`, `omega`, `d_max`, `v_max`,
     /// `lateral_accel`); validated.
     pub fn set(&mut self, name: &str, value: Real) -> Result<(), String> {
-        let slot = match name {
+        let slot = self
+            .slot(name)
+            .ok_or_else(|| format!("unknown weight or parameter '{name}'"))?;
+        let old = std::mem::replace(slot, value);
+        self.validate().map_err(|e| {
+            if let Some(slot) = self.slot(name) {
+                *slot = old;
+            }
+            e.to_string()
+        })
+    }
+
+    /// The weight or parameter called `name`.
+    fn slot(&mut self, name: &str) -> Option<&mut Real> {
+        Some(match name {
             "topology" | "g1" => &mut self.w_topology,
             "roughness" | "g2" => &mut self.w_roughness,
             "length" | "g3" => &mut self.w_length,
@@ -181,38 +195,8 @@ impl CostConfig {
             "d_max" => &mut self.d_max,
             "v_max" => &mut self.v_max,
             "lateral_accel" => &mut self.lateral_accel,
-            _ => return Err(format!("unknown weight or parameter '{name}'")),
-        };
-        let old = *slot;
-        *slot = value;
-        self.validate().map_err(|e| {
-            let msg = e.to_string();
-            *self.slot(name) = old;
-            msg
+            _ => return None,
         })
-    }
-
-    fn slot(&mut self, name: &str) -> &mut Real {
-        // Only called with names `set` accepted.
-        match name {
-            "topology" | "g1" => &mut self.w_topology,
-            "roughness" | "g2" => &mut self.w_roughness,
-            "length" | "g3" => &mut self.w_length,
-            "safety" | "g4" => &mut self.w_safety,
-            "max_clearance" => &mut self.w_max_clearance,
-            "start_visibility" => &mut self.w_start_visibility,
-            "goal_visibility" => &mut self.w_goal_visibility,
-            "danger" => &mut self.w_danger,
-            "critical" => &mut self.w_critical,
-            "sheltered" => &mut self.w_sheltered,
-            "passing_time" => &mut self.w_passing_time,
-            "alpha" => &mut self.alpha,
-            "dm" => &mut self.dm,
-            "omega" => &mut self.omega,
-            "d_max" => &mut self.d_max,
-            "v_max" => &mut self.v_max,
-            _ => &mut self.lateral_accel,
-        }
     }
 
     /// Checks every weight and parameter.
@@ -582,4 +566,26 @@ fn run(
     }
     t.total = cfg.total(&t);
     t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn set_validates_and_keeps_the_old_value_on_error() {
+        let mut c = CostConfig::paper_voronoi();
+        c.set("safety", 2.5).unwrap();
+        assert_eq!(c.w_safety, 2.5);
+        c.set("g3", 1.0).unwrap();
+        assert_eq!(c.w_length, 1.0);
+        assert_eq!(
+            c.set("safty", 1.0).unwrap_err(),
+            "unknown weight or parameter 'safty'"
+        );
+        assert!(c.set("alpha", -1.0).is_err());
+        assert_eq!(c.alpha, 0.5);
+        assert!(c.set("roughness", Real::NAN).is_err());
+        assert_eq!(c.w_roughness, 1.0);
+    }
 }

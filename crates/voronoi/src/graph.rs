@@ -936,41 +936,49 @@ impl Builder<'_> {
     }
 }
 
-/// The free-cell path from `p` to the nearest cell that borders a crack (breadth-first,
-/// 4-connected, fixed neighbour order), and the crack corner it reaches.
-fn attach_path(
-    b: &Builder<'_>,
-    p: Point,
-    what: &'static str,
-) -> Result<(Vec<(usize, usize)>, usize), GraphError> {
-    let grid = b.grid;
+/// The cell holding `p`, which must be free.
+fn free_cell(grid: &Grid, p: Point, what: &'static str) -> Result<(usize, usize), GraphError> {
     let (i, j) = grid
         .cell_of(&p)
         .ok_or(GraphError::Outside(what, p.x, p.y))?;
     if grid.occupied(i, j) {
         return Err(GraphError::Occupied(what, p.x, p.y));
     }
+    Ok((i, j))
+}
+
+/// The first corner (in the order left, right, lower, upper side) of a crack on a side of
+/// cell `(ci, cj)`.
+fn crack_corner_of_cell(cracks: &Cracks, ci: usize, cj: usize) -> Option<usize> {
+    let cw = cracks.cw;
+    [
+        (cracks.v[cj * cw + ci], cj * cw + ci),
+        (ci + 1 < cw && cracks.v[cj * cw + ci + 1], cj * cw + ci + 1),
+        (cracks.h[cj * cw + ci], cj * cw + ci),
+        (
+            cj + 1 < cracks.ch && cracks.h[(cj + 1) * cw + ci],
+            (cj + 1) * cw + ci,
+        ),
+    ]
+    .into_iter()
+    .find_map(|(crack, corner)| crack.then_some(corner))
+}
+
+/// Breadth-first over free cells (4-connected, fixed neighbour order: deterministic) from
+/// `start` to the first cell where `stop` answers; that cell's path from `start` and the
+/// answer. `None` when the free region is exhausted first.
+fn free_bfs<T>(
+    grid: &Grid,
+    start: (usize, usize),
+    mut stop: impl FnMut(usize, usize) -> Option<T>,
+) -> Option<(Vec<(usize, usize)>, T)> {
     let (w, h) = (grid.width(), grid.height());
-    let cw = b.cracks.cw;
     let mut parent = std::collections::HashMap::new();
     let mut queue = std::collections::VecDeque::new();
-    parent.insert((i, j), (i, j));
-    queue.push_back((i, j));
+    parent.insert(start, start);
+    queue.push_back(start);
     while let Some((ci, cj)) = queue.pop_front() {
-        // A crack on any side of this cell: take its first corner.
-        let sides = [
-            (b.cracks.v[cj * cw + ci], cj * cw + ci),
-            (
-                ci + 1 < cw && b.cracks.v[cj * cw + ci + 1],
-                cj * cw + ci + 1,
-            ),
-            (b.cracks.h[cj * cw + ci], cj * cw + ci),
-            (
-                cj + 1 < b.cracks.ch && b.cracks.h[(cj + 1) * cw + ci],
-                (cj + 1) * cw + ci,
-            ),
-        ];
-        if let Some(&(_, corner)) = sides.iter().find(|s| s.0) {
+        if let Some(answer) = stop(ci, cj) {
             let mut path = vec![(ci, cj)];
             let mut cur = (ci, cj);
             while parent[&cur] != cur {
@@ -978,7 +986,7 @@ fn attach_path(
                 path.push(cur);
             }
             path.reverse();
-            return Ok((path, corner));
+            return Some((path, answer));
         }
         for (di, dj) in [(1i64, 0i64), (0, 1), (-1, 0), (0, -1)] {
             let (ni, nj) = (ci as i64 + di, cj as i64 + dj);
@@ -992,68 +1000,45 @@ fn attach_path(
             }
         }
     }
-    Err(GraphError::DifferentRegions)
+    None
+}
+
+/// The free-cell path from `p` to the nearest cell that borders a crack, and the crack
+/// corner it reaches.
+fn attach_path(
+    b: &Builder<'_>,
+    p: Point,
+    what: &'static str,
+) -> Result<(Vec<(usize, usize)>, usize), GraphError> {
+    let start = free_cell(b.grid, p, what)?;
+    free_bfs(b.grid, start, |ci, cj| {
+        crack_corner_of_cell(&b.cracks, ci, cj)
+    })
+    .ok_or(GraphError::DifferentRegions)
 }
 
 /// When start and goal share a free region without any crack (no obstacle inside it), the
-/// breadth-first free-cell path from start to goal; `None` otherwise.
+/// free-cell path from start to goal; `None` when the region has a crack.
 fn direct_path(
     b: &Builder<'_>,
     s: Point,
     t: Point,
 ) -> Result<Option<Vec<(usize, usize)>>, GraphError> {
-    let grid = b.grid;
-    let (si, sj) = grid
-        .cell_of(&s)
-        .ok_or(GraphError::Outside("start", s.x, s.y))?;
-    let (ti, tj) = grid
-        .cell_of(&t)
-        .ok_or(GraphError::Outside("goal", t.x, t.y))?;
-    if grid.occupied(si, sj) {
-        return Err(GraphError::Occupied("start", s.x, s.y));
-    }
-    if grid.occupied(ti, tj) {
-        return Err(GraphError::Occupied("goal", t.x, t.y));
-    }
-    let (w, h, cw) = (grid.width(), grid.height(), b.cracks.cw);
-    let borders_crack = |ci: usize, cj: usize| {
-        b.cracks.v[cj * cw + ci]
-            || b.cracks.v[cj * cw + ci + 1]
-            || b.cracks.h[cj * cw + ci]
-            || b.cracks.h[(cj + 1) * cw + ci]
-    };
-    let mut parent = std::collections::HashMap::new();
-    let mut queue = std::collections::VecDeque::new();
-    parent.insert((si, sj), (si, sj));
-    queue.push_back((si, sj));
-    while let Some((ci, cj)) = queue.pop_front() {
-        if borders_crack(ci, cj) {
-            return Ok(None);
+    let start = free_cell(b.grid, s, "start")?;
+    let goal = free_cell(b.grid, t, "goal")?;
+    let found = free_bfs(b.grid, start, |ci, cj| {
+        if crack_corner_of_cell(&b.cracks, ci, cj).is_some() {
+            Some(false)
+        } else {
+            ((ci, cj) == goal).then_some(true)
         }
-        if (ci, cj) == (ti, tj) {
-            let mut path = vec![(ci, cj)];
-            let mut cur = (ci, cj);
-            while parent[&cur] != cur {
-                cur = parent[&cur];
-                path.push(cur);
-            }
-            path.reverse();
-            return Ok(Some(path));
-        }
-        for (di, dj) in [(1i64, 0i64), (0, 1), (-1, 0), (0, -1)] {
-            let (ni, nj) = (ci as i64 + di, cj as i64 + dj);
-            if ni < 0 || nj < 0 || ni as usize >= w || nj as usize >= h {
-                continue;
-            }
-            let n = (ni as usize, nj as usize);
-            if !grid.occupied(n.0, n.1) && !parent.contains_key(&n) {
-                parent.insert(n, (ci, cj));
-                queue.push_back(n);
-            }
-        }
+    });
+    match found {
+        Some((path, true)) => Ok(Some(path)),
+        Some((_, false)) => Ok(None),
+        // The region holds no crack and not the goal: they are apart.
+        None => Err(GraphError::DifferentRegions),
     }
-    // The region holds no crack and not the goal: they are apart.
-    Err(GraphError::DifferentRegions)
 }
 
 fn connector(
