@@ -124,6 +124,15 @@ pub fn plan_json(plan: &Plan) -> String {
     serde_json::to_string_pretty(&doc).unwrap_or_default() + "\n"
 }
 
+/// A signature cut to `n` characters for the table (the JSON keeps it whole).
+fn short(sig: &str, n: usize) -> String {
+    if sig.chars().count() <= n {
+        sig.to_owned()
+    } else {
+        format!("{}..", sig.chars().take(n - 2).collect::<String>())
+    }
+}
+
 /// The table `homospline plan` prints.
 pub fn plan_table(plan: &Plan) -> String {
     let mut s = String::new();
@@ -148,7 +157,7 @@ pub fn plan_table(plan: &Plan) -> String {
             s,
             "{:>4}  {:<14} {:>8.2} {:>9.3} {:>11.1} {:>11.2} {:>6} {:>6} {:>8.1}  {}{}",
             c.rank,
-            c.signature,
+            short(&c.signature, 14),
             c.length,
             c.min_clearance,
             c.cost.roughness,
@@ -170,7 +179,9 @@ pub fn plan_table(plan: &Plan) -> String {
             let _ = writeln!(
                 s,
                 "chosen: rank {b}, class {}, length {:.2}, minimum clearance {:.3}",
-                c.signature, c.length, c.min_clearance
+                short(&c.signature, 40),
+                c.length,
+                c.min_clearance
             );
         }
         None => {

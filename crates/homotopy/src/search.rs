@@ -105,6 +105,7 @@ pub struct SearchResult {
 #[derive(Clone, Copy)]
 struct Entry {
     f: Real,
+    g: Real,
     order: usize,
     id: usize,
 }
@@ -121,9 +122,13 @@ impl PartialOrd for Entry {
     }
 }
 impl Ord for Entry {
-    // A max-heap: smaller f first, then earlier insertion.
+    // A max-heap: smaller f first; among equal f the deeper partial path (larger g), so
+    // that lattices of equally short paths (warehouses, offices) are walked depth first
+    // rather than breadth first; then earlier insertion.
     fn cmp(&self, o: &Self) -> Ordering {
-        o.f.total_cmp(&self.f).then(o.order.cmp(&self.order))
+        o.f.total_cmp(&self.f)
+            .then(self.g.total_cmp(&o.g))
+            .then(o.order.cmp(&self.order))
     }
 }
 
@@ -214,6 +219,7 @@ pub fn k_best_classes(
     let mut heap = BinaryHeap::new();
     heap.push(Entry {
         f: 0.0,
+        g: 0.0,
         order: goal,
         id: goal,
     });
@@ -227,6 +233,7 @@ pub fn k_best_classes(
                 h[m] = d;
                 heap.push(Entry {
                     f: d,
+                    g: 0.0,
                     order: m,
                     id: m,
                 });
@@ -249,6 +256,7 @@ pub fn k_best_classes(
     if h[start].is_finite() {
         queue.push(Entry {
             f: h[start],
+            g: 0.0,
             order,
             id: 0,
         });
@@ -300,6 +308,7 @@ pub fn k_best_classes(
             order += 1;
             queue.push(Entry {
                 f: g + h[m],
+                g,
                 order,
                 id: arena.len() - 1,
             });
