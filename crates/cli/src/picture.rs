@@ -39,10 +39,6 @@ impl Background<'_> {
         matches!(self, Background::Map(m) if m.y_down)
     }
 
-    fn endpoints(&self, start: Point, goal: Point, v: &View) -> Group {
-        endpoints(start, goal, v)
-    }
-
     fn layers(&self, v: &View, doc: Document) -> Document {
         match self {
             Background::Scene(scene, alpha) => {
@@ -359,7 +355,7 @@ pub fn plan_svg(bg: &Background<'_>, plan: &Plan) -> String {
     doc.add(seeds)
         .add(paths)
         .add(best)
-        .add(bg.endpoints(start, goal, &v))
+        .add(endpoints(start, goal, &v))
         .add(legend(&items, &v))
         .add(scale_bar(&v))
         .to_string()
@@ -383,7 +379,7 @@ pub fn graph_svg(bg: &Background<'_>, graph: &VoronoiGraph) -> String {
     };
     let mut doc = bg.layers(&v, document(&v)).add(voronoi(graph, &v));
     if let (Some(s), Some(t)) = (at(graph.start), at(graph.goal)) {
-        doc = doc.add(bg.endpoints(s, t, &v));
+        doc = doc.add(endpoints(s, t, &v));
     }
     doc.add(legend(&items, &v)).add(scale_bar(&v)).to_string()
 }
