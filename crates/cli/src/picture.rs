@@ -347,11 +347,7 @@ pub fn plan_svg(bg: &Background<'_>, plan: &Plan) -> String {
         ));
     }
     items.push(("#555", "class seeds: dashed".to_owned(), true));
-    let (start, goal) = plan
-        .classes
-        .first()
-        .and_then(|c| Some((*c.path.first()?, *c.path.last()?)))
-        .unwrap_or((v.min, v.max));
+    let (start, goal) = (plan.start, plan.goal);
     doc.add(seeds)
         .add(paths)
         .add(best)

@@ -144,6 +144,10 @@ pub struct Timing {
 pub struct Plan {
     /// Scene name.
     pub scene: String,
+    /// Start.
+    pub start: Point,
+    /// Goal.
+    pub goal: Point,
     /// Seeding used.
     pub seed: Seed,
     /// Classes in rank order.
@@ -338,6 +342,8 @@ pub fn plan_world(
     timing.total = ms(t0);
     Ok(Plan {
         scene: world.name.clone(),
+        start: world.start,
+        goal: world.goal,
         seed: cfg.seed,
         classes,
         best,
