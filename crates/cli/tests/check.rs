@@ -1,20 +1,12 @@
 //! `homospline check` end to end: exit codes and messages on the shipped fixtures.
 
-use std::path::Path;
-use std::process::Command;
+mod common;
 
-fn homospline() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_homospline"))
-}
-
-fn root() -> &'static Path {
-    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-}
+use common::*;
 
 #[test]
 fn valid_scenes_exit_0_with_a_summary() {
     let out = homospline()
-        .current_dir(root())
         .args(["check", "fixtures/scenes/narrow-pass.yaml"])
         .output()
         .unwrap();
@@ -37,11 +29,7 @@ fn every_invalid_fixture_exits_2_with_its_message_on_stderr() {
             "fixtures/invalid/{}",
             path.file_name().unwrap().to_str().unwrap()
         );
-        let out = homospline()
-            .current_dir(root())
-            .args(["check", &rel])
-            .output()
-            .unwrap();
+        let out = homospline().args(["check", &rel]).output().unwrap();
         assert_eq!(out.status.code(), Some(2), "{rel}");
         assert!(out.stdout.is_empty(), "{rel}: nothing on stdout");
         let stderr = String::from_utf8(out.stderr).unwrap();

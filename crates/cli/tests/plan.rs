@@ -1,49 +1,10 @@
 //! `homospline plan` and `homospline graph` end to end: exit codes, the plan JSON of
 //! formats.md, well-formed SVG with every layer, saved graphs reused.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
 
-fn homospline() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_homospline"))
-}
-
-fn root() -> &'static Path {
-    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("homospline-cli-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-/// Parses the whole document and returns the ids of its `<g>` layers.
-fn svg_layers(text: &str) -> Vec<String> {
-    let mut reader = quick_xml::Reader::from_str(text);
-    let mut ids = Vec::new();
-    let mut depth = 0i64;
-    loop {
-        match reader.read_event().expect("well-formed SVG") {
-            quick_xml::events::Event::Start(e) => {
-                depth += 1;
-                if e.name().as_ref() == b"g" {
-                    for a in e.attributes() {
-                        let a = a.unwrap();
-                        if a.key.as_ref() == b"id" {
-                            ids.push(String::from_utf8(a.value.to_vec()).unwrap());
-                        }
-                    }
-                }
-            }
-            quick_xml::events::Event::End(_) => depth -= 1,
-            quick_xml::events::Event::Eof => break,
-            _ => {}
-        }
-    }
-    assert_eq!(depth, 0, "balanced tags");
-    ids
-}
+use common::*;
+use std::path::Path;
 
 #[test]
 fn the_built_in_example_plans_with_json_and_a_picture() {
@@ -58,16 +19,10 @@ fn the_built_in_example_plans_with_json_and_a_picture() {
         ])
         .output()
         .unwrap();
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_ok(&out);
     let table = String::from_utf8(out.stdout).unwrap();
     assert!(table.contains("chosen: rank 1"), "{table}");
-    let v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let v = read_json(&json);
     assert_eq!(v["scene"], "narrow-pass");
     assert_eq!(v["seed"], "voronoi");
     assert_eq!(v["best"], 1);
@@ -122,7 +77,6 @@ fn the_built_in_example_plans_with_json_and_a_picture() {
 #[test]
 fn the_straight_seed_in_the_cup_finds_no_plan_and_exits_1() {
     let out = homospline()
-        .current_dir(root())
         .args([
             "plan",
             "fixtures/scenes/concave-cup.yaml",
@@ -150,7 +104,6 @@ fn a_saved_graph_gives_the_same_plan() {
     );
     let scene = "fixtures/scenes/two-homotopies.yaml";
     let out = homospline()
-        .current_dir(root())
         .args([
             "graph",
             scene,
@@ -165,14 +118,8 @@ fn a_saved_graph_gives_the_same_plan() {
         ])
         .output()
         .unwrap();
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let gv: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&gj).unwrap()).unwrap();
+    assert_ok(&out);
+    let gv: serde_json::Value = read_json(&gj);
     assert!(gv["nodes"].as_array().unwrap().len() > 2 && gv["start"].is_number());
     assert!(svg_layers(&std::fs::read_to_string(&gs).unwrap()).contains(&"voronoi".to_owned()));
     let run = |extra: &[&str], json: &Path| {
@@ -185,19 +132,9 @@ fn a_saved_graph_gives_the_same_plan() {
             json.to_str().unwrap(),
         ];
         args.extend_from_slice(extra);
-        let out = homospline()
-            .current_dir(root())
-            .args(&args)
-            .output()
-            .unwrap();
-        assert_eq!(
-            out.status.code(),
-            Some(0),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let mut v: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap();
+        let out = homospline().args(&args).output().unwrap();
+        assert_ok(&out);
+        let mut v = read_json(json);
         v.as_object_mut().unwrap().remove("timing_ms");
         for c in v["classes"].as_array_mut().unwrap() {
             c.as_object_mut().unwrap().remove("time_ms");
@@ -210,7 +147,6 @@ fn a_saved_graph_gives_the_same_plan() {
     );
     // A graph of another scene is refused.
     let out = homospline()
-        .current_dir(root())
         .args([
             "plan",
             "fixtures/scenes/convex.yaml",
