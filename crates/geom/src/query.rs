@@ -254,6 +254,13 @@ impl CircleSet {
             None => {
                 let mut best = (usize::MAX, Real::INFINITY);
                 for (i, c) in self.circles.iter().enumerate() {
+                    // |v| - r < best needs |v|^2 < (best + r)^2: most circles stop at the
+                    // square (with a margin, so that rounding never skips a nearer circle).
+                    let reach = best.1 + c.radius;
+                    let v2 = (p - c.center).norm_squared();
+                    if reach <= 0.0 || v2 > reach * reach * (1.0 + 1e-12) {
+                        continue;
+                    }
                     let d = c.signed_distance(p);
                     if d < best.1 {
                         best = (i, d);

@@ -183,13 +183,7 @@ impl ClearanceModel for GridModel {
         self.smooth(p)
     }
 
-    fn field_batch(
-        &self,
-        pts: &[Point],
-        alpha: Real,
-        _region: (Point, Point),
-        out: &mut [FieldSample],
-    ) {
+    fn field_batch(&self, pts: &[Point], alpha: Real, _allowance: Real, out: &mut [FieldSample]) {
         for (p, o) in pts.iter().zip(out.iter_mut()) {
             let (d, g) = self.smooth(p);
             // U = 1 + tanh(-alpha d) = 2 / (1 + exp(2 alpha d)); dU/dd = -alpha U (2 - U).

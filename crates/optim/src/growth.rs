@@ -274,7 +274,12 @@ pub fn grow(
             _ => break,
         }
     }
-    let terms = evaluate(&spline, model, &cfg.cost);
+    // The reported terms leave nothing out (no truncation of far circles' potential).
+    let exact = CostConfig {
+        tolerance: 0.0,
+        ..cfg.cost.clone()
+    };
+    let terms = evaluate(&spline, model, &exact);
     Ok(Grown {
         points,
         spline,

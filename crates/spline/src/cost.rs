@@ -2,8 +2,8 @@
 //!
 //! Integrals are taken with Gauss-Legendre quadrature on each spline segment, split into
 //! [`CostConfig::pieces`] equal pieces of [`CostConfig::nodes`] nodes. The minimal clearance
-//! `m(C)` of the safety term is the smallest node clearance refined by a golden-section
-//! search around it. Terms (method.md section 3):
+//! `m(C)` of the safety term is the smallest node clearance refined by Brent's method
+//! around it. Terms (method.md section 3):
 //!
 //! | term | value |
 //! |---|---|
@@ -27,7 +27,7 @@ use thiserror::Error;
 
 use crate::curve::{Parametrization, Spline};
 use crate::field::{ClearanceModel, FieldSample};
-use crate::quad::gauss_legendre;
+use crate::quad::gauss_legendre_cached;
 
 /// Weights and parameters of the cost.
 #[derive(Clone, Debug, PartialEq)]
@@ -70,6 +70,11 @@ pub struct CostConfig {
     pub nodes: usize,
     /// Pieces per spline segment.
     pub pieces: usize,
+    /// Relative truncation allowed in the topology term: the potential of far circles may be
+    /// left out as long as what is left out is at most `tolerance * (g2 R + g3 L)`, a lower
+    /// bound of the total times `tolerance`. 0 keeps every circle whose potential exceeds
+    /// `2 exp(-30)` per unit length; reports use 0.
+    pub tolerance: Real,
     /// Danger points `(at, min_distance)`.
     pub danger_points: Vec<(Point, Real)>,
     /// Critical points `(at, max_distance)`.
@@ -118,6 +123,7 @@ impl CostConfig {
             lateral_accel: 0.5,
             nodes: 6,
             pieces: 2,
+            tolerance: 1e-7,
             danger_points: Vec::new(),
             critical_points: Vec::new(),
             hazards: Vec::new(),
@@ -232,6 +238,13 @@ impl CostConfig {
                     v,
                 ));
             }
+        }
+        if !(0.0..=1e-3).contains(&self.tolerance) {
+            return Err(CostConfigError::Parameter(
+                "tolerance",
+                "must be in [0, 1e-3]",
+                self.tolerance,
+            ));
         }
         if !self.dm.is_finite() {
             return Err(CostConfigError::Parameter("dm", "must be finite", self.dm));
@@ -361,6 +374,76 @@ pub fn gradient(
     (terms, g)
 }
 
+/// Brent's minimisation of `f` on `[a, b]` from `x` (with `fx = f(x)`): parabolic steps where
+/// they are safe, golden-section steps otherwise, until the bracket is `2e-12` wide in `t`
+/// (at most 64 evaluations). Superlinear on a smooth minimum; a kink (a path through a
+/// circle's centre) falls back to golden-section's linear rate.
+fn brent_min(f: impl Fn(Real) -> Real, a: Real, b: Real, x: Real, fx: Real) -> (Real, Real) {
+    const GOLD: Real = 0.381_966_011_250_105_1; // (3 - sqrt 5) / 2
+    const TOL: Real = 1e-12;
+    let (mut a, mut b) = (a, b);
+    let (mut x, mut w, mut v) = (x, x, x);
+    let (mut fx, mut fw, mut fv) = (fx, fx, fx);
+    let (mut d, mut e): (Real, Real) = (0.0, 0.0);
+    for _ in 0..64 {
+        let m = 0.5 * (a + b);
+        if (x - m).abs() <= 2.0 * TOL - 0.5 * (b - a) {
+            break;
+        }
+        let mut golden = true;
+        if e.abs() > TOL {
+            // Parabola through (v, fv), (w, fw), (x, fx).
+            let r = (x - w) * (fx - fv);
+            let q = (x - v) * (fx - fw);
+            let mut p = (x - v) * q - (x - w) * r;
+            let mut q = 2.0 * (q - r);
+            if q > 0.0 {
+                p = -p;
+            }
+            q = q.abs();
+            if p.abs() < (0.5 * q * e).abs() && p > q * (a - x) && p < q * (b - x) {
+                e = d;
+                d = p / q;
+                let u = x + d;
+                if u - a < 2.0 * TOL || b - u < 2.0 * TOL {
+                    d = if x < m { TOL } else { -TOL };
+                }
+                golden = false;
+            }
+        }
+        if golden {
+            e = if x < m { b - x } else { a - x };
+            d = GOLD * e;
+        }
+        let u = if d.abs() >= TOL {
+            x + d
+        } else {
+            x + TOL.copysign(d)
+        };
+        let fu = f(u);
+        if fu <= fx {
+            if u < x {
+                b = x;
+            } else {
+                a = x;
+            }
+            (v, fv, w, fw, x, fx) = (w, fw, x, fx, u, fu);
+        } else {
+            if u < x {
+                a = u;
+            } else {
+                b = u;
+            }
+            if fu <= fw || w == x {
+                (v, fv, w, fw) = (w, fw, u, fu);
+            } else if fu <= fv || v == x || v == w {
+                (v, fv) = (u, fu);
+            }
+        }
+    }
+    (x, fx)
+}
+
 fn unit(v: &Vector) -> Vector {
     let n = v.norm();
     if n > 0.0 { v / n } else { Vector::zeros() }
@@ -372,7 +455,7 @@ fn run(
     cfg: &CostConfig,
     mut grad: Option<&mut Vec<NodePartial>>,
 ) -> CostTerms {
-    let (gx, gw) = gauss_legendre(cfg.nodes.clamp(2, 64));
+    let (gx, gw) = gauss_legendre_cached(cfg.nodes.clamp(2, 64));
     let pieces = cfg.pieces.max(1);
     let mut t = CostTerms {
         min_clearance: Real::INFINITY,
@@ -386,17 +469,18 @@ fn run(
     // All quadrature nodes of the curve first, then one field query for all of them.
     let mut pts = Vec::with_capacity(spline.segments() * pieces * nodes);
     let mut meta = Vec::with_capacity(pts.capacity()); // (segment, s, weight, gap, v, a)
-    let (mut lo, mut hi) = (spline.points()[0], spline.points()[0]);
+    // Length and roughness first: they bound the total from below, which sets how much of
+    // the far circles' potential may be left out.
+    let (mut length, mut roughness) = (0.0, 0.0);
     for seg in 0..spline.segments() {
         let h = (knots[seg + 1] - knots[seg]) / pieces as Real;
-        let (blo, bhi) = spline.segment_box(seg);
-        lo = lo.inf(&blo);
-        hi = hi.sup(&bhi);
         for piece in 0..pieces {
             let base = h * piece as Real;
             for k in 0..nodes {
                 let s = base + h * gx[k];
                 let (p, v, a) = spline.eval_segment(seg, s);
+                length += gw[k] * h * v.norm();
+                roughness += gw[k] * h * a.norm_squared();
                 pts.push(p);
                 meta.push((seg, s, gw[k] * h, h / nodes as Real, v, a));
             }
@@ -404,7 +488,15 @@ fn run(
     }
     let mut field = vec![FieldSample::default(); pts.len()];
     if need_field {
-        model.field_batch(&pts, cfg.alpha, (lo, hi), &mut field);
+        // Left-out potential per unit length <= allowance, so the topology term loses at
+        // most allowance * L = tolerance * (g2 R + g3 L) <= tolerance * total.
+        let allowance = if cfg.w_topology > 0.0 && length > 0.0 {
+            cfg.tolerance * (cfg.w_roughness * roughness + cfg.w_length * length)
+                / (cfg.w_topology * length)
+        } else {
+            0.0
+        };
+        model.field_batch(&pts, cfg.alpha, allowance, &mut field);
     }
     // Node with the smallest clearance: (clearance, segment, s, a bound on the node gap).
     let mut worst = (Real::INFINITY, 0usize, 0.0, 0.0);
@@ -490,31 +582,12 @@ fn run(
     }
     let total_len = t.length.max(Real::MIN_POSITIVE);
     if need_clearance && worst.0.is_finite() {
-        // Golden-section refinement of m(C) around the worst node, in global `t` so that a
-        // minimum across a knot is found too.
+        // Brent's refinement of m(C) around the worst node, in global `t` so that a minimum
+        // across a knot is found too.
         let (_, seg, s0, half) = worst;
         let t0 = knots[seg] + s0;
         let f = |t: Real| model.clearance(&spline.position(t)).0;
-        let (mut a, mut b) = ((t0 - half).max(0.0), (t0 + half).min(1.0));
-        let r = 0.5 * (5.0_f64.sqrt() - 1.0);
-        let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
-        let (mut fc, mut fd) = (f(c), f(d));
-        for _ in 0..48 {
-            if fc < fd {
-                b = d;
-                d = c;
-                fd = fc;
-                c = b - r * (b - a);
-                fc = f(c);
-            } else {
-                a = c;
-                c = d;
-                fc = fd;
-                d = a + r * (b - a);
-                fd = f(d);
-            }
-        }
-        let (tb, fb) = if fc < fd { (c, fc) } else { (d, fd) };
+        let (tb, fb) = brent_min(f, (t0 - half).max(0.0), (t0 + half).min(1.0), t0, worst.0);
         let (tm, m) = if fb < worst.0 {
             (tb, fb)
         } else {

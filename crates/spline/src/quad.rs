@@ -1,6 +1,18 @@
 //! Gauss-Legendre quadrature nodes and weights on `[0, 1]`.
 
+use std::sync::OnceLock;
+
 use homospline_geom::Real;
+
+/// The rules computed so far, by node count.
+static RULES: [OnceLock<(Vec<Real>, Vec<Real>)>; 64] = [const { OnceLock::new() }; 64];
+
+/// [`gauss_legendre`], computed once per node count and kept: the cost asks for its rule at
+/// every evaluation.
+pub fn gauss_legendre_cached(n: usize) -> &'static (Vec<Real>, Vec<Real>) {
+    let n = n.clamp(1, 64);
+    RULES[n - 1].get_or_init(|| gauss_legendre(n))
+}
 
 /// Gauss-Legendre rule with `n` nodes on `[0, 1]` (`1 <= n <= 64`): exact for polynomials of
 /// degree `2n - 1`. Nodes by Newton's method on the Legendre polynomial; ascending.

@@ -16,6 +16,7 @@ fn only(cfg: CostConfig) -> CostConfig {
     CostConfig {
         nodes: 8,
         pieces: 2,
+        tolerance: 0.0,
         ..cfg
     }
 }
@@ -162,19 +163,25 @@ fn full_cfg() -> CostConfig {
 fn default_quadrature_is_within_1e_6_of_a_dense_reference() {
     let (s, model) = field();
     let cfg = full_cfg();
-    let fast = evaluate(&s, &model, &cfg);
-    let dense = evaluate(
+    let dense_cfg = CostConfig {
+        nodes: 32,
+        pieces: 16,
+        tolerance: 0.0,
+        ..cfg.clone()
+    };
+    let dense = evaluate(&s, &model, &dense_cfg);
+    let exact = evaluate(
         &s,
         &model,
         &CostConfig {
-            nodes: 32,
-            pieces: 16,
+            tolerance: 0.0,
             ..cfg.clone()
         },
     );
+    let fast = evaluate(&s, &model, &cfg);
     for (name, a, b) in [
         ("total", fast.total, dense.total),
-        ("topology", fast.topology, dense.topology),
+        ("topology (no truncation)", exact.topology, dense.topology),
         ("roughness", fast.roughness, dense.roughness),
         ("length", fast.length, dense.length),
         ("safety", fast.safety, dense.safety),
@@ -185,6 +192,17 @@ fn default_quadrature_is_within_1e_6_of_a_dense_reference() {
             "{name}: {a} vs dense {b}"
         );
     }
+    // The far circles' potential left out is bounded by tolerance * (g2 R + g3 L).
+    let budget = cfg.tolerance * (cfg.w_roughness * fast.roughness + cfg.w_length * fast.length);
+    let left_out = exact.topology - fast.topology;
+    assert!(
+        (0.0..=budget).contains(&left_out),
+        "left out {left_out}, budget {budget}"
+    );
+    assert!(
+        left_out > 0.0,
+        "the bench scene should exercise the truncation"
+    );
 }
 
 #[test]
