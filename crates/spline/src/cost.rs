@@ -586,8 +586,20 @@ fn run(
         // across a knot is found too.
         let (_, seg, s0, half) = worst;
         let t0 = knots[seg] + s0;
-        let f = |t: Real| model.clearance(&spline.position(t)).0;
-        let (tb, fb) = brent_min(f, (t0 - half).max(0.0), (t0 + half).min(1.0), t0, worst.0);
+        let (ta, tz) = ((t0 - half).max(0.0), (t0 + half).min(1.0));
+        // The bracket lies in the boxes of the segments it touches; only circles that can
+        // come nearer than the worst node's clearance there matter.
+        let (sa, sz) = (spline.locate(ta).0, spline.locate(tz).0);
+        let (mut lo, mut hi) = spline.segment_box(sa);
+        for k in sa + 1..=sz {
+            let (l, h) = spline.segment_box(k);
+            lo = lo.inf(&l);
+            hi = hi.sup(&h);
+        }
+        let local = model.restricted(&lo, &hi, worst.0);
+        let near: &dyn ClearanceModel = local.as_deref().unwrap_or(model);
+        let f = |t: Real| near.clearance(&spline.position(t)).0;
+        let (tb, fb) = brent_min(f, ta, tz, t0, worst.0);
         let (tm, m) = if fb < worst.0 {
             (tb, fb)
         } else {

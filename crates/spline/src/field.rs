@@ -86,6 +86,19 @@ pub trait ClearanceModel: Send + Sync {
     /// A lower bound of the clearance over the segment `[a, b]` (exact for circles).
     fn segment_clearance(&self, a: &Point, b: &Point) -> Real;
 
+    /// A cheaper stand-in for this model inside the box `[lo, hi]`: its clearance equals this
+    /// model's at every point of the box where that is at most `reach`, and is never smaller.
+    /// The cost's refinement of `m(C)` asks for one around the worst node. `None` (the
+    /// default) when the model has no cheaper local form.
+    fn restricted(
+        &self,
+        _lo: &Point,
+        _hi: &Point,
+        _reach: Real,
+    ) -> Option<Box<dyn ClearanceModel + '_>> {
+        None
+    }
+
     /// The clearance that collision checks trust, at one point: the same function that
     /// `segment_clearance` bounds from below. By default the cost's clearance.
     fn exact_clearance(&self, p: &Point) -> Real {
@@ -97,22 +110,24 @@ pub trait ClearanceModel: Send + Sync {
 #[derive(Clone, Debug)]
 pub struct CircleModel {
     set: CircleSet,
+    /// Centres and radii sorted by `x`, so that a block's candidates are one index range.
     xs: Vec<Real>,
     ys: Vec<Real>,
     rs: Vec<Real>,
+    r_max: Real,
 }
 
 impl CircleModel {
     /// A model over `circles`.
     pub fn new(circles: Vec<Circle>) -> Self {
-        let xs = circles.iter().map(|c| c.center.x).collect();
-        let ys = circles.iter().map(|c| c.center.y).collect();
-        let rs = circles.iter().map(|c| c.radius).collect();
+        let mut sorted = circles.clone();
+        sorted.sort_by(|a, b| a.center.x.total_cmp(&b.center.x));
         Self {
             set: CircleSet::new(circles),
-            xs,
-            ys,
-            rs,
+            xs: sorted.iter().map(|c| c.center.x).collect(),
+            ys: sorted.iter().map(|c| c.center.y).collect(),
+            rs: sorted.iter().map(|c| c.radius).collect(),
+            r_max: sorted.iter().map(|c| c.radius).fold(0.0, Real::max),
         }
     }
 
@@ -141,7 +156,7 @@ impl ClearanceModel for CircleModel {
         };
         let two_alpha = 2.0 * alpha;
         let cutoff_distance = cutoff / two_alpha;
-        let mut kept: Vec<usize> = Vec::with_capacity(self.xs.len());
+        let mut kept: Vec<usize> = vec![0; self.xs.len()];
         let n = pts.len().min(out.len());
         for (block_pts, block_out) in pts[..n].chunks(BLOCK).zip(out[..n].chunks_mut(BLOCK)) {
             // Lanes past the end repeat the last point; their results are not read.
@@ -157,18 +172,28 @@ impl ClearanceModel for CircleModel {
                 lo = lo.inf(p);
                 hi = hi.sup(p);
             }
-            kept.clear();
-            for k in 0..self.xs.len() {
-                // Kept when the box is within `cutoff_distance + r` of the centre.
+            // Kept when the box is within `cutoff_distance + r` of the centre; compacted
+            // without branches.
+            let mut n_kept = 0;
+            let margin = cutoff_distance + self.r_max;
+            let first = self.xs.partition_point(|&x| x < lo.x - margin);
+            let end = self.xs.partition_point(|&x| x <= hi.x + margin);
+            for k in first..end.max(first) {
                 let (cx, cy) = (self.xs[k], self.ys[k]);
                 let dx = (lo.x - cx).max(cx - hi.x).max(0.0);
                 let dy = (lo.y - cy).max(cy - hi.y).max(0.0);
                 let reach = cutoff_distance + self.rs[k];
-                if reach >= 0.0 && dx * dx + dy * dy <= reach * reach {
-                    kept.push(k);
-                }
+                kept[n_kept] = k;
+                n_kept += usize::from(reach >= 0.0 && dx * dx + dy * dy <= reach * reach);
             }
-            potential_block(&mut lanes, &kept, &self.xs, &self.ys, &self.rs, alpha);
+            potential_block(
+                &mut lanes,
+                &kept[..n_kept],
+                &self.xs,
+                &self.ys,
+                &self.rs,
+                alpha,
+            );
             // Skipped circles are farther than the cutoff distance from every point; where no
             // kept circle is nearer than that, ask the exact query.
             for (l, (p, o)) in block_pts.iter().zip(block_out.iter_mut()).enumerate() {
@@ -188,6 +213,28 @@ impl ClearanceModel for CircleModel {
                 };
             }
         }
+    }
+
+    fn restricted(
+        &self,
+        lo: &Point,
+        hi: &Point,
+        reach: Real,
+    ) -> Option<Box<dyn ClearanceModel + '_>> {
+        // A circle farther than `reach` from the whole box is never the nearest where the
+        // clearance is at most `reach`.
+        let near: Vec<Circle> = (0..self.xs.len())
+            .filter(|&k| {
+                let (cx, cy) = (self.xs[k], self.ys[k]);
+                let dx = (lo.x - cx).max(cx - hi.x).max(0.0);
+                let dy = (lo.y - cy).max(cy - hi.y).max(0.0);
+                let r = reach + self.rs[k];
+                r >= 0.0 && dx * dx + dy * dy <= r * r * (1.0 + 1e-12)
+            })
+            .map(|k| Circle::new(self.xs[k], self.ys[k], self.rs[k]))
+            .collect();
+        (!near.is_empty() && near.len() < self.xs.len())
+            .then(|| Box::new(CircleModel::new(near)) as Box<dyn ClearanceModel>)
     }
 
     fn line_of_sight(&self, a: &Point, b: &Point) -> bool {
