@@ -80,7 +80,7 @@ pub struct Guard<'a> {
 impl Guard<'_> {
     /// The cost of a candidate, or `+inf` when the guard rejects it.
     pub fn cost(&self, spline: &Spline, model: &dyn ClearanceModel, cfg: &GrowthConfig) -> Real {
-        if !admissible(spline, self, model, cfg.guard_samples) {
+        if !admissible(spline, self, cfg.guard_samples) {
             return Real::INFINITY;
         }
         let terms = evaluate(spline, model, &cfg.cost);
@@ -126,19 +126,12 @@ fn to_points(s: Point, t: Point, x: &[Real]) -> Vec<Point> {
     v
 }
 
-/// Whether the spline stays in bounds, (when asked) in its class and clear of obstacles, on
-/// dense samples.
-pub fn admissible(
-    spline: &Spline,
-    guard: &Guard<'_>,
-    model: &dyn ClearanceModel,
-    samples_per_segment: usize,
-) -> bool {
+/// Whether the spline stays in bounds and (when asked) in its class, on dense samples. The
+/// collision test of a guarded candidate is the cost's own `m(C)` (every quadrature node,
+/// refined near the worst one), checked after the evaluation; a round's result is certified.
+pub fn admissible(spline: &Spline, guard: &Guard<'_>, samples_per_segment: usize) -> bool {
     let pts = spline.sample_uniform(spline.segments() * samples_per_segment.max(2));
     if !pts.iter().all(|p| guard.bounds.contains(p)) {
-        return false;
-    }
-    if guard.collision_free && pts.iter().any(|p| model.clearance(p).0 <= 0.0) {
         return false;
     }
     match guard.class {
@@ -205,7 +198,7 @@ pub fn grow(
                     count += 1;
                     let pts = to_points(s, t, x);
                     match build(&pts) {
-                        Some(sp) if admissible(&sp, guard, model, cfg.guard_samples) => {
+                        Some(sp) if admissible(&sp, guard, cfg.guard_samples) => {
                             let (terms, g) = gradient(&sp, model, &cfg.cost);
                             if guard.collision_free && terms.min_clearance <= 0.0 {
                                 (Real::INFINITY, vec![0.0; x.len()])
@@ -266,7 +259,11 @@ pub fn grow(
         // The curve through one more point of itself is nearly the same curve; keep it only
         // if it is still admissible.
         match build(&grown) {
-            Some(sp2) if guard.cost(&sp2, model, cfg).is_finite() => {
+            Some(sp2)
+                if guard.cost(&sp2, model, cfg).is_finite()
+                    && (!guard.collision_free
+                        || min_clearance(&sp2, model, 1e-3).collision_free()) =>
+            {
                 best_cost = evaluate(&sp2, model, &cfg.cost).total;
                 points = grown;
                 spline = sp2;

@@ -223,13 +223,13 @@ impl Spline {
 
     /// Arc length on segment `i` between local parameters `s0 < s1` (64 Gauss nodes).
     pub fn arc_length(&self, i: usize, s0: Real, s1: Real) -> Real {
-        let (x, w) = crate::quad::gauss_legendre(16);
+        let (x, w) = crate::quad::gauss_legendre_cached(16);
         let pieces = 4;
         let h = (s1 - s0) / pieces as Real;
         let mut total = 0.0;
         for k in 0..pieces {
             let base = s0 + h * k as Real;
-            for (x, w) in x.iter().zip(&w) {
+            for (x, w) in x.iter().zip(w) {
                 total += w * h * self.eval_segment(i, base + h * x).1.norm();
             }
         }
