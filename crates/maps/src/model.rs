@@ -139,17 +139,73 @@ impl GridModel {
             let y0 = self.origin.y + cj as Real * h;
             return -(p.x - x0).min(x0 + h - p.x).min(p.y - y0).min(y0 + h - p.y);
         }
-        // The brushfire's nearest occupied centre is within sqrt(d2) cells of this cell's
-        // centre: an occupied square lies within (sqrt(d2) + 1) h of p.
-        let bound = ((self.d2[cj * self.w + ci] as Real).sqrt() + 1.0) * h;
-        let mut best = bound;
-        let square = |i: usize, j: usize| {
-            let x0 = self.origin.x + i as Real * h;
-            let y0 = self.origin.y + j as Real * h;
-            let dx = (x0 - p.x).max(p.x - x0 - h).max(0.0);
-            let dy = (y0 - p.y).max(p.y - y0 - h).max(0.0);
-            (dx * dx + dy * dy).sqrt()
-        };
+        let d2 = self.d2[cj * self.w + ci];
+        if d2 > (self.w * self.w + self.h * self.h) as i64 {
+            // No occupied cell at all.
+            return self.exact_by_rings(p, ci, cj, Real::INFINITY);
+        }
+        // In cells (h = 1): every occupied centre o has |c - o|^2 >= d2 (the exact brushfire
+        // of centre c), and the nearest one, o*, has |c - o*| = D = sqrt(d2). A square holds
+        // the disc of radius 1/2 around its centre, so the answer is at most
+        // |p - o*| - 1/2 <= D + sqrt(2)/2 - 1/2. A square at o is at least
+        // |p - o| - sqrt(2)/2 >= |c - o| - sqrt(2) away, so only centres with
+        // |c - o| <= D + sqrt(2)/2 - 1/2 + sqrt(2) can beat it: an annulus of width 1.62
+        // instead of the whole disc.
+        let dc = (d2 as Real).sqrt();
+        let best0 = dc + std::f64::consts::FRAC_1_SQRT_2 - 0.5;
+        let outer = best0 + std::f64::consts::SQRT_2 + 1e-9;
+        let outer2 = outer * outer;
+        let reach = outer.floor() as i64;
+        let mut best = best0 * h;
+        for dy in -reach..=reach {
+            let j = cj as i64 + dy;
+            if j < 0 || j >= self.h as i64 {
+                continue;
+            }
+            let dy2 = dy * dy;
+            let rest = outer2 - dy2 as Real;
+            if rest < 0.0 {
+                continue;
+            }
+            let hi = rest.sqrt().floor() as i64;
+            // Smallest dx >= 0 with dx^2 + dy^2 >= d2, in integers.
+            let mut lo = ((d2 - dy2).max(0) as Real).sqrt().floor() as i64;
+            while lo * lo + dy2 < d2 {
+                lo += 1;
+            }
+            while lo > 0 && (lo - 1) * (lo - 1) + dy2 >= d2 {
+                lo -= 1;
+            }
+            for dx in lo..=hi {
+                for i in [ci as i64 + dx, ci as i64 - dx] {
+                    if i >= 0 && (i as usize) < self.w && self.occ[j as usize * self.w + i as usize]
+                    {
+                        best = best.min(self.square_distance(p, i as usize, j as usize));
+                    }
+                    if dx == 0 {
+                        break;
+                    }
+                }
+            }
+        }
+        best
+    }
+
+    /// Distance from `p` to the closed square of cell `(i, j)`.
+    fn square_distance(&self, p: &Point, i: usize, j: usize) -> Real {
+        let h = self.cell;
+        let x0 = self.origin.x + i as Real * h;
+        let y0 = self.origin.y + j as Real * h;
+        let dx = (x0 - p.x).max(p.x - x0 - h).max(0.0);
+        let dy = (y0 - p.y).max(p.y - y0 - h).max(0.0);
+        (dx * dx + dy * dy).sqrt()
+    }
+
+    /// [`GridModel::exact`] by Chebyshev rings around cell `(ci, cj)` from the nearest out,
+    /// starting from the upper bound `best`: the reference the annulus search is tested on,
+    /// and the answer on a grid without occupied cells.
+    fn exact_by_rings(&self, p: &Point, ci: usize, cj: usize, mut best: Real) -> Real {
+        let h = self.cell;
         let mut r = 1usize;
         // Cells on Chebyshev ring r are at least (r - 1) h away.
         while ((r - 1) as Real) * h <= best {
@@ -164,7 +220,7 @@ impl GridModel {
                 while i <= i1 {
                     if i >= 0 && (i as usize) < self.w && self.occ[j as usize * self.w + i as usize]
                     {
-                        best = best.min(square(i as usize, j as usize));
+                        best = best.min(self.square_distance(p, i as usize, j as usize));
                     }
                     i = if on_edge || i == i1 { i + 1 } else { i1 };
                 }
@@ -212,5 +268,48 @@ impl ClearanceModel for GridModel {
 
     fn exact_clearance(&self, p: &Point) -> Real {
         self.exact(p)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The annulus search finds exactly what the full ring search finds, anywhere on a
+        /// random grid (free and occupied cells, near walls, far from them).
+        #[test]
+        fn annulus_search_equals_ring_search(
+            seed in any::<u64>(),
+            density in 0.0..0.3f64,
+            cell in 0.05..2.0f64,
+        ) {
+            let (w, h) = (29, 23);
+            let mut state = seed | 1;
+            let mut next = move || {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                (state >> 11) as Real / (1u64 << 53) as Real
+            };
+            let occ = (0..w * h).map(|_| next() < density * 0.3).collect();
+            let origin = Point::new(-3.0, 1.5);
+            let grid = Grid::from_occupancy(w, h, origin, cell, occ).unwrap();
+            let model = GridModel::new(&grid, &DistanceField::build(&grid));
+            for _ in 0..200 {
+                let p = Point::new(
+                    origin.x + next() * w as Real * cell,
+                    origin.y + next() * h as Real * cell,
+                );
+                let (ci, cj) = model.cell_of(&p).unwrap();
+                let rings = if model.occ[cj * w + ci] {
+                    model.exact(&p)
+                } else {
+                    model.exact_by_rings(&p, ci, cj, Real::INFINITY)
+                };
+                prop_assert_eq!(model.exact(&p), rings, "at {}", p);
+            }
+        }
     }
 }
