@@ -20,6 +20,11 @@ use homospline_geom::{Point, Real, Vector};
 pub struct Rays {
     origins: Vec<Point>,
     dir: Vector,
+    /// `(q, i)` sorted, `q = dir x origin_i`: a segment can only cross the rays whose `q`
+    /// lies between its ends' (see [`Rays::cross_segment`]).
+    by_q: Vec<(Real, usize)>,
+    /// Largest coordinate magnitude of the origins, for the candidate margin.
+    scale: Real,
 }
 
 /// A reduced word of signed ray crossings: letter `+(i + 1)` or `-(i + 1)` for ray `i`.
@@ -88,7 +93,19 @@ impl Rays {
                 })
             });
             if !collinear || angle > 1.7 {
-                return Self { origins, dir };
+                let mut by_q: Vec<(Real, usize)> = origins
+                    .iter()
+                    .enumerate()
+                    .map(|(i, o)| (dir.x * o.y - dir.y * o.x, i))
+                    .collect();
+                by_q.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                let scale = origins.iter().map(|o| o.coords.amax()).fold(0.0, Real::max);
+                return Self {
+                    origins,
+                    dir,
+                    by_q,
+                    scale,
+                };
             }
             angle += 0.0123;
         }
@@ -118,8 +135,21 @@ impl Rays {
 
     /// Appends the crossings of segment `a -> b` to `word`, in the order along the segment.
     pub fn cross_segment(&self, a: &Point, b: &Point, word: &mut Signature) {
+        // Ray i's side test is `q(p) - q(o_i) >= 0` up to rounding, `q(p) = dir x p`: only rays
+        // with `q(o_i)` between `q(a)` and `q(b)` (widened far beyond the rounding) can change
+        // sides; the exact test below decides, so the result is the same as testing all.
+        let (qa, qb) = (
+            self.dir.x * a.y - self.dir.y * a.x,
+            self.dir.x * b.y - self.dir.y * b.x,
+        );
+        let margin = 1e-9 * (1.0 + self.scale + a.coords.amax() + b.coords.amax());
+        let (lo, hi) = (qa.min(qb) - margin, qa.max(qb) + margin);
+        let first = self.by_q.partition_point(|&(q, _)| q < lo);
         let mut hits: Vec<(Real, i32)> = Vec::new();
-        for i in 0..self.origins.len() {
+        for &(q, i) in &self.by_q[first..] {
+            if q > hi {
+                break;
+            }
             let (la, lb) = (self.left(i, a), self.left(i, b));
             if la == lb {
                 continue;

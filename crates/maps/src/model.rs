@@ -99,8 +99,8 @@ impl GridModel {
     pub fn smooth(&self, p: &Point) -> (Real, Vector) {
         let fx = (p.x - self.origin.x) / self.cell - 0.5;
         let fy = (p.y - self.origin.y) / self.cell - 0.5;
-        let i0 = (fx.floor().max(0.0) as usize).min(self.w - 2);
-        let j0 = (fy.floor().max(0.0) as usize).min(self.h - 2);
+        let i0 = (fx.max(0.0) as usize).min(self.w - 2);
+        let j0 = (fy.max(0.0) as usize).min(self.h - 2);
         let tx = (fx - i0 as Real).clamp(0.0, 1.0);
         let ty = (fy - j0 as Real).clamp(0.0, 1.0);
         let at = |i: usize, j: usize| self.d[j * self.w + i];
@@ -155,7 +155,7 @@ impl GridModel {
         let best0 = dc + std::f64::consts::FRAC_1_SQRT_2 - 0.5;
         let outer = best0 + std::f64::consts::SQRT_2 + 1e-9;
         let outer2 = outer * outer;
-        let reach = outer.floor() as i64;
+        let reach = outer as i64; // truncation is floor here: all >= 0
         let mut best = best0 * h;
         for dy in -reach..=reach {
             let j = cj as i64 + dy;
@@ -167,9 +167,9 @@ impl GridModel {
             if rest < 0.0 {
                 continue;
             }
-            let hi = rest.sqrt().floor() as i64;
+            let hi = rest.sqrt() as i64;
             // Smallest dx >= 0 with dx^2 + dy^2 >= d2, in integers.
-            let mut lo = ((d2 - dy2).max(0) as Real).sqrt().floor() as i64;
+            let mut lo = ((d2 - dy2).max(0) as Real).sqrt() as i64;
             while lo * lo + dy2 < d2 {
                 lo += 1;
             }
