@@ -266,6 +266,18 @@ impl ClearanceModel for GridModel {
         self.exact(a).min(self.exact(b)) - 0.5 * (b - a).norm()
     }
 
+    fn polyline_clearance(&self, pts: &[Point]) -> Real {
+        // The same bound segment by segment, with each point's exact distance found once.
+        let at: Vec<Real> = pts.iter().map(|p| self.exact(p)).collect();
+        (1..pts.len())
+            .map(|i| self.segment_clearance_between(&pts[i - 1], &pts[i], at[i - 1], at[i]))
+            .fold(Real::INFINITY, Real::min)
+    }
+
+    fn segment_clearance_between(&self, a: &Point, b: &Point, da: Real, db: Real) -> Real {
+        da.min(db) - 0.5 * (b - a).norm()
+    }
+
     fn exact_clearance(&self, p: &Point) -> Real {
         self.exact(p)
     }

@@ -510,10 +510,7 @@ fn optimise_class(
                 .into_iter()
                 .map(|(_, p)| p)
                 .collect();
-            let min_clear = path
-                .windows(2)
-                .map(|w| model.segment_clearance(&w[0], &w[1]))
-                .fold(Real::INFINITY, Real::min);
+            let min_clear = model.polyline_clearance(&path);
             let cert = min_clearance(sp, model, cfg.certify_tolerance);
             let inside = path.iter().all(|p| world.bounds.contains(p));
             let in_class = signature.is_none_or(|s| &rays.signature(&path) == s);

@@ -52,24 +52,26 @@ pub fn min_clearance(spline: &Spline, model: &dyn ClearanceModel, tol: Real) -> 
         point: first,
         checks: 0,
     };
-    let mut stack: Vec<(usize, Real, Real, u32)> = Vec::new();
+    // Intervals carry the clearance at their ends, so each subdivision asks for one new
+    // point; the ends are still noted when an interval is popped, as before.
+    let mut stack: Vec<(usize, Real, Real, u32, Real, Real)> = Vec::new();
     for seg in (0..spline.segments()).rev() {
         let h = knots[seg + 1] - knots[seg];
         let n = 8;
+        let ends: Vec<(Real, Real)> = (0..=n)
+            .map(|k| {
+                let s = h * k as Real / n as Real;
+                (s, model.exact_clearance(&spline.eval_segment(seg, s).0))
+            })
+            .collect();
         for k in (0..n).rev() {
-            stack.push((
-                seg,
-                h * k as Real / n as Real,
-                h * (k + 1) as Real / n as Real,
-                0,
-            ));
+            stack.push((seg, ends[k].0, ends[k + 1].0, 0, ends[k].1, ends[k + 1].1));
         }
     }
-    while let Some((seg, s0, s1, depth)) = stack.pop() {
+    while let Some((seg, s0, s1, depth, d0, d1)) = stack.pop() {
         let (p0, _, a0) = spline.eval_segment(seg, s0);
         let (p1, _, a1) = spline.eval_segment(seg, s1);
-        for (s, p) in [(s0, p0), (s1, p1)] {
-            let d = model.exact_clearance(&p);
+        for (s, p, d) in [(s0, p0, d0), (s1, p1, d1)] {
             if d < best.upper {
                 best.upper = d;
                 best.at = knots[seg] + s;
@@ -77,15 +79,16 @@ pub fn min_clearance(spline: &Spline, model: &dyn ClearanceModel, tol: Real) -> 
             }
         }
         let e = (s1 - s0).powi(2) / 8.0 * a0.norm().max(a1.norm());
-        let lower = model.segment_clearance(&p0, &p1) - e;
+        let lower = model.segment_clearance_between(&p0, &p1, d0, d1) - e;
         best.checks += 1;
         if lower >= best.upper - tol || depth >= 60 {
             best.lower = best.lower.min(lower);
             continue;
         }
         let m = 0.5 * (s0 + s1);
-        stack.push((seg, m, s1, depth + 1));
-        stack.push((seg, s0, m, depth + 1));
+        let dm = model.exact_clearance(&spline.eval_segment(seg, m).0);
+        stack.push((seg, m, s1, depth + 1, dm, d1));
+        stack.push((seg, s0, m, depth + 1, d0, dm));
     }
     best.lower = best.lower.min(best.upper);
     best

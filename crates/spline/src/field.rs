@@ -86,6 +86,22 @@ pub trait ClearanceModel: Send + Sync {
     /// A lower bound of the clearance over the segment `[a, b]` (exact for circles).
     fn segment_clearance(&self, a: &Point, b: &Point) -> Real;
 
+    /// The smallest [`ClearanceModel::segment_clearance`] over the segments of `pts` (+inf for
+    /// fewer than two points).
+    fn polyline_clearance(&self, pts: &[Point]) -> Real {
+        pts.windows(2)
+            .map(|w| self.segment_clearance(&w[0], &w[1]))
+            .fold(Real::INFINITY, Real::min)
+    }
+
+    /// [`ClearanceModel::segment_clearance`] when the caller already knows the
+    /// [`ClearanceModel::exact_clearance`] of both ends, `da` and `db`: a model whose bound is
+    /// built from them skips recomputing them. By default they are not used.
+    fn segment_clearance_between(&self, a: &Point, b: &Point, da: Real, db: Real) -> Real {
+        let _ = (da, db);
+        self.segment_clearance(a, b)
+    }
+
     /// A cheaper stand-in for this model inside the box `[lo, hi]`: its clearance equals this
     /// model's at every point of the box where that is at most `reach`, and is never smaller.
     /// The cost's refinement of `m(C)` asks for one around the worst node. `None` (the
