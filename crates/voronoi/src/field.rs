@@ -171,57 +171,49 @@ fn transform(
             }
         }
     }
-    // Row pass: lower envelope of f_q(x) = K (x - q)^2 + G(q), in place row by row.
-    let mut v: Vec<usize> = Vec::with_capacity(w);
-    let mut fv: Vec<i64> = Vec::with_capacity(w);
-    // Left boundary of each envelope piece as a rational (num, den), den > 0 (den 0: -inf).
-    let mut z: Vec<(i64, i64)> = Vec::with_capacity(w);
+    // Row pass: lower envelope of f_q(x) = K (x - q)^2 + G(q), in place row by row. Piece
+    // `t` of the envelope is parabola `v[t]` (with `F = G + K q^2` in `fv[t]`), starting at
+    // `s_t = zn[t] / (2 K zq[t])` (piece 0 starts at -inf).
+    let mut v = vec![0usize; w];
+    let mut fv = vec![0i64; w];
+    let mut zn = vec![0i64; w];
+    let mut zq = vec![0i64; w];
     let mut out_row = vec![NONE; w];
     for y in 0..h {
         let row = &mut g[y * w..(y + 1) * w];
-        v.clear();
-        fv.clear();
-        z.clear();
+        let mut top = 0usize;
         for (q, &gq) in row.iter().enumerate() {
             if gq == NONE {
                 continue;
             }
             let fq = gq + k * (q * q) as i64;
-            loop {
-                let Some(&p) = v.last() else {
-                    v.push(q);
-                    fv.push(fq);
-                    z.push((0, 0));
+            // Drop pieces that the new parabola hides: where it meets the last piece,
+            // s = (F(q) - F(p)) / (2 K (q - p)), is not after that piece's start.
+            while top > 1 {
+                let num = fq - fv[top - 1];
+                let dq = (q - v[top - 1]) as i64;
+                if le_ratio(num, dq, zn[top - 1], zq[top - 1]) {
+                    top -= 1;
+                } else {
                     break;
-                };
-                // Intersection with the last piece: s = (F(q) - F(p)) / (2 K (q - p)).
-                let num = fq - fv[fv.len() - 1];
-                let den = 2 * k * (q - p) as i64;
-                let (zn, zd) = z[z.len() - 1];
-                if zd != 0 && (num as i128) * (zd as i128) <= (zn as i128) * (den as i128) {
-                    v.pop();
-                    fv.pop();
-                    z.pop();
-                    continue;
                 }
-                v.push(q);
-                fv.push(fq);
-                z.push((num, den));
-                break;
             }
+            v[top] = q;
+            fv[top] = fq;
+            if top > 0 {
+                zn[top] = fq - fv[top - 1];
+                zq[top] = (q - v[top - 1]) as i64;
+            }
+            top += 1;
         }
-        if v.is_empty() {
+        if top == 0 {
             continue;
         }
         let mut idx = 0;
         for (x, o) in out_row.iter_mut().enumerate() {
-            while idx + 1 < v.len() {
-                let (zn, zd) = z[idx + 1];
-                if (zn as i128) < (x as i128) * (zd as i128) {
-                    idx += 1;
-                } else {
-                    break;
-                }
+            // s < x  <=>  zn < 2 K zq x, far inside i64 for any grid whose values fit.
+            while idx + 1 < top && zn[idx + 1] < ((x as i64 * zq[idx + 1]) << (KEY_BITS + 1)) {
+                idx += 1;
             }
             let q = v[idx];
             let dx = x as i64 - q as i64;
@@ -230,6 +222,16 @@ fn transform(
         row.copy_from_slice(&out_row);
     }
     g
+}
+
+/// `a / b <= c / d` for `b, d > 0`, exactly: in `i64` while the products fit (grids up to
+/// 4096 cells across), else in `i128`.
+#[inline]
+fn le_ratio(a: i64, b: i64, c: i64, d: i64) -> bool {
+    match (a.checked_mul(d), c.checked_mul(b)) {
+        (Some(l), Some(r)) => l <= r,
+        _ => (a as i128) * (d as i128) <= (c as i128) * (b as i128),
+    }
 }
 
 impl DistanceField {
