@@ -293,6 +293,12 @@ impl DistanceField {
         (self.val[j * self.width + i] & KEY_MASK) as u32
     }
 
+    /// [`DistanceField::nearest`] of the cell with raster index `k = j * width + i`.
+    #[inline]
+    pub fn nearest_at(&self, k: usize) -> u32 {
+        (self.val[k] & KEY_MASK) as u32
+    }
+
     /// Clearance of `(i, j)` in cells: `sqrt(d2) - 1/2` on free cells, 0 on obstacles.
     #[inline]
     pub fn clearance_cells(&self, i: usize, j: usize) -> f64 {

@@ -13,6 +13,7 @@
 //! clearance, and a polyline simplified to within [`POLYLINE_TOLERANCE`] cell of the chain).
 
 use homospline_geom::{Point, Real};
+use rustc_hash::FxHashMap;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -140,7 +141,7 @@ const STRAY_LIMIT: usize = 16;
 /// at a cell already known to belong to a large component.
 fn local_strays(grid: &Grid, field: &DistanceField, cracks: &Cracks) -> Vec<(usize, u32)> {
     let (w, h) = (field.width(), field.height());
-    let lab = |c: usize| field.nearest(c % w, c / w);
+    let lab = |c: usize| field.nearest_at(c);
     let occ = grid.occupancy();
     // 0 unknown, 1 in a large or obstacle-holding component, 2 stray.
     let mut state = vec![0u8; w * h];
@@ -252,7 +253,7 @@ fn local_strays(grid: &Grid, field: &DistanceField, cracks: &Cracks) -> Vec<(usi
 /// raster order: deterministic.
 fn regions(grid: &Grid, field: &DistanceField) -> Vec<u32> {
     let (w, h) = (field.width(), field.height());
-    let mut label: Vec<u32> = (0..w * h).map(|c| field.nearest(c % w, c / w)).collect();
+    let mut label: Vec<u32> = (0..w * h).map(|c| field.nearest_at(c)).collect();
     let occ = grid.occupancy();
     let mut comp = vec![0u32; w * h];
     let mut parent: Vec<u32> = Vec::new();
@@ -336,22 +337,31 @@ impl Cracks {
         let (cw, ch) = (w + 1, h + 1);
         let mut v = vec![false; cw * ch];
         let mut hz = vec![false; cw * ch];
-        let mut deg = vec![0u8; cw * ch];
+        // Cracks first, in simple loops over rows (they vectorise), then the degrees.
         for j in 0..h {
-            for i in 0..w {
-                let k = label(j * w + i);
-                if i > 0 && label(j * w + i - 1) != k {
-                    let c = j * cw + i;
-                    v[c] = true;
-                    deg[c] += 1;
-                    deg[c + cw] += 1;
+            let (row, c) = (j * w, j * cw);
+            let vs = &mut v[c + 1..c + w];
+            for (i, x) in vs.iter_mut().enumerate() {
+                *x = label(row + i + 1) != label(row + i);
+            }
+            if j > 0 {
+                let hs = &mut hz[c..c + w];
+                for (i, x) in hs.iter_mut().enumerate() {
+                    *x = label(row + i) != label(row - w + i);
                 }
-                if j > 0 && label((j - 1) * w + i) != k {
-                    let c = j * cw + i;
-                    hz[c] = true;
-                    deg[c] += 1;
-                    deg[c + 1] += 1;
-                }
+            }
+        }
+        // A corner meets the vertical cracks above and below it and the horizontal ones to
+        // its right and left.
+        let mut deg = vec![0u8; cw * ch];
+        for cj in 0..ch {
+            let c = cj * cw;
+            for ci in 0..cw {
+                let up = u8::from(v[c + ci]);
+                let down = if cj > 0 { u8::from(v[c + ci - cw]) } else { 0 };
+                let right = u8::from(hz[c + ci]);
+                let left = if ci > 0 { u8::from(hz[c + ci - 1]) } else { 0 };
+                deg[c + ci] = up + down + right + left;
             }
         }
         Self {
@@ -465,7 +475,7 @@ impl Builder<'_> {
 struct Network {
     cracks: Cracks,
     node_corners: Vec<usize>,
-    node_of: std::collections::HashMap<usize, usize>,
+    node_of: FxHashMap<usize, usize>,
     chains: Vec<Chain>,
 }
 
@@ -473,7 +483,7 @@ impl Network {
     fn trace(cracks: Cracks) -> Self {
         let mut nb = Vec::with_capacity(4);
         // Nodes: corners of degree other than 2.
-        let mut node_of = std::collections::HashMap::new();
+        let mut node_of = FxHashMap::default();
         let mut node_corners = Vec::new();
         let mut crack_corners = Vec::new();
         for (c, &d) in cracks.deg.iter().enumerate() {
@@ -492,7 +502,7 @@ impl Network {
                      c0: usize,
                      first: (usize, usize),
                      used: &mut Vec<bool>,
-                     node_of: &std::collections::HashMap<usize, usize>,
+                     node_of: &FxHashMap<usize, usize>,
                      nb: &mut Vec<(usize, usize)>|
          -> Chain {
             let mut corners = vec![c0];
@@ -501,7 +511,11 @@ impl Network {
             let mut cur = first.0;
             loop {
                 corners.push(cur);
-                if let Some(&n) = node_of.get(&cur) {
+                // Nodes have degree other than 2, but for loop anchors, which a trace only
+                // meets as its own end, where the fallback below returns the same chain.
+                if cracks.deg[cur] != 2
+                    && let Some(&n) = node_of.get(&cur)
+                {
                     return Chain {
                         from: from_node,
                         to: n,
@@ -591,9 +605,7 @@ impl VoronoiGraph {
         goal: Option<Point>,
     ) -> Result<Self, GraphError> {
         let width = field.width();
-        let raw = Cracks::new(width, field.height(), |c| {
-            field.nearest(c % width, c / width)
-        });
+        let raw = Cracks::new(width, field.height(), |c| field.nearest_at(c));
         let mut net = Network::trace(raw);
         // Stray cells of a region add a face each; only then clean the regions up (rare).
         let inside = field.obstacles().filter(|&k| k != field.wall_key()).count();
@@ -602,15 +614,14 @@ impl VoronoiGraph {
             // full labelling is the fallback when that does not account for every face.
             let strays = local_strays(grid, field, &net.cracks);
             if !strays.is_empty() {
-                let relabel: std::collections::HashMap<usize, u32> =
-                    strays.iter().copied().collect();
+                let relabel: FxHashMap<usize, u32> = strays.iter().copied().collect();
                 let cells: Vec<usize> = strays.iter().map(|&(c, _)| c).collect();
                 let mut cracks = net.cracks;
                 cracks.patch(width, field.height(), &cells, |c| {
                     relabel
                         .get(&c)
                         .copied()
-                        .unwrap_or_else(|| field.nearest(c % width, c / width))
+                        .unwrap_or_else(|| field.nearest_at(c))
                 });
                 net = Network::trace(cracks);
             }
@@ -973,7 +984,7 @@ fn free_bfs<T>(
     mut stop: impl FnMut(usize, usize) -> Option<T>,
 ) -> Option<(Vec<(usize, usize)>, T)> {
     let (w, h) = (grid.width(), grid.height());
-    let mut parent = std::collections::HashMap::new();
+    let mut parent = FxHashMap::default();
     let mut queue = std::collections::VecDeque::new();
     parent.insert(start, start);
     queue.push_back(start);
