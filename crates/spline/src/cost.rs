@@ -121,7 +121,7 @@ impl CostConfig {
             d_max: 10.0,
             v_max: 1.0,
             lateral_accel: 0.5,
-            nodes: 6,
+            nodes: 5,
             pieces: 2,
             tolerance: 1e-7,
             danger_points: Vec::new(),
@@ -510,7 +510,7 @@ fn run(
             for (idx, &(seg, s, wq, gap, v, a)) in meta.iter().enumerate() {
                 let p = pts[idx];
                 let speed = v.norm();
-                let vhat = unit(&v);
+                let vhat = if speed > 0.0 { v / speed } else { Vector::zeros() };
                 t.length += wq * speed;
                 t.roughness += wq * a.norm_squared();
                 let (u, du) = (field[idx].potential, field[idx].potential_grad);
