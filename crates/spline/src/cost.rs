@@ -510,7 +510,11 @@ fn run(
             for (idx, &(seg, s, wq, gap, v, a)) in meta.iter().enumerate() {
                 let p = pts[idx];
                 let speed = v.norm();
-                let vhat = if speed > 0.0 { v / speed } else { Vector::zeros() };
+                let vhat = if speed > 0.0 {
+                    v / speed
+                } else {
+                    Vector::zeros()
+                };
                 t.length += wq * speed;
                 t.roughness += wq * a.norm_squared();
                 let (u, du) = (field[idx].potential, field[idx].potential_grad);

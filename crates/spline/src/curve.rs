@@ -294,8 +294,17 @@ impl Spline {
 
     /// `n + 1` points at equal parameter steps.
     pub fn sample_uniform(&self, n: usize) -> Vec<Point> {
+        // The same points as `position(k / n)`, walking the segments instead of searching.
+        let last = self.coef.len() - 1;
+        let mut seg = 0;
         (0..=n)
-            .map(|k| self.position(k as Real / n.max(1) as Real))
+            .map(|k| {
+                let t = (k as Real / n.max(1) as Real).clamp(0.0, 1.0);
+                while seg < last && t >= self.knots[seg + 1] {
+                    seg += 1;
+                }
+                self.eval_segment(seg, t - self.knots[seg]).0
+            })
             .collect()
     }
 
@@ -365,6 +374,27 @@ fn second_derivatives(t: &[Real], p: &[Point], end: EndCondition) -> Vec<Vector>
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn uniform_samples_are_the_positions_at_k_over_n() {
+        let pts: Vec<Point> = (0..9)
+            .map(|i| {
+                Point::new(
+                    i as Real * 1.7 + (i * i % 5) as Real,
+                    (i as Real * 1.3).sin() * 4.0,
+                )
+            })
+            .collect();
+        for par in [Parametrization::Uniform, Parametrization::ChordLength] {
+            let s = Spline::new(&pts, par, EndCondition::Natural).unwrap();
+            for n in [1, 7, 8, 64, 101] {
+                let walked = s.sample_uniform(n);
+                for (k, p) in walked.iter().enumerate() {
+                    assert_eq!(*p, s.position(k as Real / n as Real), "{par:?} n {n} k {k}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn two_points_give_a_straight_line() {

@@ -4,6 +4,7 @@
 //! the repulsive potential of equation (1). [`CircleModel`] is exact for circle sets; a grid
 //! distance field (occupancy maps) implements the same trait in a later crate.
 
+use homospline_geom::query::{distance_segment_circle, intersects_segment_circle};
 use homospline_geom::{Circle, CircleSet, Point, Real, Vector};
 use multiversion::multiversion;
 
@@ -250,7 +251,7 @@ impl ClearanceModel for CircleModel {
             .map(|k| Circle::new(self.xs[k], self.ys[k], self.rs[k]))
             .collect();
         (!near.is_empty() && near.len() < self.xs.len())
-            .then(|| Box::new(CircleModel::new(near)) as Box<dyn ClearanceModel>)
+            .then(|| Box::new(NearCircles(near)) as Box<dyn ClearanceModel>)
     }
 
     fn line_of_sight(&self, a: &Point, b: &Point) -> bool {
@@ -261,6 +262,63 @@ impl ClearanceModel for CircleModel {
         self.set
             .distance_to_segment(a, b)
             .map_or(Real::INFINITY, |d| d.0)
+    }
+}
+
+/// The few circles of a [`CircleModel::restricted`] stand-in: plain loops, one allocation.
+struct NearCircles(Vec<Circle>);
+
+impl ClearanceModel for NearCircles {
+    fn clearance(&self, p: &Point) -> (Real, Vector) {
+        // The linear query of `CircleSet`: first circle among ties.
+        let mut best: Option<(&Circle, Real)> = None;
+        for c in &self.0 {
+            let d = c.signed_distance(p);
+            if best.is_none_or(|(_, b)| d < b) {
+                best = Some((c, d));
+            }
+        }
+        match best {
+            Some((c, d)) => {
+                let v = p - c.center;
+                let n = v.norm();
+                (d, if n > 0.0 { v / n } else { Vector::zeros() })
+            }
+            None => (Real::INFINITY, Vector::zeros()),
+        }
+    }
+
+    fn field_batch(&self, pts: &[Point], alpha: Real, _allowance: Real, out: &mut [FieldSample]) {
+        for (p, o) in pts.iter().zip(out.iter_mut()) {
+            let (clearance, clearance_grad) = self.clearance(p);
+            let (mut u, mut g) = (0.0, Vector::zeros());
+            for c in &self.0 {
+                let v = p - c.center;
+                let d = v.norm();
+                let uc = 2.0 / (1.0 + (2.0 * alpha * (d - c.radius)).exp());
+                u += uc;
+                if d > 0.0 {
+                    g += v * (-alpha * uc * (2.0 - uc) / d);
+                }
+            }
+            *o = FieldSample {
+                potential: u,
+                potential_grad: g,
+                clearance,
+                clearance_grad,
+            };
+        }
+    }
+
+    fn line_of_sight(&self, a: &Point, b: &Point) -> bool {
+        !self.0.iter().any(|c| intersects_segment_circle(a, b, c))
+    }
+
+    fn segment_clearance(&self, a: &Point, b: &Point) -> Real {
+        self.0
+            .iter()
+            .map(|c| distance_segment_circle(a, b, c))
+            .fold(Real::INFINITY, Real::min)
     }
 }
 
@@ -380,6 +438,35 @@ mod tests {
                     o.potential
                 );
                 assert_eq!(o.clearance, model.clearance(p).0, "at {p}");
+            }
+        }
+    }
+
+    #[test]
+    fn restricted_model_agrees_where_the_clearance_is_within_reach() {
+        let circles: Vec<Circle> = (0..30)
+            .map(|i| {
+                let t = i as Real;
+                Circle::new(
+                    (t * 7.3) % 40.0,
+                    (t * 3.1) % 30.0,
+                    0.5 + (i % 4) as Real * 0.4,
+                )
+            })
+            .collect();
+        let model = CircleModel::new(circles);
+        let (lo, hi) = (Point::new(10.0, 8.0), Point::new(16.0, 12.0));
+        for reach in [-0.5, 0.3, 2.0] {
+            let near = model.restricted(&lo, &hi, reach).expect("a strict subset");
+            for k in 0..400 {
+                let p = Point::new(lo.x + (k % 20) as Real * 0.3, lo.y + (k / 20) as Real * 0.2);
+                let (full, g) = model.clearance(&p);
+                let (local, gl) = near.clearance(&p);
+                if full <= reach {
+                    assert_eq!((local, gl), (full, g), "at {p}, reach {reach}");
+                } else {
+                    assert!(local >= full, "at {p}: {local} < {full}");
+                }
             }
         }
     }
