@@ -380,7 +380,7 @@ pub fn gradient(
 /// circle's centre) falls back to golden-section's linear rate.
 fn brent_min(f: impl Fn(Real) -> Real, a: Real, b: Real, x: Real, fx: Real) -> (Real, Real) {
     const GOLD: Real = 0.381_966_011_250_105_1; // (3 - sqrt 5) / 2
-    const TOL: Real = 1e-12;
+    const TOL: Real = 1e-10;
     let (mut a, mut b) = (a, b);
     let (mut x, mut w, mut v) = (x, x, x);
     let (mut fx, mut fw, mut fv) = (fx, fx, fx);
