@@ -333,23 +333,26 @@ fn regions(grid: &Grid, field: &DistanceField) -> Vec<u32> {
 }
 
 impl Cracks {
-    fn new(w: usize, h: usize, label: impl Fn(usize) -> u32) -> Self {
+    /// The cracks of a labelling given row by row: `row(j, out)` writes the labels of row
+    /// `j` to `out`.
+    fn new(w: usize, h: usize, row: impl Fn(usize, &mut [u32])) -> Self {
         let (cw, ch) = (w + 1, h + 1);
         let mut v = vec![false; cw * ch];
         let mut hz = vec![false; cw * ch];
-        // Cracks first, in simple loops over rows (they vectorise), then the degrees.
+        // Cracks first, comparing whole rows (the loops vectorise), then the degrees.
+        let (mut below, mut cur) = (vec![0u32; w], vec![0u32; w]);
         for j in 0..h {
-            let (row, c) = (j * w, j * cw);
-            let vs = &mut v[c + 1..c + w];
-            for (i, x) in vs.iter_mut().enumerate() {
-                *x = label(row + i + 1) != label(row + i);
+            row(j, &mut cur);
+            let c = j * cw;
+            for (x, pair) in v[c + 1..c + w].iter_mut().zip(cur.windows(2)) {
+                *x = pair[0] != pair[1];
             }
             if j > 0 {
-                let hs = &mut hz[c..c + w];
-                for (i, x) in hs.iter_mut().enumerate() {
-                    *x = label(row + i) != label(row - w + i);
+                for ((x, a), b) in hz[c..c + w].iter_mut().zip(&cur).zip(&below) {
+                    *x = a != b;
                 }
             }
+            std::mem::swap(&mut below, &mut cur);
         }
         // A corner meets the vertical cracks above and below it and the horizontal ones to
         // its right and left.
@@ -605,7 +608,7 @@ impl VoronoiGraph {
         goal: Option<Point>,
     ) -> Result<Self, GraphError> {
         let width = field.width();
-        let raw = Cracks::new(width, field.height(), |c| field.nearest_at(c));
+        let raw = Cracks::new(width, field.height(), |j, out| field.nearest_row(j, out));
         let mut net = Network::trace(raw);
         // Stray cells of a region add a face each; only then clean the regions up (rare).
         let inside = field.obstacles().filter(|&k| k != field.wall_key()).count();
@@ -627,7 +630,9 @@ impl VoronoiGraph {
             }
             if net.cycle_rank() != inside {
                 let label = regions(grid, field);
-                net = Network::trace(Cracks::new(width, field.height(), |c| label[c]));
+                net = Network::trace(Cracks::new(width, field.height(), |j, out| {
+                    out.copy_from_slice(&label[j * width..(j + 1) * width]);
+                }));
             }
         }
         let Network {
