@@ -128,47 +128,60 @@ pub fn obstacle_keys(grid: &Grid) -> Vec<u32> {
     keys
 }
 
-/// The exact transform over the window `[i0, i1) x [j0, j1)` with sources `key(i, j)`
-/// (`u32::MAX` where there is none). Returns packed values row-major over the window (`NONE`
-/// where no source is in the window).
+/// The exact transform over the window `[i0, i1) x [j0, j1)` with sources given row by
+/// row: `key_row(y, out)` writes the keys of window row `y` (`u32::MAX` where there is no
+/// source). Returns packed values row-major over the window (`NONE` where no source is in
+/// the window).
 fn transform(
     i0: usize,
     i1: usize,
     j0: usize,
     j1: usize,
-    key: impl Fn(usize, usize) -> u32,
+    key_row: impl Fn(usize, &mut [u32]),
 ) -> Vec<i64> {
     let (w, h) = (i1 - i0, j1 - j0);
     let k = 1i64 << KEY_BITS;
     let mut g = vec![NONE; w * h];
     // Column pass, as two row-major sweeps: nearest source above, then below, in each column,
-    // lexicographic in (dy^2, key).
-    let mut last: Vec<(i64, i64)> = vec![(i64::MIN, 0); w];
+    // lexicographic in (dy^2, key). Per column: the row of the last source seen (-1: none
+    // yet) and its key. Each sweep asks for the rows' keys.
+    let mut krow = vec![u32::MAX; w];
+    let mut last_y = vec![-1i64; w];
+    let mut last_k = vec![0i64; w];
     for y in 0..h {
+        key_row(y, &mut krow);
         let row = &mut g[y * w..(y + 1) * w];
-        for (x, (slot, l)) in row.iter_mut().zip(last.iter_mut()).enumerate() {
-            let kk = key(i0 + x, j0 + y);
-            if kk != u32::MAX {
-                *l = (y as i64, kk as i64);
-            }
-            if l.0 != i64::MIN {
-                let d = y as i64 - l.0;
-                *slot = k * d * d + l.1;
-            }
+        let yy = y as i64;
+        for (((slot, &kk), ly), lk) in row
+            .iter_mut()
+            .zip(krow.iter())
+            .zip(last_y.iter_mut())
+            .zip(last_k.iter_mut())
+        {
+            let here = kk != u32::MAX;
+            *ly = if here { yy } else { *ly };
+            *lk = if here { kk as i64 } else { *lk };
+            let d = yy - *ly;
+            *slot = if *ly >= 0 { k * d * d + *lk } else { NONE };
         }
     }
-    last.iter_mut().for_each(|l| *l = (i64::MIN, 0));
+    last_y.iter_mut().for_each(|l| *l = -1);
     for y in (0..h).rev() {
+        key_row(y, &mut krow);
         let row = &mut g[y * w..(y + 1) * w];
-        for (x, (slot, l)) in row.iter_mut().zip(last.iter_mut()).enumerate() {
-            let kk = key(i0 + x, j0 + y);
-            if kk != u32::MAX {
-                *l = (y as i64, kk as i64);
-            }
-            if l.0 != i64::MIN {
-                let d = l.0 - y as i64;
-                *slot = (*slot).min(k * d * d + l.1);
-            }
+        let yy = y as i64;
+        for (((slot, &kk), ly), lk) in row
+            .iter_mut()
+            .zip(krow.iter())
+            .zip(last_y.iter_mut())
+            .zip(last_k.iter_mut())
+        {
+            let here = kk != u32::MAX;
+            *ly = if here { yy } else { *ly };
+            *lk = if here { kk as i64 } else { *lk };
+            let d = *ly - yy;
+            let below = if *ly >= 0 { k * d * d + *lk } else { NONE };
+            *slot = (*slot).min(below);
         }
     }
     // Row pass: lower envelope of f_q(x) = K (x - q)^2 + G(q), in place row by row. Piece
@@ -239,7 +252,9 @@ impl DistanceField {
     pub fn build(grid: &Grid) -> Self {
         let keys = obstacle_keys(grid);
         let (w, h) = (grid.width(), grid.height());
-        let val = transform(0, w, 0, h, |i, j| keys[j * w + i]);
+        let val = transform(0, w, 0, h, |y, out| {
+            out.copy_from_slice(&keys[y * w..(y + 1) * w]);
+        });
         let max_d2 = val.iter().map(|v| v >> KEY_BITS).max().unwrap_or(0);
         let mut boxes = std::collections::BTreeMap::new();
         // Occupied cells come in runs of one key along a row: one map lookup per run.
@@ -404,7 +419,9 @@ impl DistanceField {
         for (&(i, j), &kk) in &key_of {
             src[(j - wj0) * ww + (i - wi0)] = kk;
         }
-        let vals = transform(wi0, wi1, wj0, wj1, |i, j| src[(j - wj0) * ww + (i - wi0)]);
+        let vals = transform(wi0, wi1, wj0, wj1, |y, out| {
+            out.copy_from_slice(&src[y * ww..(y + 1) * ww]);
+        });
         for y in wj0..wj1 {
             for x in wi0..wi1 {
                 let nv = vals[(y - wj0) * ww + (x - wi0)];
@@ -457,12 +474,14 @@ impl DistanceField {
             let (wi0, wj0) = (a0.saturating_sub(m), b0.saturating_sub(m));
             let (wi1, wj1) = ((a1 + m + 1).min(w), (b1 + m + 1).min(h));
             let val = &self.val;
-            let vals = transform(wi0, wi1, wj0, wj1, |i, j| {
-                let v = val[j * w + i];
-                if v >> KEY_BITS == 0 && (v & KEY_MASK) as u32 != key {
-                    (v & KEY_MASK) as u32
-                } else {
-                    u32::MAX
+            let vals = transform(wi0, wi1, wj0, wj1, |y, out| {
+                let row = &val[(wj0 + y) * w + wi0..(wj0 + y) * w + wi1];
+                for (o, &v) in out.iter_mut().zip(row) {
+                    *o = if v >> KEY_BITS == 0 && (v & KEY_MASK) as u32 != key {
+                        (v & KEY_MASK) as u32
+                    } else {
+                        u32::MAX
+                    };
                 }
             });
             visited += (wi1 - wi0) * (wj1 - wj0);
