@@ -42,15 +42,24 @@ impl GridModel {
         let mut ring = vec![0u8; w * h];
         let mut frontier = Vec::new();
         for j in 0..h {
+            let r = j * w..(j + 1) * w;
+            field.d2_row(j, &mut d2[r.clone()]);
+            // The field's clearance, `sqrt(d2) - 1/2` cells on free cells, row at a time.
+            for ((dk, &q), &o) in d[r.clone()].iter_mut().zip(&d2[r.clone()]).zip(&occ[r]) {
+                let c = if q == 0 {
+                    0.0
+                } else {
+                    (q as Real).sqrt() - 0.5
+                };
+                *dk = if o { 0.0 } else { c * cell };
+            }
             for i in 0..w {
                 let k = j * w + i;
-                d2[k] = field.d2(i, j);
-                if !occ[k] {
-                    d[k] = field.clearance_cells(i, j) * cell;
-                } else if (i > 0 && !occ[k - 1])
-                    || (i + 1 < w && !occ[k + 1])
-                    || (j > 0 && !occ[k - w])
-                    || (j + 1 < h && !occ[k + w])
+                if occ[k]
+                    && ((i > 0 && !occ[k - 1])
+                        || (i + 1 < w && !occ[k + 1])
+                        || (j > 0 && !occ[k - w])
+                        || (j + 1 < h && !occ[k + w]))
                 {
                     ring[k] = 1;
                     frontier.push(k);

@@ -308,6 +308,14 @@ impl DistanceField {
         (self.val[j * self.width + i] & KEY_MASK) as u32
     }
 
+    /// [`DistanceField::d2`] of every cell of row `j`, written to `out` (`width` long).
+    pub fn d2_row(&self, j: usize, out: &mut [i64]) {
+        let row = &self.val[j * self.width..(j + 1) * self.width];
+        for (o, v) in out.iter_mut().zip(row) {
+            *o = v >> KEY_BITS;
+        }
+    }
+
     /// [`DistanceField::nearest`] of every cell of row `j`, written to `out` (`width` long).
     pub fn nearest_row(&self, j: usize, out: &mut [u32]) {
         let row = &self.val[j * self.width..(j + 1) * self.width];
