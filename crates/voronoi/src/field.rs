@@ -141,7 +141,8 @@ fn transform(
 ) -> Vec<i64> {
     let (w, h) = (i1 - i0, j1 - j0);
     let k = 1i64 << KEY_BITS;
-    let mut g = vec![NONE; w * h];
+    // Filled row by row by the first sweep (no separate initialisation pass).
+    let mut g: Vec<i64> = Vec::with_capacity(w * h);
     // Column pass, as two row-major sweeps: nearest source above, then below, in each column,
     // lexicographic in (dy^2, key). Per column: the row of the last source seen (-1: none
     // yet) and its key. Each sweep asks for the rows' keys.
@@ -150,20 +151,19 @@ fn transform(
     let mut last_k = vec![0i64; w];
     for y in 0..h {
         key_row(y, &mut krow);
-        let row = &mut g[y * w..(y + 1) * w];
         let yy = y as i64;
-        for (((slot, &kk), ly), lk) in row
-            .iter_mut()
-            .zip(krow.iter())
-            .zip(last_y.iter_mut())
-            .zip(last_k.iter_mut())
-        {
-            let here = kk != u32::MAX;
-            *ly = if here { yy } else { *ly };
-            *lk = if here { kk as i64 } else { *lk };
-            let d = yy - *ly;
-            *slot = if *ly >= 0 { k * d * d + *lk } else { NONE };
-        }
+        g.extend(
+            krow.iter()
+                .zip(last_y.iter_mut())
+                .zip(last_k.iter_mut())
+                .map(|((&kk, ly), lk)| {
+                    let here = kk != u32::MAX;
+                    *ly = if here { yy } else { *ly };
+                    *lk = if here { kk as i64 } else { *lk };
+                    let d = yy - *ly;
+                    if *ly >= 0 { k * d * d + *lk } else { NONE }
+                }),
+        );
     }
     last_y.iter_mut().for_each(|l| *l = -1);
     for y in (0..h).rev() {
