@@ -555,12 +555,11 @@ fn run(
                 }
                 if cfg.w_passing_time > 0.0 || grad.is_none() {
                     let c = v.x * a.y - v.y * a.x;
-                    let slow = if speed > 0.0 {
-                        (c.abs() / (cfg.lateral_accel * speed.powi(3))).sqrt()
-                    } else {
-                        0.0
-                    };
-                    if slow <= 1.0 / cfg.v_max || speed == 0.0 || c == 0.0 {
+                    // The curvature limit binds when sqrt(|c| / (a_lat speed^3)) > 1 / v_max,
+                    // that is |c| v_max^2 > a_lat speed^3: no root or division to decide.
+                    let curvy = c.abs() * cfg.v_max * cfg.v_max
+                        > cfg.lateral_accel * speed * speed * speed;
+                    if !curvy || speed == 0.0 || c == 0.0 {
                         t.passing_time += wq * speed / cfg.v_max;
                         gv += vhat * (cfg.w_passing_time * wq / cfg.v_max);
                     } else {
