@@ -557,8 +557,8 @@ fn run(
                     let c = v.x * a.y - v.y * a.x;
                     // The curvature limit binds when sqrt(|c| / (a_lat speed^3)) > 1 / v_max,
                     // that is |c| v_max^2 > a_lat speed^3: no root or division to decide.
-                    let curvy = c.abs() * cfg.v_max * cfg.v_max
-                        > cfg.lateral_accel * speed * speed * speed;
+                    let curvy =
+                        c.abs() * cfg.v_max * cfg.v_max > cfg.lateral_accel * speed * speed * speed;
                     if !curvy || speed == 0.0 || c == 0.0 {
                         t.passing_time += wq * speed / cfg.v_max;
                         gv += vhat * (cfg.w_passing_time * wq / cfg.v_max);
