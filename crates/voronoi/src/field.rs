@@ -191,7 +191,6 @@ fn transform(
     let mut fv = vec![0i64; w];
     let mut zn = vec![0i64; w];
     let mut zq = vec![0i64; w];
-    let mut out_row = vec![NONE; w];
     for y in 0..h {
         let row = &mut g[y * w..(y + 1) * w];
         let mut top = 0usize;
@@ -222,17 +221,17 @@ fn transform(
         if top == 0 {
             continue;
         }
+        // In place: a piece's G(q) is F(q) - K q^2, so the row is no longer read.
         let mut idx = 0;
-        for (x, o) in out_row.iter_mut().enumerate() {
+        for (x, o) in row.iter_mut().enumerate() {
             // s < x  <=>  zn < 2 K zq x, far inside i64 for any grid whose values fit.
             while idx + 1 < top && zn[idx + 1] < ((x as i64 * zq[idx + 1]) << (KEY_BITS + 1)) {
                 idx += 1;
             }
-            let q = v[idx];
-            let dx = x as i64 - q as i64;
-            *o = k * dx * dx + row[q];
+            let q = v[idx] as i64;
+            let dx = x as i64 - q;
+            *o = k * dx * dx + (fv[idx] - k * q * q);
         }
-        row.copy_from_slice(&out_row);
     }
     g
 }
