@@ -152,12 +152,8 @@ fn local_strays(grid: &Grid, field: &DistanceField, cracks: &Cracks) -> Vec<(usi
     // Every component's first cell in raster order has cracks on its left and lower sides
     // (its neighbours there are outside it, hence of another label): only such cells start
     // fills, which finds every component at a tenth of the work of starting from every crack.
-    for cc in 0..cracks.deg.len() {
+    for (cc, ci, cj) in (0..h).flat_map(|cj| (0..w).map(move |ci| (cj * cw + ci, ci, cj))) {
         if cracks.deg[cc] < 2 || !(cracks.v[cc] && cracks.h[cc]) {
-            continue;
-        }
-        let (ci, cj) = (cc % cw, cc / cw);
-        if ci >= w || cj >= h {
             continue;
         }
         {
@@ -168,21 +164,20 @@ fn local_strays(grid: &Grid, field: &DistanceField, cracks: &Cracks) -> Vec<(usi
             let l = lab(start);
             fill.clear();
             stack.clear();
-            stack.push(start);
+            stack.push((start, ci, cj));
             state[start] = 3; // in the current fill
             let mut large = false;
-            while let Some(c) = stack.pop() {
+            while let Some((c, i, j)) = stack.pop() {
                 fill.push(c);
                 if occ[c] || fill.len() > STRAY_LIMIT {
                     large = true;
                     break;
                 }
-                let (i, j) = (c % w, c / w);
-                for n in [
-                    (i + 1 < w).then(|| c + 1),
-                    (j + 1 < h).then(|| c + w),
-                    (i > 0).then(|| c - 1),
-                    (j > 0).then(|| c - w),
+                for (n, ni, nj) in [
+                    (i + 1 < w).then(|| (c + 1, i + 1, j)),
+                    (j + 1 < h).then(|| (c + w, i, j + 1)),
+                    (i > 0).then(|| (c - 1, i - 1, j)),
+                    (j > 0).then(|| (c - w, i, j - 1)),
                 ]
                 .into_iter()
                 .flatten()
@@ -193,7 +188,7 @@ fn local_strays(grid: &Grid, field: &DistanceField, cracks: &Cracks) -> Vec<(usi
                     match state[n] {
                         0 => {
                             state[n] = 3;
-                            stack.push(n);
+                            stack.push((n, ni, nj));
                         }
                         1 => large = true,
                         _ => {}
@@ -204,7 +199,7 @@ fn local_strays(grid: &Grid, field: &DistanceField, cracks: &Cracks) -> Vec<(usi
                 }
             }
             let mark = if large { 1 } else { 2 };
-            for &c in fill.iter().chain(stack.iter()) {
+            for &c in fill.iter().chain(stack.iter().map(|(c, _, _)| c)) {
                 state[c] = mark;
             }
             if !large {
@@ -419,17 +414,20 @@ impl Cracks {
     /// with the crack id (`2 * corner + 0` vertical, `+ 1` horizontal).
     fn neighbours(&self, c: usize, out: &mut Vec<(usize, usize)>) {
         out.clear();
-        let (i, j) = (c % self.cw, c / self.cw);
-        if j + 1 < self.ch && self.v[c] {
+        // No bounds arithmetic: a vertical crack starts only below the top corner row and a
+        // horizontal one only left of the last corner column, so `v[c]` and `h[c]` imply that
+        // the corner above or to the right exists, and `h` of the last corner of a row
+        // (reached by `c - 1` from a row's first corner) is always false.
+        if self.v[c] {
             out.push((c + self.cw, 2 * c));
         }
-        if i + 1 < self.cw && self.h[c] {
+        if self.h[c] {
             out.push((c + 1, 2 * c + 1));
         }
-        if j > 0 && self.v[c - self.cw] {
+        if c >= self.cw && self.v[c - self.cw] {
             out.push((c - self.cw, 2 * (c - self.cw)));
         }
-        if i > 0 && self.h[c - 1] {
+        if c >= 1 && self.h[c - 1] {
             out.push((c - 1, 2 * (c - 1) + 1));
         }
     }
