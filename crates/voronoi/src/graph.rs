@@ -410,6 +410,14 @@ impl Cracks {
         }
     }
 
+    /// Column and row of corner `c`, by 32-bit division (corner indices fit: keys are below
+    /// 2^25 cells).
+    #[inline]
+    fn split(&self, c: usize) -> (usize, usize) {
+        let (c32, cw32) = (c as u32, self.cw as u32);
+        ((c32 % cw32) as usize, (c32 / cw32) as usize)
+    }
+
     /// The corners joined to corner `c` by a crack, in the order up, right, down, left,
     /// with the crack id (`2 * corner + 0` vertical, `+ 1` horizontal).
     fn neighbours(&self, c: usize, out: &mut Vec<(usize, usize)>) {
@@ -441,13 +449,14 @@ struct Builder<'a> {
 
 impl Builder<'_> {
     fn corner_point(&self, c: usize) -> Point {
-        self.grid.corner(c % self.cracks.cw, c / self.cracks.cw)
+        let (i, j) = self.cracks.split(c);
+        self.grid.corner(i, j)
     }
 
     /// Clearance of a crack: the smaller of its two cells', in map units.
     fn crack_clearance(&self, crack: usize) -> Real {
         let c = crack / 2;
-        let (i, j) = (c % self.cracks.cw, c / self.cracks.cw);
+        let (i, j) = self.cracks.split(c);
         let (a, b) = if crack.is_multiple_of(2) {
             ((i - 1, j), (i, j))
         } else {
@@ -461,7 +470,7 @@ impl Builder<'_> {
 
     /// Clearance at a corner: the smallest of the cells around it.
     fn corner_clearance(&self, c: usize) -> Real {
-        let (i, j) = (c % self.cracks.cw, c / self.cracks.cw);
+        let (i, j) = self.cracks.split(c);
         let mut m = Real::INFINITY;
         for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
             if i >= di && j >= dj && i - di < self.field.width() && j - dj < self.field.height() {
