@@ -50,12 +50,20 @@ pub struct DistanceField {
     /// Upper bound of every cell's squared distance.
     max_d2: i64,
     /// Per obstacle key: bounding box of its cells `(i0, j0, i1, j1)`.
-    boxes: std::collections::BTreeMap<u32, (usize, usize, usize, usize)>,
+    boxes: Boxes,
 }
 
 /// Key of each occupied cell (`u32::MAX` for free cells): 8-connected components keyed by
 /// their smallest raster index.
 pub fn obstacle_keys(grid: &Grid) -> Vec<u32> {
+    keys_and_boxes(grid).0
+}
+
+/// Bounding box `(i0, j0, i1, j1)` of each obstacle's cells, by key.
+type Boxes = std::collections::BTreeMap<u32, (usize, usize, usize, usize)>;
+
+/// [`obstacle_keys`] and the obstacles' bounding boxes, both from the runs of occupied cells.
+fn keys_and_boxes(grid: &Grid) -> (Vec<u32>, Boxes) {
     let (w, h) = (grid.width(), grid.height());
     let occ = grid.occupancy();
     // Runs of occupied cells along each row: (first cell's raster index, end column).
@@ -118,14 +126,24 @@ pub fn obstacle_keys(grid: &Grid) -> Vec<u32> {
         }
     }
     let mut keys = vec![u32::MAX; w * h];
-    for r in 0..runs.len() {
-        let root = find(&mut parent, r);
-        let key = runs[root].0 as u32;
-        let start = runs[r].0;
-        let end = start - start % w + runs[r].1;
-        keys[start..end].iter_mut().for_each(|k| *k = key);
+    let mut boxes = Boxes::new();
+    for j in 0..h {
+        for r in row_start[j]..row_start[j + 1] {
+            let root = find(&mut parent, r);
+            let key = runs[root].0 as u32;
+            let start = runs[r].0;
+            let (i0, i1) = (start - j * w, runs[r].1);
+            keys[start..start + (i1 - i0)]
+                .iter_mut()
+                .for_each(|k| *k = key);
+            let b = boxes.entry(key).or_insert((i0, j, i1 - 1, j));
+            b.0 = b.0.min(i0);
+            b.1 = b.1.min(j);
+            b.2 = b.2.max(i1 - 1);
+            b.3 = b.3.max(j);
+        }
     }
-    keys
+    (keys, boxes)
 }
 
 /// The exact transform over the window `[i0, i1) x [j0, j1)` with sources given row by
@@ -249,32 +267,13 @@ fn le_ratio(a: i64, b: i64, c: i64, d: i64) -> bool {
 impl DistanceField {
     /// The field of `grid`, built from scratch.
     pub fn build(grid: &Grid) -> Self {
-        let keys = obstacle_keys(grid);
+        let (keys, boxes) = keys_and_boxes(grid);
         let (w, h) = (grid.width(), grid.height());
         let val = transform(0, w, 0, h, |y, out| {
             out.copy_from_slice(&keys[y * w..(y + 1) * w]);
         });
+        drop(keys);
         let max_d2 = val.iter().map(|v| v >> KEY_BITS).max().unwrap_or(0);
-        let mut boxes = std::collections::BTreeMap::new();
-        // Occupied cells come in runs of one key along a row: one map lookup per run.
-        for j in 0..h {
-            let row = &keys[j * w..(j + 1) * w];
-            let mut i = 0;
-            while i < w {
-                let kk = row[i];
-                let start = i;
-                while i < w && row[i] == kk {
-                    i += 1;
-                }
-                if kk != u32::MAX {
-                    let b = boxes.entry(kk).or_insert((start, j, i - 1, j));
-                    b.0 = b.0.min(start);
-                    b.1 = b.1.min(j);
-                    b.2 = b.2.max(i - 1);
-                    b.3 = b.3.max(j);
-                }
-            }
-        }
         Self {
             width: w,
             height: h,
