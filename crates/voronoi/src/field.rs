@@ -149,14 +149,14 @@ fn keys_and_boxes(grid: &Grid) -> (Vec<u32>, Boxes) {
 /// The exact transform over the window `[i0, i1) x [j0, j1)` with sources given row by
 /// row: `key_row(y, out)` writes the keys of window row `y` (`u32::MAX` where there is no
 /// source). Returns packed values row-major over the window (`NONE` where no source is in
-/// the window).
+/// the window) and the largest squared distance among the rows that have a source.
 fn transform(
     i0: usize,
     i1: usize,
     j0: usize,
     j1: usize,
     key_row: impl Fn(usize, &mut [u32]),
-) -> Vec<i64> {
+) -> (Vec<i64>, i64) {
     let (w, h) = (i1 - i0, j1 - j0);
     let k = 1i64 << KEY_BITS;
     // Filled row by row by the first sweep (no separate initialisation pass).
@@ -205,6 +205,7 @@ fn transform(
     // Row pass: lower envelope of f_q(x) = K (x - q)^2 + G(q), in place row by row. Piece
     // `t` of the envelope is parabola `v[t]` (with `F = G + K q^2` in `fv[t]`), starting at
     // `s_t = zn[t] / (2 K zq[t])` (piece 0 starts at -inf).
+    let mut max_d2 = 0;
     let mut v = vec![0usize; w];
     let mut fv = vec![0i64; w];
     let mut zn = vec![0i64; w];
@@ -241,6 +242,7 @@ fn transform(
         }
         // In place: a piece's G(q) is F(q) - K q^2, so the row is no longer read.
         let mut idx = 0;
+        let mut row_max = 0;
         for (x, o) in row.iter_mut().enumerate() {
             // s < x  <=>  zn < 2 K zq x, far inside i64 for any grid whose values fit.
             while idx + 1 < top && zn[idx + 1] < ((x as i64 * zq[idx + 1]) << (KEY_BITS + 1)) {
@@ -249,9 +251,11 @@ fn transform(
             let q = v[idx] as i64;
             let dx = x as i64 - q;
             *o = k * dx * dx + (fv[idx] - k * q * q);
+            row_max = row_max.max(*o >> KEY_BITS);
         }
+        max_d2 = max_d2.max(row_max);
     }
-    g
+    (g, max_d2)
 }
 
 /// `a / b <= c / d` for `b, d > 0`, exactly: in `i64` while the products fit (grids up to
@@ -269,11 +273,9 @@ impl DistanceField {
     pub fn build(grid: &Grid) -> Self {
         let (keys, boxes) = keys_and_boxes(grid);
         let (w, h) = (grid.width(), grid.height());
-        let val = transform(0, w, 0, h, |y, out| {
+        let (val, max_d2) = transform(0, w, 0, h, |y, out| {
             out.copy_from_slice(&keys[y * w..(y + 1) * w]);
         });
-        drop(keys);
-        let max_d2 = val.iter().map(|v| v >> KEY_BITS).max().unwrap_or(0);
         Self {
             width: w,
             height: h,
@@ -425,7 +427,7 @@ impl DistanceField {
         for (&(i, j), &kk) in &key_of {
             src[(j - wj0) * ww + (i - wi0)] = kk;
         }
-        let vals = transform(wi0, wi1, wj0, wj1, |y, out| {
+        let (vals, _) = transform(wi0, wi1, wj0, wj1, |y, out| {
             out.copy_from_slice(&src[y * ww..(y + 1) * ww]);
         });
         for y in wj0..wj1 {
@@ -480,7 +482,7 @@ impl DistanceField {
             let (wi0, wj0) = (a0.saturating_sub(m), b0.saturating_sub(m));
             let (wi1, wj1) = ((a1 + m + 1).min(w), (b1 + m + 1).min(h));
             let val = &self.val;
-            let vals = transform(wi0, wi1, wj0, wj1, |y, out| {
+            let (vals, _) = transform(wi0, wi1, wj0, wj1, |y, out| {
                 let row = &val[(wj0 + y) * w + wi0..(wj0 + y) * w + wi1];
                 for (o, &v) in out.iter_mut().zip(row) {
                     *o = if v >> KEY_BITS == 0 && (v & KEY_MASK) as u32 != key {
