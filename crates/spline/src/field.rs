@@ -412,18 +412,19 @@ mod tests {
         assert!(worst < 1e-14, "worst relative error {worst}");
     }
 
-    #[test]
-    fn field_batch_keeps_clearance_exact_and_potential_within_the_allowance() {
-        let circles: Vec<Circle> = (0..40)
+    /// `n` circles spread over `[0, w) x [0, h)` by fixed strides, radii 0.5 to 1.7.
+    fn scattered(n: usize, w: Real, h: Real) -> Vec<Circle> {
+        (0..n)
             .map(|i| {
                 let t = i as Real;
-                Circle::new(
-                    (t * 7.3) % 50.0,
-                    (t * 3.1) % 40.0,
-                    0.5 + (i % 4) as Real * 0.4,
-                )
+                Circle::new((t * 7.3) % w, (t * 3.1) % h, 0.5 + (i % 4) as Real * 0.4)
             })
-            .collect();
+            .collect()
+    }
+
+    #[test]
+    fn field_batch_keeps_clearance_exact_and_potential_within_the_allowance() {
+        let circles = scattered(40, 50.0, 40.0);
         let model = CircleModel::new(circles.clone());
         let pts: Vec<Point> = (0..37)
             .map(|i| {
@@ -454,17 +455,7 @@ mod tests {
 
     #[test]
     fn restricted_model_agrees_where_the_clearance_is_within_reach() {
-        let circles: Vec<Circle> = (0..30)
-            .map(|i| {
-                let t = i as Real;
-                Circle::new(
-                    (t * 7.3) % 40.0,
-                    (t * 3.1) % 30.0,
-                    0.5 + (i % 4) as Real * 0.4,
-                )
-            })
-            .collect();
-        let model = CircleModel::new(circles);
+        let model = CircleModel::new(scattered(30, 40.0, 30.0));
         let (lo, hi) = (Point::new(10.0, 8.0), Point::new(16.0, 12.0));
         for reach in [-0.5, 0.3, 2.0] {
             let near = model.restricted(&lo, &hi, reach).expect("a strict subset");
