@@ -468,7 +468,7 @@ fn run(
     let nodes = gx.len();
     // All quadrature nodes of the curve first, then one field query for all of them.
     let mut pts = Vec::with_capacity(spline.segments() * pieces * nodes);
-    let mut meta = Vec::with_capacity(pts.capacity()); // (segment, s, weight, gap, v, a)
+    let mut meta = Vec::with_capacity(pts.capacity()); // (segment, s, weight, gap, v, a, |v|)
     // Length and roughness first: they bound the total from below, which sets how much of
     // the far circles' potential may be left out.
     let (mut length, mut roughness) = (0.0, 0.0);
@@ -479,10 +479,11 @@ fn run(
             for k in 0..nodes {
                 let s = base + h * gx[k];
                 let (p, v, a) = spline.eval_segment(seg, s);
-                length += gw[k] * h * v.norm();
+                let speed = v.norm();
+                length += gw[k] * h * speed;
                 roughness += gw[k] * h * a.norm_squared();
                 pts.push(p);
-                meta.push((seg, s, gw[k] * h, h / nodes as Real, v, a));
+                meta.push((seg, s, gw[k] * h, h / nodes as Real, v, a, speed));
             }
         }
     }
@@ -507,9 +508,8 @@ fn run(
         || (cfg.w_sheltered > 0.0 && !cfg.hazards.is_empty());
     {
         {
-            for (idx, &(seg, s, wq, gap, v, a)) in meta.iter().enumerate() {
+            for (idx, &(seg, s, wq, gap, v, a, speed)) in meta.iter().enumerate() {
                 let p = pts[idx];
-                let speed = v.norm();
                 let vhat = if speed > 0.0 {
                     v / speed
                 } else {
