@@ -375,23 +375,27 @@ pub fn gradient(
 }
 
 /// Brent's minimisation of `f` on `[a, b]` from `x` (with `fx = f(x)`): parabolic steps where
-/// they are safe, golden-section steps otherwise, until the bracket is `2e-12` wide in `t`
+/// they are safe, golden-section steps otherwise, until the bracket is `2 tol` wide in `t`
 /// (at most 64 evaluations). Superlinear on a smooth minimum; a kink (a path through a
 /// circle's centre) falls back to golden-section's linear rate.
-fn brent_min(f: impl Fn(Real) -> Real, a: Real, b: Real, x: Real, fx: Real) -> (Real, Real) {
+fn brent_min(
+    f: impl Fn(Real) -> Real,
+    (a, b): (Real, Real),
+    (x, fx): (Real, Real),
+    tol: Real,
+) -> (Real, Real) {
     const GOLD: Real = 0.381_966_011_250_105_1; // (3 - sqrt 5) / 2
-    const TOL: Real = 1e-10;
     let (mut a, mut b) = (a, b);
     let (mut x, mut w, mut v) = (x, x, x);
     let (mut fx, mut fw, mut fv) = (fx, fx, fx);
     let (mut d, mut e): (Real, Real) = (0.0, 0.0);
     for _ in 0..64 {
         let m = 0.5 * (a + b);
-        if (x - m).abs() <= 2.0 * TOL - 0.5 * (b - a) {
+        if (x - m).abs() <= 2.0 * tol - 0.5 * (b - a) {
             break;
         }
         let mut golden = true;
-        if e.abs() > TOL {
+        if e.abs() > tol {
             // Parabola through (v, fv), (w, fw), (x, fx).
             let r = (x - w) * (fx - fv);
             let q = (x - v) * (fx - fw);
@@ -405,8 +409,8 @@ fn brent_min(f: impl Fn(Real) -> Real, a: Real, b: Real, x: Real, fx: Real) -> (
                 e = d;
                 d = p / q;
                 let u = x + d;
-                if u - a < 2.0 * TOL || b - u < 2.0 * TOL {
-                    d = if x < m { TOL } else { -TOL };
+                if u - a < 2.0 * tol || b - u < 2.0 * tol {
+                    d = if x < m { tol } else { -tol };
                 }
                 golden = false;
             }
@@ -415,10 +419,10 @@ fn brent_min(f: impl Fn(Real) -> Real, a: Real, b: Real, x: Real, fx: Real) -> (
             e = if x < m { b - x } else { a - x };
             d = GOLD * e;
         }
-        let u = if d.abs() >= TOL {
+        let u = if d.abs() >= tol {
             x + d
         } else {
-            x + TOL.copysign(d)
+            x + tol.copysign(d)
         };
         let fu = f(u);
         if fu <= fx {
@@ -468,7 +472,7 @@ fn run(
     let nodes = gx.len();
     // All quadrature nodes of the curve first, then one field query for all of them.
     let mut pts = Vec::with_capacity(spline.segments() * pieces * nodes);
-    let mut meta = Vec::with_capacity(pts.capacity()); // (segment, s, weight, gap, v, a, |v|)
+    let mut meta = Vec::with_capacity(pts.capacity()); // (segment, s, weight, v, a, |v|)
     // Length and roughness first: they bound the total from below, which sets how much of
     // the far circles' potential may be left out.
     let (mut length, mut roughness) = (0.0, 0.0);
@@ -483,7 +487,7 @@ fn run(
                 length += gw[k] * h * speed;
                 roughness += gw[k] * h * a.norm_squared();
                 pts.push(p);
-                meta.push((seg, s, gw[k] * h, h / nodes as Real, v, a, speed));
+                meta.push((seg, s, gw[k] * h, v, a, speed));
             }
         }
     }
@@ -499,8 +503,8 @@ fn run(
         };
         model.field_batch(&pts, cfg.alpha, allowance, &mut field);
     }
-    // Node with the smallest clearance: (clearance, segment, s, a bound on the node gap).
-    let mut worst = (Real::INFINITY, 0usize, 0.0, 0.0);
+    // Node with the smallest clearance: (clearance, segment, s, node index).
+    let mut worst = (Real::INFINITY, 0usize, 0.0, 0usize);
     // (segment, s, length weight, point) of each node, in order, for the line-of-sight shares.
     let mut trail: Vec<(usize, Real, Real, Point)> = Vec::new();
     let need_trail = cfg.w_start_visibility > 0.0
@@ -508,7 +512,7 @@ fn run(
         || (cfg.w_sheltered > 0.0 && !cfg.hazards.is_empty());
     {
         {
-            for (idx, &(seg, s, wq, gap, v, a, speed)) in meta.iter().enumerate() {
+            for (idx, &(seg, s, wq, v, a, speed)) in meta.iter().enumerate() {
                 let p = pts[idx];
                 let vhat = if speed > 0.0 {
                     v / speed
@@ -526,7 +530,7 @@ fn run(
                 if need_clearance {
                     let (d, dd) = (field[idx].clearance, field[idx].clearance_grad);
                     if d < worst.0 {
-                        worst = (d, seg, s, gap);
+                        worst = (d, seg, s, idx);
                     }
                     if d > cfg.d_max {
                         t.max_clearance += wq * (d - cfg.d_max) * speed;
@@ -585,24 +589,43 @@ fn run(
     }
     let total_len = t.length.max(Real::MIN_POSITIVE);
     if need_clearance && worst.0.is_finite() {
-        // Brent's refinement of m(C) around the worst node, in global `t` so that a minimum
-        // across a knot is found too.
-        let (_, seg, s0, half) = worst;
+        // Brent's refinement of m(C) between the worst node's neighbours (where a local
+        // minimum next to the smallest sample lies), in global `t` so that a minimum across
+        // a knot is found too.
+        let (_, seg, s0, idx) = worst;
         let t0 = knots[seg] + s0;
-        let (ta, tz) = ((t0 - half).max(0.0), (t0 + half).min(1.0));
-        // The bracket lies in the boxes of the segments it touches; only circles that can
-        // come nearer than the worst node's clearance there matter.
+        let t_of = |i: usize| knots[meta[i].0] + meta[i].1;
+        let ta = if idx > 0 { t_of(idx - 1) } else { 0.0 };
+        let tz = if idx + 1 < meta.len() {
+            t_of(idx + 1)
+        } else {
+            1.0
+        };
+        // The bracket's stretch of curve lies in the box of its Bezier control points (per
+        // segment it touches); only circles that can come nearer than the worst node's
+        // clearance there matter.
         let (sa, sz) = (spline.locate(ta).0, spline.locate(tz).0);
-        let (mut lo, mut hi) = spline.segment_box(sa);
-        for k in sa + 1..=sz {
-            let (l, h) = spline.segment_box(k);
-            lo = lo.inf(&l);
-            hi = hi.sup(&h);
+        let (mut lo, mut hi) = (spline.position(ta), spline.position(ta));
+        for k in sa..=sz {
+            let s0 = (ta - knots[k]).max(0.0);
+            let s1 = (tz - knots[k]).min(knots[k + 1] - knots[k]);
+            let ((p0, v0, _), (p3, v3, _)) =
+                (spline.eval_segment(k, s0), spline.eval_segment(k, s1));
+            let third = (s1 - s0) / 3.0;
+            for p in [p0, p0 + v0 * third, p3 - v3 * third, p3] {
+                lo = lo.inf(&p);
+                hi = hi.sup(&p);
+            }
         }
         let local = model.restricted(&lo, &hi, worst.0);
         let near: &dyn ClearanceModel = local.as_deref().unwrap_or(model);
         let f = |t: Real| near.clearance(&spline.position(t)).0;
-        let (tb, fb) = brent_min(f, ta, tz, t0, worst.0);
+        let (tb, fb) = brent_min(f, (ta, tz), (t0, worst.0), 1e-10);
+        // Brent searches the open bracket; a minimum at one of its ends (the start or the
+        // goal inside an obstacle's reach) is taken there exactly.
+        let (tb, fb) = [(ta, f(ta)), (tz, f(tz))]
+            .into_iter()
+            .fold((tb, fb), |best, e| if e.1 < best.1 { e } else { best });
         let (tm, m) = if fb < worst.0 {
             (tb, fb)
         } else {
