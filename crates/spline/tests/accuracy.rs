@@ -288,3 +288,19 @@ proptest! {
         prop_assert!(c.upper - brute <= tol + 1e-9, "upper {} brute {}", c.upper, brute);
     }
 }
+
+#[test]
+fn minimal_clearance_at_the_goal_is_found_exactly() {
+    // The path runs straight into a circle's reach and ends there: the clearance decreases
+    // all the way, so its minimum is the goal's.
+    let model = CircleModel::new(vec![Circle::new(10.5, 0.3, 1.0)]);
+    let pts = [
+        Point::new(0.0, 0.0),
+        Point::new(5.0, 0.0),
+        Point::new(10.0, 0.0),
+    ];
+    let s = Spline::natural(&pts).unwrap();
+    let t = evaluate(&s, &model, &CostConfig::paper_voronoi());
+    let at_goal = model.clearance(&pts[2]).0;
+    assert_eq!(t.min_clearance, at_goal);
+}
