@@ -4,7 +4,6 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use homospline_geom::Point;
 use homospline_maps::{OccupancyMap, plan_map, prepare};
-use homospline_optim::PlanConfig;
 use std::hint::black_box;
 
 // Only the generator is used here, not the scenes.
@@ -52,7 +51,7 @@ fn city() -> OccupancyMap {
 fn bench(c: &mut Criterion) {
     let map = city();
     let (s, t) = (Point::new(8.5, 256.5), Point::new(503.5, 256.5));
-    let cfg = PlanConfig::default();
+    let cfg = homospline_maps::map_config();
     let (plan, prepared) = plan_map(&map, s, t, &cfg).unwrap();
     eprintln!(
         "city-512: graph {} nodes {} edges; {} classes, best {:?}, free {}; stages voronoi {:.1} ms classes {:.2} ms optimise {:.1} ms",

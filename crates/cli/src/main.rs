@@ -16,8 +16,6 @@ use homospline_voronoi::VoronoiGraph;
 
 /// Exit code when no plan could be found.
 const EXIT_NO_PLAN: u8 = 1;
-/// Via-points allowed on maps by default: one-cell doors need the curve held close.
-const MAP_MAX_VIA: usize = 32;
 
 /// Exit code for bad input or usage.
 const EXIT_BAD_INPUT: u8 = 2;
@@ -381,7 +379,7 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
         return Err(bad("--threads 0: must be at least 1"));
     }
     let max_via = a.max_via.unwrap_or(if matches!(input, Input::Map(_)) {
-        MAP_MAX_VIA
+        homospline_maps::MAX_VIA_POINTS
     } else {
         GrowthConfig::default().max_via_points
     });
@@ -505,9 +503,10 @@ fn bench_scen(
         )));
     }
     let n = limit.unwrap_or(scenarios.len()).min(scenarios.len());
+    // The same defaults as `plan MAP`.
     let cfg = PlanConfig {
         classes,
-        ..PlanConfig::default()
+        ..homospline_maps::map_config()
     };
     let bar = indicatif::ProgressBar::new(n as u64);
     bar.set_style(

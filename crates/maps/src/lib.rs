@@ -16,6 +16,18 @@ pub mod ros;
 
 pub use model::GridModel;
 
+/// Via-points a map plan allows by default: one-cell doors and corridors need the curve held
+/// close, more than the scenes' default of 10.
+pub const MAX_VIA_POINTS: usize = 32;
+
+/// The planner's default configuration for maps: [`PlanConfig::default`] with
+/// [`MAX_VIA_POINTS`].
+pub fn map_config() -> PlanConfig {
+    let mut cfg = PlanConfig::default();
+    cfg.growth.max_via_points = MAX_VIA_POINTS;
+    cfg
+}
+
 use homospline_geom::{Bounds, Point, Real};
 use homospline_homotopy::Rays;
 use homospline_optim::{Plan, PlanConfig, PlanError, World, plan_world};

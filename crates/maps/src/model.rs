@@ -9,7 +9,7 @@
 //!   along a segment: that is what certification and the reported `min_clearance` use.
 
 use homospline_geom::{Point, Real, Vector};
-use homospline_spline::field::{ClearanceModel, FieldSample};
+use homospline_spline::field::{ClearanceModel, FieldSample, exp_fast};
 use homospline_voronoi::{DistanceField, Grid};
 
 /// Rings of depth inside obstacles that the smooth clearance tells apart.
@@ -252,7 +252,7 @@ impl ClearanceModel for GridModel {
         for (p, o) in pts.iter().zip(out.iter_mut()) {
             let (d, g) = self.smooth(p);
             // U = 1 + tanh(-alpha d) = 2 / (1 + exp(2 alpha d)); dU/dd = -alpha U (2 - U).
-            let u = 2.0 / (1.0 + (2.0 * alpha * d).exp());
+            let u = 2.0 / (1.0 + exp_fast(2.0 * alpha * d));
             *o = FieldSample {
                 potential: u,
                 potential_grad: g * (-alpha * u * (2.0 - u)),

@@ -6,7 +6,7 @@ use homospline_geom::{Bounds, Point, Real};
 use homospline_homotopy::{Rays, Signature};
 use homospline_spline::{
     ClearanceModel, CostConfig, CostTerms, EndCondition, Parametrization, Spline, SplineError,
-    evaluate, gradient, min_clearance,
+    evaluate, gradient, is_collision_free, min_clearance,
 };
 
 use crate::lbfgs::Lbfgs;
@@ -221,7 +221,7 @@ pub fn grow(
             // A guarded round's result must also be certified clear (samples can miss a thin
             // overlap); otherwise the round's starting curve stands.
             if let Some(sp) = build(&candidate)
-                && (!guard.collision_free || min_clearance(&sp, model, 1e-3).collision_free())
+                && (!guard.collision_free || is_collision_free(&sp, model))
             {
                 points = candidate;
                 spline = sp;
@@ -261,8 +261,7 @@ pub fn grow(
         match build(&grown) {
             Some(sp2)
                 if guard.cost(&sp2, model, cfg).is_finite()
-                    && (!guard.collision_free
-                        || min_clearance(&sp2, model, 1e-3).collision_free()) =>
+                    && (!guard.collision_free || is_collision_free(&sp2, model)) =>
             {
                 best_cost = evaluate(&sp2, model, &cfg.cost).total;
                 points = grown;

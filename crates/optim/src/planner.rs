@@ -10,7 +10,9 @@ use std::time::Instant;
 
 use homospline_geom::{Bounds, Point, Real, Scene};
 use homospline_homotopy::{Rays, SearchConfig, SearchError, Signature, k_best_classes};
-use homospline_spline::{CircleModel, ClearanceModel, CostTerms, Spline, min_clearance};
+use homospline_spline::{
+    CircleModel, ClearanceModel, CostTerms, Spline, is_collision_free, min_clearance,
+};
 use homospline_voronoi::{BuildError, VoronoiGraph};
 use rayon::prelude::*;
 use thiserror::Error;
@@ -390,8 +392,7 @@ fn seed_points(
 ) -> Vec<Point> {
     let ok = |pts: &[Point]| {
         Spline::new(pts, cfg.parametrization, cfg.end).is_ok_and(|sp| {
-            guard.cost(&sp, model, cfg).is_finite()
-                && min_clearance(&sp, model, 1e-3).collision_free()
+            guard.cost(&sp, model, cfg).is_finite() && is_collision_free(&sp, model)
         })
     };
     let len: Real = poly.windows(2).map(|w| (w[1] - w[0]).norm()).sum();

@@ -31,7 +31,7 @@ pub mod curve;
 pub mod field;
 pub mod quad;
 
-pub use certify::{CertifiedClearance, min_clearance};
+pub use certify::{CertifiedClearance, is_collision_free, min_clearance};
 pub use cost::{CostConfig, CostTerms, evaluate, gradient};
 pub use curve::{EndCondition, Parametrization, Spline, SplineError};
 pub use field::{CircleModel, ClearanceModel};

@@ -4,7 +4,7 @@
 use homospline_geom::{Circle, Point, Real, Vector};
 use homospline_spline::{
     CircleModel, ClearanceModel, CostConfig, EndCondition, Parametrization, Spline, evaluate,
-    min_clearance,
+    is_collision_free, min_clearance,
 };
 use proptest::prelude::*;
 
@@ -286,6 +286,18 @@ proptest! {
         prop_assert!((model.clearance(&s.position(c.at)).0 - c.upper).abs() < 1e-9);
         // lower <= true minimum <= brute, and upper - lower <= tol.
         prop_assert!(c.upper - brute <= tol + 1e-9, "upper {} brute {}", c.upper, brute);
+        // The yes/no certificate: never free when a sample collides; free whenever the
+        // bracket proves it; and it agrees with the bracket away from a tol-wide band at 0.
+        let free = is_collision_free(&s, &model);
+        if brute <= 0.0 {
+            prop_assert!(!free, "certified free, yet a sample has clearance {}", brute);
+        }
+        if c.collision_free() {
+            prop_assert!(free, "the bracket proves it free (lower {})", c.lower);
+        }
+        if c.lower > tol || c.upper <= 0.0 {
+            prop_assert_eq!(free, c.collision_free());
+        }
     }
 }
 
