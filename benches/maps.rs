@@ -4,6 +4,7 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use homospline_geom::Point;
 use homospline_maps::{OccupancyMap, plan_map, prepare};
+use homospline_optim::{GrowthConfig, Optimizer, PlanConfig};
 use std::hint::black_box;
 
 // Only the generator is used here, not the scenes.
@@ -70,6 +71,22 @@ fn bench(c: &mut Criterion) {
     });
     g.bench_function("plan_5_classes/512", |b| {
         b.iter(|| plan_map(black_box(&map), s, t, &cfg).unwrap())
+    });
+    // The same plan with Nelder-Mead (the paper's optimiser, the default on scenes), and
+    // with the scenes' defaults (Nelder-Mead, 10 via-points).
+    let nelder_mead = PlanConfig {
+        growth: GrowthConfig {
+            optimizer: Optimizer::NelderMead,
+            ..cfg.growth.clone()
+        },
+        ..cfg.clone()
+    };
+    g.bench_function("plan_5_classes_nelder_mead/512", |b| {
+        b.iter(|| plan_map(black_box(&map), s, t, &nelder_mead).unwrap())
+    });
+    let scene_defaults = PlanConfig::default();
+    g.bench_function("plan_5_classes_scene_defaults/512", |b| {
+        b.iter(|| plan_map(black_box(&map), s, t, &scene_defaults).unwrap())
     });
     g.finish();
 }

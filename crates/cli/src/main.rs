@@ -229,9 +229,10 @@ struct PlanArgs {
     /// Reuse a graph saved by `homospline graph --out`.
     #[arg(long, value_name = "FILE.msgpack")]
     graph: Option<PathBuf>,
-    /// Local optimiser.
-    #[arg(long, value_enum, default_value = "nelder-mead")]
-    optimizer: OptimizerArg,
+    /// Local optimiser (default nelder-mead for scenes, as in the paper; lbfgs for maps,
+    /// whose paths need up to 64 dimensions).
+    #[arg(long, value_enum)]
+    optimizer: Option<OptimizerArg>,
     /// Worker threads (the result does not depend on it).
     #[arg(long)]
     threads: Option<usize>,
@@ -378,11 +379,12 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
     if a.threads == Some(0) {
         return Err(bad("--threads 0: must be at least 1"));
     }
-    let max_via = a.max_via.unwrap_or(if matches!(input, Input::Map(_)) {
-        homospline_maps::MAX_VIA_POINTS
+    let base = if matches!(input, Input::Map(_)) {
+        homospline_maps::map_config()
     } else {
-        GrowthConfig::default().max_via_points
-    });
+        PlanConfig::default()
+    };
+    let max_via = a.max_via.unwrap_or(base.growth.max_via_points);
     if !(1..=200).contains(&max_via) {
         return Err(bad(format!(
             "--max-via {max_via}: must be between 1 and 200"
@@ -398,14 +400,15 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
         growth: GrowthConfig {
             cost,
             optimizer: match a.optimizer {
-                OptimizerArg::NelderMead => Optimizer::NelderMead,
-                OptimizerArg::Lbfgs => Optimizer::Lbfgs,
+                Some(OptimizerArg::NelderMead) => Optimizer::NelderMead,
+                Some(OptimizerArg::Lbfgs) => Optimizer::Lbfgs,
+                None => base.growth.optimizer,
             },
             max_via_points: max_via,
-            ..GrowthConfig::default()
+            ..base.growth.clone()
         },
         threads: a.threads,
-        ..PlanConfig::default()
+        ..base
     };
     let alpha = cfg.growth.cost.alpha;
     let (result, picture) = match &input {
