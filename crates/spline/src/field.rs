@@ -20,8 +20,9 @@ const BLOCK: usize = 8;
 
 /// `exp(x)` without branches or library calls, so that loops over it vectorise: range
 /// reduction `x = k ln 2 + r`, `|r| <= ln 2 / 2`, a degree-11 Taylor polynomial for `e^r`
-/// (truncation below 6e-15 relative, evaluated by Estrin's scheme) and `2^k` assembled in the exponent bits. `x` is
-/// clamped to `[-700, 700]` (the potential needs no more: `e^700` already makes `U` zero).
+/// (truncation below 6e-15 relative, evaluated by Estrin's scheme) and `2^k` assembled in
+/// the exponent bits. `x` is clamped to `[-700, 700]` (the potential needs no more: `e^700`
+/// already makes `U` zero).
 #[inline(always)]
 pub fn exp_fast(x: Real) -> Real {
     const LOG2E: Real = std::f64::consts::LOG2_E;
