@@ -17,6 +17,7 @@
 
 use thiserror::Error;
 
+use crate::find_root;
 use crate::grid::Grid;
 
 /// `K` of the packed value: keys are raster indices below `2^25`.
@@ -89,13 +90,6 @@ fn keys_and_boxes(grid: &Grid) -> (Vec<u32>, Boxes) {
     // Union-find over runs; the root is the run whose first cell has the smallest raster
     // index, which is the component's key.
     let mut parent: Vec<usize> = (0..runs.len()).collect();
-    fn find(p: &mut [usize], mut i: usize) -> usize {
-        while p[i] != i {
-            p[i] = p[p[i]];
-            i = p[i];
-        }
-        i
-    }
     for j in 1..h {
         let (mut a, a_end) = (row_start[j - 1], row_start[j]);
         for r in row_start[j]..row_start[j + 1] {
@@ -111,7 +105,7 @@ fn keys_and_boxes(grid: &Grid) -> (Vec<u32>, Boxes) {
                     break;
                 }
                 if c1 >= b0 {
-                    let (x, y) = (find(&mut parent, r), find(&mut parent, k));
+                    let (x, y) = (find_root(&mut parent, r), find_root(&mut parent, k));
                     if x != y {
                         let (lo, hi) = if runs[x].0 < runs[y].0 {
                             (x, y)
@@ -129,7 +123,7 @@ fn keys_and_boxes(grid: &Grid) -> (Vec<u32>, Boxes) {
     let mut boxes = Boxes::new();
     for j in 0..h {
         for r in row_start[j]..row_start[j + 1] {
-            let root = find(&mut parent, r);
+            let root = find_root(&mut parent, r);
             let key = runs[root].0 as u32;
             let start = runs[r].0;
             let (i0, i1) = (start - j * w, runs[r].1);

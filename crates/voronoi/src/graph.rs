@@ -18,6 +18,7 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::field::DistanceField;
+use crate::find_root;
 use crate::grid::Grid;
 
 /// Edge polylines stay within this many cells of their crack chains (Douglas-Peucker): a
@@ -577,25 +578,26 @@ impl Network {
 
     /// Independent cycles of the traced network.
     fn cycle_rank(&self) -> usize {
-        let mut parent: Vec<usize> = (0..self.node_corners.len()).collect();
-        let mut components = parent.len();
-        for ch in &self.chains {
-            let (x, y) = (find(&mut parent, ch.from), find(&mut parent, ch.to));
-            if x != y {
-                parent[x] = y;
-                components -= 1;
-            }
-        }
-        self.chains.len() + components - self.node_corners.len()
+        cycle_rank(
+            self.node_corners.len(),
+            self.chains.iter().map(|ch| (ch.from, ch.to)),
+        )
     }
 }
 
-fn find(p: &mut [usize], mut i: usize) -> usize {
-    while p[i] != i {
-        p[i] = p[p[i]];
-        i = p[i];
+/// Independent cycles of a multigraph with `nodes` nodes and these edges: `E - V + C`.
+fn cycle_rank(nodes: usize, edges: impl Iterator<Item = (usize, usize)>) -> usize {
+    let mut parent: Vec<usize> = (0..nodes).collect();
+    let (mut components, mut n_edges) = (nodes, 0);
+    for (a, b) in edges {
+        let (x, y) = (find_root(&mut parent, a), find_root(&mut parent, b));
+        if x != y {
+            parent[x] = y;
+            components -= 1;
+        }
+        n_edges += 1;
     }
-    i
+    n_edges + components - nodes
 }
 
 /// A traced chain of corners between two nodes, before simplification.
@@ -798,39 +800,16 @@ impl VoronoiGraph {
     /// Whether nodes `a` and `b` are joined by edges.
     pub fn connected(&self, a: usize, b: usize) -> bool {
         let mut parent: Vec<usize> = (0..self.nodes.len()).collect();
-        fn find(p: &mut [usize], mut i: usize) -> usize {
-            while p[i] != i {
-                p[i] = p[p[i]];
-                i = p[i];
-            }
-            i
-        }
         for e in &self.edges {
-            let (x, y) = (find(&mut parent, e.from), find(&mut parent, e.to));
+            let (x, y) = (find_root(&mut parent, e.from), find_root(&mut parent, e.to));
             parent[x] = y;
         }
-        find(&mut parent, a) == find(&mut parent, b)
+        find_root(&mut parent, a) == find_root(&mut parent, b)
     }
 
     /// Independent cycles: `E - V + C` (loops count one each).
     pub fn cycle_rank(&self) -> usize {
-        let mut parent: Vec<usize> = (0..self.nodes.len()).collect();
-        fn find(p: &mut [usize], mut i: usize) -> usize {
-            while p[i] != i {
-                p[i] = p[p[i]];
-                i = p[i];
-            }
-            i
-        }
-        let mut components = self.nodes.len();
-        for e in &self.edges {
-            let (x, y) = (find(&mut parent, e.from), find(&mut parent, e.to));
-            if x != y {
-                parent[x] = y;
-                components -= 1;
-            }
-        }
-        self.edges.len() + components - self.nodes.len()
+        cycle_rank(self.nodes.len(), self.edges.iter().map(|e| (e.from, e.to)))
     }
 
     /// Removes dead-end spurs shorter than `min_length` (map units), repeatedly, and merges

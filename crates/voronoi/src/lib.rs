@@ -20,6 +20,15 @@ pub use grid::{Grid, GridError};
 use homospline_geom::{Real, Scene};
 use thiserror::Error;
 
+/// Union-find: the root of `i` in the forest `parent`, halving the path on the way.
+pub(crate) fn find_root(parent: &mut [usize], mut i: usize) -> usize {
+    while parent[i] != i {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    i
+}
+
 /// Why [`build`] failed.
 #[derive(Debug, Error, PartialEq)]
 pub enum BuildError {
