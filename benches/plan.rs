@@ -2,21 +2,12 @@
 //! seeding, growth loop, certification, ranking), Nelder-Mead and L-BFGS.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use homospline_geom::Scene;
 use homospline_optim::{GrowthConfig, Optimizer, PlanConfig, plan};
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/scenes");
-    let mut files: Vec<_> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .collect();
-    files.sort();
     let mut g = c.benchmark_group("plan");
-    for p in files {
-        let scene =
-            Scene::from_bytes(&std::fs::read(&p).unwrap(), &p.display().to_string()).unwrap();
+    for scene in homospline_testkit::fixture_scenes() {
         for (name, optimizer) in [
             ("nelder-mead", Optimizer::NelderMead),
             ("lbfgs", Optimizer::Lbfgs),

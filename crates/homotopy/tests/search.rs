@@ -1,8 +1,8 @@
 //! The k-best search against brute-force enumeration of all simple paths, on fixtures and on
 //! random scenes; blocked passages; which classes use an edge.
 
+use homospline_testkit::fixture_scenes;
 use std::collections::BTreeMap;
-use std::path::Path;
 
 use homospline_geom::{Bounds, Circle, Obstacle, Point, Scene};
 use homospline_homotopy::{
@@ -168,22 +168,9 @@ proptest! {
     }
 }
 
-fn fixtures() -> Vec<Scene> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/scenes");
-    let mut files: Vec<_> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .collect();
-    files.sort();
-    files
-        .iter()
-        .map(|p| Scene::from_bytes(&std::fs::read(p).unwrap(), &p.display().to_string()).unwrap())
-        .collect()
-}
-
 #[test]
 fn every_fixture_yields_min_k_available_distinct_classes() {
-    for scene in fixtures() {
+    for scene in fixture_scenes() {
         let (_, _, g) = homospline_voronoi::build(&scene, 2.0).unwrap();
         let rays = rays_of(&scene);
         let all = k_best_classes(
@@ -232,14 +219,14 @@ fn every_fixture_yields_min_k_available_distinct_classes() {
 
 #[test]
 fn fixtures_equal_brute_force() {
-    for scene in fixtures() {
+    for scene in fixture_scenes() {
         check_against_brute_force(&scene, 1.0, &SearchConfig::default()).unwrap();
     }
 }
 
 #[test]
 fn blocking_the_edge_of_the_best_class_removes_that_class() {
-    let scene = fixtures()
+    let scene = fixture_scenes()
         .into_iter()
         .find(|s| s.name == "two-homotopies")
         .unwrap();

@@ -2,24 +2,11 @@
 //! the sampled path, segment by segment, independently of the planner), deterministic
 //! whatever the thread count; the straight seed's behaviour as the paper reports it.
 
-use std::path::Path;
+use homospline_testkit::fixture_scenes;
 
 use homospline_geom::Scene;
 use homospline_homotopy::Rays;
 use homospline_optim::{GrowthConfig, Optimizer, Plan, PlanConfig, Seed, plan};
-
-fn fixtures() -> Vec<Scene> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/scenes");
-    let mut files: Vec<_> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .collect();
-    files.sort();
-    files
-        .iter()
-        .map(|p| Scene::from_bytes(&std::fs::read(p).unwrap(), &p.display().to_string()).unwrap())
-        .collect()
-}
 
 /// Independent check: the sampled path clears every inflated circle segment by segment,
 /// stays in bounds, starts and ends where it should, with the promised spacing.
@@ -60,7 +47,7 @@ fn check_path(scene: &Scene, plan: &Plan) {
 
 #[test]
 fn every_voronoi_class_of_every_fixture_is_collision_free_and_in_its_class() {
-    for scene in fixtures() {
+    for scene in fixture_scenes() {
         let p = plan(&scene, &PlanConfig::default()).unwrap();
         check_path(&scene, &p);
         assert!(!p.classes.is_empty());
@@ -105,7 +92,7 @@ fn every_voronoi_class_of_every_fixture_is_collision_free_and_in_its_class() {
 
 #[test]
 fn the_straight_seed_behaves_as_the_paper_says() {
-    for scene in fixtures() {
+    for scene in fixture_scenes() {
         let p = plan(
             &scene,
             &PlanConfig {
@@ -139,7 +126,7 @@ fn without_timings(mut p: Plan) -> Plan {
 
 #[test]
 fn plans_are_the_same_for_any_thread_count() {
-    for scene in fixtures().into_iter().take(3) {
+    for scene in fixture_scenes().into_iter().take(3) {
         let one = plan(
             &scene,
             &PlanConfig {
@@ -172,7 +159,7 @@ fn plans_are_the_same_for_any_thread_count() {
 
 #[test]
 fn lbfgs_option_gives_collision_free_classes_too() {
-    for scene in fixtures() {
+    for scene in fixture_scenes() {
         let cfg = PlanConfig {
             growth: GrowthConfig {
                 optimizer: Optimizer::Lbfgs,

@@ -1,26 +1,12 @@
 //! The graph of every fixture scene: its cycles, its attachments, its serialisation.
 
-use std::path::Path;
+use homospline_testkit::fixture_scenes;
 
-use homospline_geom::Scene;
 use homospline_voronoi::{VoronoiGraph, build};
-
-fn scenes() -> Vec<Scene> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/scenes");
-    let mut files: Vec<_> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .collect();
-    files.sort();
-    files
-        .iter()
-        .map(|p| Scene::from_bytes(&std::fs::read(p).unwrap(), &p.display().to_string()).unwrap())
-        .collect()
-}
 
 #[test]
 fn every_fixture_has_one_cycle_per_obstacle() {
-    for scene in scenes() {
+    for scene in fixture_scenes() {
         for resolution in [1.0, 2.0, 4.0] {
             let (_, _, g) =
                 build(&scene, resolution).unwrap_or_else(|e| panic!("{}: {e}", scene.name));
@@ -54,7 +40,7 @@ fn every_fixture_has_one_cycle_per_obstacle() {
 
 #[test]
 fn graphs_round_trip_through_messagepack_and_json() {
-    for scene in scenes() {
+    for scene in fixture_scenes() {
         let (_, _, g) = build(&scene, 2.0).unwrap();
         let bytes = g.to_msgpack();
         assert_eq!(VoronoiGraph::from_msgpack(&bytes).unwrap(), g);
