@@ -12,13 +12,7 @@ mod scenes;
 fn bench(c: &mut Criterion) {
     let scene = scenes::compound_scene(1024.0, 50, 7);
     let (_, _, graph) = homospline_voronoi::build(&scene, 1.0).unwrap();
-    let rays = Rays::new(
-        scene
-            .topological_obstacles()
-            .iter()
-            .map(|t| t.representative)
-            .collect(),
-    );
+    let rays = Rays::for_scene(&scene);
     let mut g = c.benchmark_group("homotopy");
     for k in [5, 7] {
         let cfg = SearchConfig {

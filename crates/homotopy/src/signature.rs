@@ -13,7 +13,7 @@
 //! complex integral of `dz / (z - z_i)` along the path; equal for homologous paths, and its
 //! imaginary parts over `2 pi` give a distance between classes.
 
-use homospline_geom::{Point, Real, Vector};
+use homospline_geom::{Point, Real, Scene, Vector};
 
 /// The ray system: one ray per representative point, all in one direction.
 #[derive(Clone, Debug, PartialEq)]
@@ -109,6 +109,18 @@ impl Rays {
             }
             angle += 0.0123;
         }
+    }
+
+    /// Rays from the representatives of `scene`'s topological obstacles, in their order
+    /// (ray `i` is obstacle `i`).
+    pub fn for_scene(scene: &Scene) -> Self {
+        Self::new(
+            scene
+                .topological_obstacles()
+                .iter()
+                .map(|t| t.representative)
+                .collect(),
+        )
     }
 
     /// Number of rays.

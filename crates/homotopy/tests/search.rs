@@ -11,16 +11,6 @@ use homospline_homotopy::{
 use homospline_voronoi::VoronoiGraph;
 use proptest::prelude::*;
 
-fn rays_of(scene: &Scene) -> Rays {
-    Rays::new(
-        scene
-            .topological_obstacles()
-            .iter()
-            .map(|t| t.representative)
-            .collect(),
-    )
-}
-
 /// A partial path of the enumeration: node, nodes visited, edges walked, cost.
 type Walk = (usize, Vec<usize>, Vec<(usize, bool)>, f64);
 
@@ -90,7 +80,7 @@ fn check_against_brute_force(
     let Ok((_, _, g)) = homospline_voronoi::build(scene, resolution) else {
         return Ok(());
     };
-    let rays = rays_of(scene);
+    let rays = Rays::for_scene(scene);
     let cost = |i: usize| match cfg.cost {
         EdgeCost::Length => g.edges[i].length,
         EdgeCost::ClearancePenalty { weight } => {
@@ -172,7 +162,7 @@ proptest! {
 fn every_fixture_yields_min_k_available_distinct_classes() {
     for scene in fixture_scenes() {
         let (_, _, g) = homospline_voronoi::build(&scene, 2.0).unwrap();
-        let rays = rays_of(&scene);
+        let rays = Rays::for_scene(&scene);
         let all = k_best_classes(
             &g,
             &rays,
@@ -231,7 +221,7 @@ fn blocking_the_edge_of_the_best_class_removes_that_class() {
         .find(|s| s.name == "two-homotopies")
         .unwrap();
     let (_, _, g) = homospline_voronoi::build(&scene, 2.0).unwrap();
-    let rays = rays_of(&scene);
+    let rays = Rays::for_scene(&scene);
     let before = k_best_classes(&g, &rays, &SearchConfig::default()).unwrap();
     let best = &before.classes[0];
     // An edge of the best path that is not a start/goal connector.

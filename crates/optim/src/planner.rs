@@ -212,13 +212,7 @@ pub fn plan_with_graph(
         start: scene.start,
         goal: scene.goal,
         model: &model,
-        rays: Rays::new(
-            scene
-                .topological_obstacles()
-                .iter()
-                .map(|t| t.representative)
-                .collect(),
-        ),
+        rays: Rays::for_scene(scene),
         grid_is_exact: false,
     };
     let resolution = cfg.resolution.unwrap_or_else(|| default_resolution(scene));

@@ -51,13 +51,7 @@ fn every_voronoi_class_of_every_fixture_is_collision_free_and_in_its_class() {
         let p = plan(&scene, &PlanConfig::default()).unwrap();
         check_path(&scene, &p);
         assert!(!p.classes.is_empty());
-        let rays = Rays::new(
-            scene
-                .topological_obstacles()
-                .iter()
-                .map(|t| t.representative)
-                .collect(),
-        );
+        let rays = Rays::for_scene(&scene);
         for c in &p.classes {
             assert!(
                 c.collision_free,
