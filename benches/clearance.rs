@@ -5,21 +5,23 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use homospline_geom::{Circle, CircleSet, Point, QueryBackend, Vector};
 use std::hint::black_box;
 
-// Only the generator is used here, not the scenes.
-#[allow(dead_code)]
-#[path = "scenes.rs"]
-mod scenes;
-use scenes::Rng;
+use homospline_testkit::SplitMix;
 
 /// `n` circles in a square sized so that about 15 % of it is covered.
 fn scene(n: usize) -> (Vec<Circle>, Vec<Point>) {
-    let mut rng = Rng(n as u64);
+    let mut rng = SplitMix(n as u64);
     let side = (n as f64 * std::f64::consts::PI * 4.0 / 0.15).sqrt();
     let circles = (0..n)
-        .map(|_| Circle::new(rng.next() * side, rng.next() * side, 1.0 + 2.0 * rng.next()))
+        .map(|_| {
+            Circle::new(
+                rng.next_unit() * side,
+                rng.next_unit() * side,
+                1.0 + 2.0 * rng.next_unit(),
+            )
+        })
         .collect();
     let points = (0..256)
-        .map(|_| Point::new(rng.next() * side, rng.next() * side))
+        .map(|_| Point::new(rng.next_unit() * side, rng.next_unit() * side))
         .collect();
     (circles, points)
 }

@@ -25,9 +25,9 @@ fn bench(c: &mut Criterion) {
             b.iter(|| k_best_classes(black_box(&graph), &rays, &cfg).unwrap())
         });
     }
-    let mut rng = scenes::Rng(3);
+    let mut rng = homospline_testkit::SplitMix(3);
     let reps: Vec<Point> = (0..200)
-        .map(|_| Point::new(rng.next() * 1000.0, rng.next() * 1000.0))
+        .map(|_| Point::new(rng.next_unit() * 1000.0, rng.next_unit() * 1000.0))
         .collect();
     let rays200 = Rays::new(reps);
     let path: Vec<Point> = (0..1000)

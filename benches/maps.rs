@@ -7,24 +7,19 @@ use homospline_maps::{OccupancyMap, plan_map, prepare};
 use homospline_optim::{GrowthConfig, Optimizer, PlanConfig};
 use std::hint::black_box;
 
-// Only the generator is used here, not the scenes.
-#[allow(dead_code)]
-#[path = "scenes.rs"]
-mod scenes;
-
 /// A 512 x 512 map of 60 seeded rectangular buildings (8 to 40 cells a side).
 fn city() -> OccupancyMap {
     let n = 512;
     let mut occupied = vec![false; n * n];
-    let mut rng = scenes::Rng(11);
+    let mut rng = homospline_testkit::SplitMix(11);
     for _ in 0..60 {
         let (w, h) = (
-            8 + (rng.next() * 32.0) as usize,
-            8 + (rng.next() * 32.0) as usize,
+            8 + (rng.next_unit() * 32.0) as usize,
+            8 + (rng.next_unit() * 32.0) as usize,
         );
         let (x, y) = (
-            20 + (rng.next() * (n - 60) as f64) as usize,
-            (rng.next() * (n - h) as f64) as usize,
+            20 + (rng.next_unit() * (n - 60) as f64) as usize,
+            (rng.next_unit() * (n - h) as f64) as usize,
         );
         for j in y..(y + h).min(n) {
             for i in x..(x + w).min(n) {

@@ -25,8 +25,9 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result, bail};
-use homospline_geom::{Bounds, Circle, Obstacle, Point, Scene};
+use homospline_geom::{Circle, Obstacle, Point, Scene};
 use homospline_optim::{Plan, PlanConfig, Seed};
+use homospline_testkit::{SplitMix, square_scene};
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -239,40 +240,27 @@ fn plan_golden(plan: &Plan) -> String {
     s
 }
 
-/// SplitMix64: a small seeded generator, so the random fixtures are reproducible.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 /// A random scene: `n` circles (grouped in compound obstacles of 1 to `group` circles) in a
 /// `size x size` square, none within `keep` of the start or goal.
 fn random_scene(name: &str, seed: u64, size: f64, n: usize, group: usize) -> Scene {
-    let mut rng = Rng(seed);
+    let mut rng = SplitMix(seed);
     let start = Point::new((size * 0.04 * 1000.0).round() / 1000.0, size * 0.5);
     let goal = Point::new((size * 0.96 * 1000.0).round() / 1000.0, size * 0.5);
     let keep = size * 0.03;
     let mut obstacles = Vec::new();
     let mut placed = 0;
     while placed < n {
-        let k = (1 + (rng.next() * group as f64) as usize).min(n - placed);
+        let k = (1 + (rng.next_unit() * group as f64) as usize).min(n - placed);
         let c = Point::new(
-            size * (0.1 + 0.8 * rng.next()),
-            size * (0.05 + 0.9 * rng.next()),
+            size * (0.1 + 0.8 * rng.next_unit()),
+            size * (0.05 + 0.9 * rng.next_unit()),
         );
-        let r = size * (0.01 + 0.03 * rng.next());
+        let r = size * (0.01 + 0.03 * rng.next_unit());
         let circles: Vec<Circle> = (0..k)
             .map(|_| {
-                let a = rng.next() * std::f64::consts::TAU;
-                let d = r * 1.2 * rng.next();
-                let rr = (r * (0.5 + 0.5 * rng.next()) * 1000.0).round() / 1000.0;
+                let a = rng.next_unit() * std::f64::consts::TAU;
+                let d = r * 1.2 * rng.next_unit();
+                let rr = (r * (0.5 + 0.5 * rng.next_unit()) * 1000.0).round() / 1000.0;
                 Circle::new(
                     ((c.x + a.cos() * d) * 1000.0).round() / 1000.0,
                     ((c.y + a.sin() * d) * 1000.0).round() / 1000.0,
@@ -292,20 +280,7 @@ fn random_scene(name: &str, seed: u64, size: f64, n: usize, group: usize) -> Sce
             circles,
         });
     }
-    Scene {
-        name: name.to_owned(),
-        bounds: Bounds {
-            min: Point::new(0.0, 0.0),
-            max: Point::new(size, size),
-        },
-        start,
-        goal,
-        robot_radius: 0.0,
-        obstacles,
-        danger_points: vec![],
-        critical_points: vec![],
-        hazards: vec![],
-    }
+    square_scene(name.to_owned(), size, start, goal, obstacles)
 }
 
 /// Writes `fixtures/random/`: 10 small scenes and 5 with hundreds of circles.
