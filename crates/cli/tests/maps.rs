@@ -31,13 +31,10 @@ fn plans_on_a_movingai_map_with_json_and_a_picture() {
     let c = &v["classes"][best - 1];
     assert_eq!(c["collision_free"], true);
     assert_eq!(c["path"][0], serde_json::json!([1.5, 27.5]));
-    let layers = svg_layers(&std::fs::read_to_string(&svg).unwrap());
-    for layer in ["obstacles", "voronoi", "best", "legend", "scale-bar"] {
-        assert!(
-            layers.iter().any(|l| l == layer),
-            "layer {layer} in {layers:?}"
-        );
-    }
+    assert_svg_layers(
+        &svg,
+        &["obstacles", "voronoi", "best", "legend", "scale-bar"],
+    );
 }
 
 #[test]

@@ -38,6 +38,17 @@ pub fn read_json(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
+/// Asserts that the SVG file at `path` parses and has a `<g>` layer with each of these ids.
+pub fn assert_svg_layers(path: &Path, expected: &[&str]) {
+    let layers = svg_layers(&std::fs::read_to_string(path).unwrap());
+    for layer in expected {
+        assert!(
+            layers.iter().any(|l| l == layer),
+            "layer {layer} in {layers:?}"
+        );
+    }
+}
+
 /// Parses the whole document and returns the ids of its `<g>` layers.
 pub fn svg_layers(text: &str) -> Vec<String> {
     let mut reader = quick_xml::Reader::from_str(text);
