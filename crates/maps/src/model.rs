@@ -272,7 +272,7 @@ impl ClearanceModel for GridModel {
     }
 
     fn segment_clearance(&self, a: &Point, b: &Point) -> Real {
-        self.exact(a).min(self.exact(b)) - 0.5 * (b - a).norm()
+        self.segment_clearance_between(a, b, self.exact(a), self.exact(b))
     }
 
     fn polyline_clearance(&self, pts: &[Point]) -> Real {

@@ -491,6 +491,7 @@ fn run(
             }
         }
     }
+    (t.length, t.roughness) = (length, roughness);
     let mut field = vec![FieldSample::default(); pts.len()];
     if need_field {
         // Left-out potential per unit length <= allowance, so the topology term loses at
@@ -519,8 +520,6 @@ fn run(
                 } else {
                     Vector::zeros()
                 };
-                t.length += wq * speed;
-                t.roughness += wq * a.norm_squared();
                 let (u, du) = (field[idx].potential, field[idx].potential_grad);
                 t.topology += wq * u * speed;
                 let mut gq = Vector::zeros();
