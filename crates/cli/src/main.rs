@@ -51,22 +51,11 @@ enum Command {
     Plan(PlanArgs),
     /// Plan every scenario of a MovingAI `.scen` file (its map sits beside it) and report the
     /// success rate, time per plan and path length over the scenario's octile optimum.
-    BenchScen {
-        /// The `.scen` file.
-        scen: PathBuf,
-        /// Plan only the first N scenarios.
-        #[arg(long)]
-        limit: Option<usize>,
-        /// Homotopy classes per plan.
-        #[arg(long, default_value_t = 5)]
-        classes: usize,
-        /// Write one line per scenario here.
-        #[arg(long, value_name = "FILE")]
-        csv: Option<PathBuf>,
-    },
-    /// Build the Voronoi graph of a scene and save it.
+    BenchScen(BenchArgs),
+    /// Build the Voronoi graph of a scene (start and goal attached) or of a whole map (the
+    /// complete graph, for `plan MAP --graph`) and save it.
     Graph {
-        /// Scene file.
+        /// Scene file, MovingAI `.map` or ROS map YAML.
         scene: PathBuf,
         /// Grid cells per map unit (default: 256 cells along the longer side).
         #[arg(long)]
@@ -86,6 +75,29 @@ enum Command {
         /// The scene file.
         scene: PathBuf,
     },
+}
+
+/// Options of `bench-scen`.
+#[derive(Args, Debug)]
+struct BenchArgs {
+    /// The `.scen` file.
+    scen: PathBuf,
+    /// Plan only the first N scenarios (a `.scen` is sorted by length: the shortest only).
+    #[arg(long)]
+    limit: Option<usize>,
+    /// Plan N scenarios spread evenly over the whole file (every bucket).
+    #[arg(long)]
+    sample: Option<usize>,
+    /// A plan that takes longer than this many milliseconds counts as a timeout (it is not
+    /// interrupted).
+    #[arg(long, value_name = "MS")]
+    time_limit: Option<f64>,
+    /// Homotopy classes per plan.
+    #[arg(long, default_value_t = 5)]
+    classes: usize,
+    /// Write one line per scenario here.
+    #[arg(long, value_name = "FILE")]
+    csv: Option<PathBuf>,
 }
 
 /// An error that is the user's input: exit 2.
@@ -123,12 +135,7 @@ fn main() -> ExitCode {
             svg,
         } => graph(&scene, resolution, out, json, svg),
         Command::Plan(args) => plan(args),
-        Command::BenchScen {
-            scen,
-            limit,
-            classes,
-            csv,
-        } => bench_scen(&scen, limit, classes, csv),
+        Command::BenchScen(args) => bench_scen(args),
     };
     match result {
         Ok(code) => ExitCode::from(code),
@@ -163,16 +170,39 @@ fn graph(
     json: Option<PathBuf>,
     svg: Option<PathBuf>,
 ) -> anyhow::Result<u8> {
-    let scene = load_scene(path)?;
-    let res = resolution.unwrap_or_else(|| default_resolution(&scene));
+    let input = load_input(path)?;
     let t = std::time::Instant::now();
-    let (grid, _, g) = homospline_voronoi::build(&scene, res)
-        .map_err(|e| bad(format!("{}: {e}", path.display())))?;
+    let (g, cells, res, name) = match &input {
+        Input::Scene(scene) => {
+            let res = resolution.unwrap_or_else(|| default_resolution(scene));
+            let (grid, _, g) = homospline_voronoi::build(scene, res)
+                .map_err(|e| bad(format!("{}: {e}", path.display())))?;
+            (g, (grid.width(), grid.height()), res, scene.name.clone())
+        }
+        Input::Map(map) => {
+            if resolution.is_some() {
+                return Err(bad(
+                    "--resolution applies to scenes; a map's grid is its cells",
+                ));
+            }
+            // The complete graph of the whole map, without start or goal: `plan MAP --graph`
+            // attaches each query's start and goal to it.
+            let prepared =
+                homospline_maps::PreparedMap::new(map).map_err(|e| bad(e.to_string()))?;
+            let res = prepared.grid.resolution();
+            (
+                prepared.graph.graph.clone(),
+                (map.width, map.height),
+                res,
+                map.name.clone(),
+            )
+        }
+    };
     println!(
         "graph of {}: {} x {} cells at {:.3} cells per unit, {} nodes, {} edges, {} cycles, {:.1} ms",
-        scene.name,
-        grid.width(),
-        grid.height(),
+        name,
+        cells.0,
+        cells.1,
         res,
         g.nodes.len(),
         g.edges.len(),
@@ -186,15 +216,11 @@ fn graph(
         write(&p, "graph JSON", g.to_json().as_bytes())?;
     }
     if let Some(p) = svg {
-        write(
-            &p,
-            "picture",
-            picture::graph_svg(
-                &picture::Background::Scene(&scene, CostConfig::default().alpha),
-                &g,
-            )
-            .as_bytes(),
-        )?;
+        let bg = match &input {
+            Input::Scene(scene) => picture::Background::Scene(scene, CostConfig::default().alpha),
+            Input::Map(map) => picture::Background::Map(map),
+        };
+        write(&p, "picture", picture::graph_svg(&bg, &g).as_bytes())?;
     }
     Ok(0)
 }
@@ -333,9 +359,9 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
             Input::Scene(scene)
         }
         Input::Map(map) => {
-            if a.resolution.is_some() || a.graph.is_some() {
+            if a.resolution.is_some() {
                 return Err(bad(
-                    "--resolution and --graph apply to scenes; a map's grid is its cells",
+                    "--resolution applies to scenes; a map's grid is its cells",
                 ));
             }
             Input::Map(map)
@@ -435,8 +461,18 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
                     )));
                 }
             };
-            let (result, _) =
-                homospline_maps::plan_map(map, s, g, &cfg).map_err(|e| bad(e.to_string()))?;
+            let prepared = match &a.graph {
+                Some(p) => {
+                    let bytes = std::fs::read(p)
+                        .map_err(|e| bad(format!("{}: cannot read: {e}", p.display())))?;
+                    let g = VoronoiGraph::from_msgpack(&bytes)
+                        .map_err(|e| bad(format!("{}: {e}", p.display())))?;
+                    homospline_maps::PreparedMap::with_graph(map, g)
+                        .map_err(|e| bad(format!("{}: {e}", p.display())))?
+                }
+                None => homospline_maps::PreparedMap::new(map).map_err(|e| bad(e.to_string()))?,
+            };
+            let result = prepared.plan(s, g, &cfg).map_err(|e| bad(e.to_string()))?;
             let pic = a
                 .svg
                 .as_ref()
@@ -474,44 +510,107 @@ fn load_graph(p: &Path, scene: &Scene) -> anyhow::Result<VoronoiGraph> {
     Ok(g)
 }
 
-fn bench_scen(
-    scen: &Path,
-    limit: Option<usize>,
-    classes: usize,
-    csv: Option<PathBuf>,
-) -> anyhow::Result<u8> {
+/// Indices of `n` scenarios spread evenly over `total` (first and last included).
+fn sample_indices(total: usize, n: usize) -> Vec<usize> {
+    if n >= total {
+        return (0..total).collect();
+    }
+    if n == 1 {
+        return vec![total - 1];
+    }
+    let mut v: Vec<usize> = (0..n)
+        .map(|k| ((k as f64) * (total - 1) as f64 / (n - 1) as f64).round() as usize)
+        .collect();
+    v.dedup();
+    v
+}
+
+/// What one scenario of `bench-scen` gave.
+enum Outcome {
+    /// A collision-free plan: length and clearance of the chosen class.
+    Planned { length: f64, clearance: f64 },
+    /// Planned, but past the time limit.
+    Timeout { length: f64 },
+    /// Classes were optimised; none is collision-free.
+    NoPlan { classes: usize },
+    /// The planner refused the query.
+    Error(String),
+}
+
+fn median(v: &[f64]) -> f64 {
+    let mut v: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
+    v.sort_by(f64::total_cmp);
+    if v.is_empty() {
+        f64::NAN
+    } else {
+        v[v.len() / 2]
+    }
+}
+
+fn bench_scen(a: BenchArgs) -> anyhow::Result<u8> {
     use std::fmt::Write as _;
+    let scen = &a.scen;
     let name = scen.display().to_string();
     let text =
         std::fs::read_to_string(scen).map_err(|e| bad(format!("{name}: cannot read: {e}")))?;
     let scenarios =
         homospline_maps::movingai::read_scen(&text, &name).map_err(|e| bad(e.to_string()))?;
-    let first = &scenarios[0].map;
-    let map_file = Path::new(first)
-        .file_name()
-        .map(PathBuf::from)
-        .unwrap_or_default();
-    let map_path = scen.parent().unwrap_or(Path::new(".")).join(&map_file);
-    let map_text = std::fs::read_to_string(&map_path).map_err(|e| {
-        bad(format!(
-            "{name}: its map {}: cannot read: {e}",
-            map_path.display()
-        ))
-    })?;
-    let map = homospline_maps::movingai::read_map(&map_text, &map_path.display().to_string())
-        .map_err(|e| bad(e.to_string()))?;
-    if classes == 0 || classes > 64 {
+    if a.classes == 0 || a.classes > 64 {
         return Err(bad(format!(
-            "--classes {classes}: must be between 1 and 64"
+            "--classes {}: must be between 1 and 64",
+            a.classes
         )));
     }
-    let n = limit.unwrap_or(scenarios.len()).min(scenarios.len());
-    // The same defaults as `plan MAP`.
+    if a.limit.is_some() && a.sample.is_some() {
+        return Err(bad("--limit and --sample exclude each other"));
+    }
+    if a.sample == Some(0) || a.limit == Some(0) {
+        return Err(bad("--sample and --limit must be at least 1"));
+    }
+    if let Some(t) = a.time_limit
+        && !(t.is_finite() && t > 0.0)
+    {
+        return Err(bad(format!(
+            "--time-limit {t}: must be a positive number of ms"
+        )));
+    }
+    let picked: Vec<usize> = match (a.limit, a.sample) {
+        (Some(n), _) => (0..n.min(scenarios.len())).collect(),
+        (_, Some(n)) => sample_indices(scenarios.len(), n),
+        _ => (0..scenarios.len()).collect(),
+    };
+    // Every map the scenarios name, read and prepared once (one map per file in practice).
+    let mut maps: std::collections::BTreeMap<String, homospline_maps::PreparedMap> =
+        std::collections::BTreeMap::new();
+    let mut prep_ms = 0.0;
+    for &k in &picked {
+        let m = &scenarios[k].map;
+        if maps.contains_key(m) {
+            continue;
+        }
+        let map_file = Path::new(m)
+            .file_name()
+            .map(PathBuf::from)
+            .unwrap_or_default();
+        let map_path = scen.parent().unwrap_or(Path::new(".")).join(&map_file);
+        let map_text = std::fs::read_to_string(&map_path).map_err(|e| {
+            bad(format!(
+                "{name}: its map {}: cannot read: {e}",
+                map_path.display()
+            ))
+        })?;
+        let map = homospline_maps::movingai::read_map(&map_text, &map_path.display().to_string())
+            .map_err(|e| bad(e.to_string()))?;
+        let t = std::time::Instant::now();
+        let prepared = homospline_maps::PreparedMap::new(&map).map_err(|e| bad(e.to_string()))?;
+        prep_ms += t.elapsed().as_secs_f64() * 1e3;
+        maps.insert(m.clone(), prepared);
+    }
     let cfg = PlanConfig {
-        classes,
+        classes: a.classes,
         ..homospline_maps::map_config()
     };
-    let bar = indicatif::ProgressBar::new(n as u64);
+    let bar = indicatif::ProgressBar::new(picked.len() as u64);
     bar.set_style(
         indicatif::ProgressStyle::with_template(
             "{bar:40} {pos}/{len} scenarios {elapsed_precise} eta {eta}",
@@ -519,83 +618,171 @@ fn bench_scen(
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     let mut rows = String::from(
-        "index,bucket,start_x,start_y,goal_x,goal_y,optimal,length,ratio,clearance,classes,success,time_ms\n",
+        "index,bucket,start_x,start_y,goal_x,goal_y,optimal,length,ratio,clearance,classes,success,time_ms,outcome\n",
     );
-    let (mut ok, mut times, mut ratios) = (0usize, Vec::new(), Vec::new());
-    for (k, s) in scenarios.iter().take(n).enumerate() {
+    // (bucket, success, time, ratio) per scenario.
+    let mut seen: Vec<(u32, bool, f64, f64)> = Vec::new();
+    let mut failures: Vec<String> = Vec::new();
+    let (mut ok, mut timeouts) = (0usize, 0usize);
+    for &k in &picked {
+        let s = &scenarios[k];
+        let prepared = &maps[&s.map];
         let t = std::time::Instant::now();
-        let outcome = homospline_maps::plan_map(&map, s.start, s.goal, &cfg);
+        let outcome = prepared.plan(s.start, s.goal, &cfg);
         let ms = t.elapsed().as_secs_f64() * 1e3;
-        times.push(ms);
-        let (length, clearance, found, success) = match &outcome {
-            Ok((p, _)) => match p.best {
+        let outcome = match outcome {
+            Ok(p) => match p.best {
                 Some(b) => {
                     let c = &p.classes[b - 1];
-                    (c.length, c.min_clearance, p.classes.len(), true)
+                    if a.time_limit.is_some_and(|lim| ms > lim) {
+                        Outcome::Timeout { length: c.length }
+                    } else {
+                        Outcome::Planned {
+                            length: c.length,
+                            clearance: c.min_clearance,
+                        }
+                    }
                 }
-                None => (f64::NAN, f64::NAN, p.classes.len(), false),
+                None => Outcome::NoPlan {
+                    classes: p.classes.len(),
+                },
             },
-            Err(_) => (f64::NAN, f64::NAN, 0, false),
+            Err(e) => Outcome::Error(e.to_string()),
         };
+        let (length, clearance, classes, what) = match &outcome {
+            Outcome::Planned { length, clearance } => (*length, *clearance, 0, "ok".to_owned()),
+            Outcome::Timeout { length } => (*length, f64::NAN, 0, "timeout".to_owned()),
+            Outcome::NoPlan { classes } => (
+                f64::NAN,
+                f64::NAN,
+                *classes,
+                format!("no collision-free class among {classes}"),
+            ),
+            Outcome::Error(e) => (f64::NAN, f64::NAN, 0, format!("error: {e}")),
+        };
+        let success = matches!(outcome, Outcome::Planned { .. });
         let ratio = if s.optimal_length > 0.0 {
             length / s.optimal_length
         } else {
             f64::NAN
         };
-        if success {
-            ok += 1;
-            if ratio.is_finite() {
-                ratios.push(ratio);
-            }
+        match &outcome {
+            Outcome::Planned { .. } => ok += 1,
+            Outcome::Timeout { .. } => timeouts += 1,
+            _ => failures.push(format!(
+                "  line {} (bucket {}, optimal {:.1}): {what}",
+                k + 1,
+                s.bucket,
+                s.optimal_length
+            )),
         }
+        if matches!(outcome, Outcome::Timeout { .. }) {
+            failures.push(format!(
+                "  line {} (bucket {}, optimal {:.1}): timeout ({ms:.0} ms)",
+                k + 1,
+                s.bucket,
+                s.optimal_length
+            ));
+        }
+        seen.push((
+            s.bucket,
+            success,
+            ms,
+            if success { ratio } else { f64::NAN },
+        ));
         let _ = writeln!(
             rows,
-            "{k},{},{},{},{},{},{},{length:.4},{ratio:.4},{clearance:.4},{found},{success},{ms:.3}",
-            s.bucket, s.start.x, s.start.y, s.goal.x, s.goal.y, s.optimal_length
+            "{k},{},{},{},{},{},{},{length:.4},{ratio:.4},{clearance:.4},{classes},{success},{ms:.3},{}",
+            s.bucket,
+            s.start.x,
+            s.start.y,
+            s.goal.x,
+            s.goal.y,
+            s.optimal_length,
+            what.replace(',', ";")
         );
         bar.inc(1);
     }
     bar.finish_and_clear();
-    let mean = |v: &[f64]| {
-        if v.is_empty() {
-            f64::NAN
-        } else {
-            v.iter().sum::<f64>() / v.len() as f64
-        }
-    };
-    let median = |v: &mut Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        if v.is_empty() {
-            f64::NAN
-        } else {
-            v[v.len() / 2]
-        }
-    };
-    let mut t2 = times.clone();
-    let mut r2 = ratios.clone();
+    let n = picked.len();
+    let times: Vec<f64> = seen.iter().map(|r| r.2).collect();
+    let ratios: Vec<f64> = seen.iter().map(|r| r.3).filter(|r| r.is_finite()).collect();
+    let map_names: Vec<String> = maps
+        .values()
+        .map(|m| format!("{} ({} x {})", m.name, m.map().width, m.map().height))
+        .collect();
     println!(
-        "{}: {} scenarios on {} ({} x {})",
-        name, n, map.name, map.width, map.height
+        "{}: {} of {} scenarios{} on {}; map prepared once in {:.1} ms",
+        name,
+        n,
+        scenarios.len(),
+        match (a.limit, a.sample) {
+            (Some(_), _) => " (the first: the shortest paths only)",
+            (_, Some(_)) => " (sampled evenly over every bucket)",
+            _ => "",
+        },
+        map_names.join(", "),
+        prep_ms
     );
     println!(
-        "success      {ok}/{n} ({:.1} %)",
-        100.0 * ok as f64 / n.max(1) as f64
+        "success      {ok}/{n} ({:.1} %){}",
+        100.0 * ok as f64 / n.max(1) as f64,
+        if a.time_limit.is_some() {
+            format!(", timeouts {timeouts}")
+        } else {
+            String::new()
+        }
     );
     println!(
         "time / plan  mean {:.2} ms, median {:.2} ms, max {:.2} ms",
-        mean(&times),
-        median(&mut t2),
+        times.iter().sum::<f64>() / n.max(1) as f64,
+        median(&times),
         times.iter().copied().fold(0.0, f64::max)
     );
     println!(
-        "length / octile optimum  mean {:.4}, median {:.4}, min {:.4}, max {:.4} (an any-angle smooth path can be shorter: below 1 is expected)",
-        mean(&ratios),
-        median(&mut r2),
+        "length / octile optimum  median {:.4}, min {:.4}, max {:.4} (a smooth any-angle path can be shorter than the octile one)",
+        median(&ratios),
         ratios.iter().copied().fold(f64::INFINITY, f64::min),
         ratios.iter().copied().fold(0.0, f64::max)
     );
-    if let Some(p) = csv {
-        write(&p, "CSV", rows.as_bytes())?;
+    // Per bucket, in at most ten bands of buckets.
+    let (lo, hi) = seen
+        .iter()
+        .fold((u32::MAX, 0), |(l, h), r| (l.min(r.0), h.max(r.0)));
+    if lo <= hi {
+        let bands = ((hi - lo + 1) as usize).min(10);
+        let width = (hi - lo + 1).div_ceil(bands as u32);
+        println!("buckets   optimal length  plans  success  median ms  median ratio");
+        for b in 0..bands as u32 {
+            let (b0, b1) = (lo + b * width, (lo + (b + 1) * width - 1).min(hi));
+            let in_band: Vec<&(u32, bool, f64, f64)> =
+                seen.iter().filter(|r| r.0 >= b0 && r.0 <= b1).collect();
+            if in_band.is_empty() {
+                continue;
+            }
+            let t: Vec<f64> = in_band.iter().map(|r| r.2).collect();
+            let r: Vec<f64> = in_band.iter().map(|r| r.3).collect();
+            println!(
+                "{:>3}-{:<4}  {:>5}-{:<8} {:>5}  {:>7}  {:>9.1}  {:>12.4}",
+                b0,
+                b1,
+                4 * b0,
+                4 * (b1 + 1),
+                in_band.len(),
+                in_band.iter().filter(|r| r.1).count(),
+                median(&t),
+                median(&r)
+            );
+        }
+    }
+    if !failures.is_empty() {
+        println!("not planned:");
+        for f in &failures {
+            println!("{f}");
+        }
+    }
+    if let Some(p) = &a.csv {
+        write(p, "CSV", rows.as_bytes())?;
     }
     Ok(0)
 }

@@ -31,3 +31,37 @@ pub fn distance_point_segment(p: &Point, a: &Point, b: &Point) -> Real {
     let (q, _) = closest_on_segment(a, b, p);
     (p - q).norm()
 }
+
+/// Douglas-Peucker simplification of a polyline, keeping both ends: every dropped point is
+/// within `tol` of the segment that replaces it. At most `max_points` are kept (splits stop
+/// once that many are; `usize::MAX` for no cap). The workspace's one implementation.
+pub fn douglas_peucker(pts: &[Point], tol: Real, max_points: usize) -> Vec<Point> {
+    if pts.len() <= 2 {
+        return pts.to_vec();
+    }
+    let mut keep = vec![false; pts.len()];
+    keep[0] = true;
+    keep[pts.len() - 1] = true;
+    let mut kept = 2usize;
+    let mut stack = vec![(0, pts.len() - 1)];
+    while let Some((a, b)) = stack.pop() {
+        let mut best = (0.0, 0);
+        for (k, p) in pts.iter().enumerate().take(b).skip(a + 1) {
+            let d = distance_point_segment(p, &pts[a], &pts[b]);
+            if d > best.0 {
+                best = (d, k);
+            }
+        }
+        if best.0 > tol && kept < max_points {
+            keep[best.1] = true;
+            kept += 1;
+            stack.push((a, best.1));
+            stack.push((best.1, b));
+        }
+    }
+    pts.iter()
+        .zip(keep)
+        .filter(|(_, k)| *k)
+        .map(|(p, _)| *p)
+        .collect()
+}

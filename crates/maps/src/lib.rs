@@ -34,7 +34,7 @@ pub fn map_config() -> PlanConfig {
 use homospline_geom::{Bounds, Point, Real};
 use homospline_homotopy::Rays;
 use homospline_optim::{Plan, PlanConfig, PlanError, World, plan_world};
-use homospline_voronoi::{BuildError, DistanceField, Grid, GridError, VoronoiGraph};
+use homospline_voronoi::{BuildError, DistanceField, Grid, GridError, MapGraph, VoronoiGraph};
 use thiserror::Error;
 
 /// An occupancy map in map coordinates.
@@ -90,6 +90,9 @@ pub enum MapError {
     /// Planner.
     #[error(transparent)]
     Plan(#[from] PlanError),
+    /// A saved graph that does not fit the map.
+    #[error("{0}")]
+    Graph(String),
 }
 
 impl OccupancyMap {
@@ -148,63 +151,141 @@ impl OccupancyMap {
     }
 }
 
-/// Everything planning on a map needs, built once: grid, brushfire, graph, clearance model.
-pub struct Prepared {
+/// Everything planning on a map needs, built once and shared by every query on the map: the
+/// grid, the brushfire, the complete Voronoi graph with its index, the clearance model and the
+/// rays that name homotopy classes.
+pub struct PreparedMap {
+    /// Name (the map's).
+    pub name: String,
+    /// Bounds in map coordinates.
+    pub bounds: Bounds,
     /// The grid (map plus wall ring).
     pub grid: Grid,
     /// The brushfire.
     pub field: DistanceField,
-    /// The Voronoi graph with start and goal attached.
-    pub graph: VoronoiGraph,
+    /// The complete Voronoi graph of the whole map (no start or goal), indexed.
+    pub graph: MapGraph,
     /// The clearance model.
     pub model: GridModel,
+    /// One ray per obstacle inside the wall.
+    pub rays: Rays,
+    map: OccupancyMap,
 }
 
-/// Builds the grid, brushfire, graph (start and goal attached) and clearance model.
-pub fn prepare(map: &OccupancyMap, start: Point, goal: Point) -> Result<Prepared, MapError> {
-    map.check_endpoint("start", &start)?;
-    map.check_endpoint("goal", &goal)?;
-    let grid = map.to_grid()?;
-    let field = DistanceField::build(&grid);
-    let graph =
-        VoronoiGraph::build(&grid, &field, Some(start), Some(goal)).map_err(BuildError::from)?;
-    let model = GridModel::new(&grid, &field);
-    Ok(Prepared {
-        grid,
-        field,
-        graph,
-        model,
-    })
+impl PreparedMap {
+    /// Builds the grid, brushfire, complete graph and clearance model of `map`.
+    pub fn new(map: &OccupancyMap) -> Result<Self, MapError> {
+        let grid = map.to_grid()?;
+        let field = DistanceField::build(&grid);
+        let graph = MapGraph::build(&grid, &field);
+        Ok(Self::assemble(map, grid, field, graph))
+    }
+
+    /// The same with a complete graph built before (`homospline graph MAP --out`); refused
+    /// when it is not a graph of this map (resolution, obstacles or start/goal attached).
+    pub fn with_graph(map: &OccupancyMap, graph: VoronoiGraph) -> Result<Self, MapError> {
+        let grid = map.to_grid()?;
+        let field = DistanceField::build(&grid);
+        let fresh_obstacles: Vec<u32> = field
+            .obstacles()
+            .filter(|&k| k != field.wall_key())
+            .collect();
+        let saved: Vec<u32> = graph.obstacles.iter().map(|o| o.key).collect();
+        if graph.start.is_some() || graph.goal.is_some() {
+            return Err(MapError::Graph(
+                "the graph has a start or goal attached: save it with `homospline graph MAP`"
+                    .into(),
+            ));
+        }
+        if (graph.resolution - grid.resolution()).abs() > 1e-9 * grid.resolution()
+            || fresh_obstacles != saved
+        {
+            return Err(MapError::Graph(format!(
+                "the graph was not built for map {} (resolution or obstacles differ)",
+                map.name
+            )));
+        }
+        let graph = MapGraph::from_graph(&grid, graph);
+        Ok(Self::assemble(map, grid, field, graph))
+    }
+
+    fn assemble(map: &OccupancyMap, grid: Grid, field: DistanceField, graph: MapGraph) -> Self {
+        let model = GridModel::new(&grid, &field);
+        let rays = Rays::new(
+            graph
+                .graph
+                .obstacles
+                .iter()
+                .map(|o| Point::new(o.representative[0], o.representative[1]))
+                .collect(),
+        );
+        Self {
+            name: map.name.clone(),
+            bounds: map.bounds(),
+            grid,
+            field,
+            graph,
+            model,
+            rays,
+            map: map.clone(),
+        }
+    }
+
+    /// The map it was built from.
+    pub fn map(&self) -> &OccupancyMap {
+        &self.map
+    }
+
+    /// The graph of one query: start and goal joined to the complete graph along
+    /// maximum-clearance routes, dead ends to neither pruned.
+    pub fn query_graph(&self, start: Point, goal: Point) -> Result<VoronoiGraph, MapError> {
+        self.map.check_endpoint("start", &start)?;
+        self.map.check_endpoint("goal", &goal)?;
+        Ok(self
+            .graph
+            .with_endpoints(&self.grid, &self.field, start, goal)
+            .map_err(BuildError::from)?)
+    }
+
+    /// Plans from `start` to `goal` (map coordinates) with the same result as on a scene.
+    pub fn plan(&self, start: Point, goal: Point, cfg: &PlanConfig) -> Result<Plan, MapError> {
+        self.map.check_endpoint("start", &start)?;
+        self.map.check_endpoint("goal", &goal)?;
+        let world = World {
+            name: self.name.clone(),
+            bounds: self.bounds,
+            start,
+            goal,
+            model: &self.model,
+            rays: self.rays.clone(),
+            grid_is_exact: true,
+        };
+        Ok(plan_world(
+            &world,
+            || {
+                self.graph
+                    .with_endpoints(&self.grid, &self.field, start, goal)
+                    .map_err(BuildError::from)
+            },
+            cfg,
+        )?)
+    }
 }
 
 /// Plans on `map` from `start` to `goal` (map coordinates), with the same result as on a
-/// scene; the Voronoi graph comes from the grid directly.
+/// scene; the complete Voronoi graph comes from the grid directly. Builds the map's
+/// preparation and returns it; to plan many queries on one map, build a [`PreparedMap`]
+/// once and call [`PreparedMap::plan`].
 pub fn plan_map(
     map: &OccupancyMap,
     start: Point,
     goal: Point,
     cfg: &PlanConfig,
-) -> Result<(Plan, Prepared), MapError> {
-    let prepared = prepare(map, start, goal)?;
-    let rays = Rays::new(
-        prepared
-            .graph
-            .obstacles
-            .iter()
-            .map(|o| Point::new(o.representative[0], o.representative[1]))
-            .collect(),
-    );
-    let world = World {
-        name: map.name.clone(),
-        bounds: map.bounds(),
-        start,
-        goal,
-        model: &prepared.model,
-        rays,
-        grid_is_exact: true,
-    };
-    let graph = prepared.graph.clone();
-    let plan = plan_world(&world, || Ok(graph), cfg)?;
+) -> Result<(Plan, PreparedMap), MapError> {
+    map.check_endpoint("start", &start)?;
+    map.check_endpoint("goal", &goal)?;
+    let prepared = PreparedMap::new(map)?;
+    let plan = prepared.plan(start, goal, cfg)?;
     Ok((plan, prepared))
 }
 

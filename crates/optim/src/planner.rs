@@ -393,7 +393,7 @@ fn seed_points(
     let mut tol = len / 8.0;
     let limit = cfg.max_via_points + 2;
     for _ in 0..16 {
-        let pts = simplify(poly, tol, limit);
+        let pts = homospline_geom::math::douglas_peucker(poly, tol, limit);
         if ok(&pts) {
             return pts;
         }
@@ -411,33 +411,6 @@ fn seed_points(
         last = pts;
     }
     last
-}
-
-fn simplify(poly: &[Point], tol: Real, max_points: usize) -> Vec<Point> {
-    let mut keep = vec![false; poly.len()];
-    keep[0] = true;
-    keep[poly.len() - 1] = true;
-    let mut stack = vec![(0, poly.len() - 1)];
-    while let Some((a, b)) = stack.pop() {
-        let (mut best, mut at) = (0.0, 0);
-        for k in a + 1..b {
-            let d = homospline_geom::math::distance_point_segment(&poly[k], &poly[a], &poly[b]);
-            if d > best {
-                best = d;
-                at = k;
-            }
-        }
-        if best > tol && keep.iter().filter(|k| **k).count() < max_points {
-            keep[at] = true;
-            stack.push((a, at));
-            stack.push((at, b));
-        }
-    }
-    poly.iter()
-        .zip(keep)
-        .filter(|(_, k)| *k)
-        .map(|(p, _)| *p)
-        .collect()
 }
 
 fn resample(poly: &[Point], inner: usize) -> Vec<Point> {

@@ -12,6 +12,7 @@
 //! junction) and edges (the crack chains between them, with length, minimum and mean
 //! clearance, and a polyline simplified to within [`POLYLINE_TOLERANCE`] cell of the chain).
 
+use homospline_geom::math::douglas_peucker;
 use homospline_geom::{Point, Real};
 use rustc_hash::FxHashMap;
 use serde::{Deserialize, Serialize};
@@ -914,7 +915,7 @@ impl Builder<'_> {
 
     fn edge(&self, ch: &Chain) -> Edge {
         let pts: Vec<Point> = ch.corners.iter().map(|&c| self.corner_point(c)).collect();
-        let simplified = douglas_peucker(&pts, POLYLINE_TOLERANCE * self.grid.cell());
+        let simplified = douglas_peucker(&pts, POLYLINE_TOLERANCE * self.grid.cell(), usize::MAX);
         let length = simplified.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
         let cl: Vec<Real> = ch.cracks.iter().map(|&k| self.crack_clearance(k)).collect();
         let min_clearance = cl.iter().copied().fold(Real::INFINITY, Real::min);
@@ -1056,7 +1057,7 @@ fn connector(
     pts.push(first);
     pts.extend(path.iter().skip(1).map(|&(i, j)| grid.center(i, j)));
     pts.push(b.corner_point(corner));
-    let simplified = douglas_peucker(&pts, POLYLINE_TOLERANCE * grid.cell());
+    let simplified = douglas_peucker(&pts, POLYLINE_TOLERANCE * grid.cell(), usize::MAX);
     let cl: Vec<Real> = path
         .iter()
         .map(|&(i, j)| b.field.clearance_cells(i, j) * grid.cell())
@@ -1069,34 +1070,4 @@ fn connector(
         mean_clearance: cl.iter().sum::<Real>() / cl.len().max(1) as Real,
         polyline: simplified.iter().map(|p| [p.x, p.y]).collect(),
     }
-}
-
-/// Douglas-Peucker simplification keeping both ends.
-fn douglas_peucker(pts: &[Point], tol: Real) -> Vec<Point> {
-    if pts.len() <= 2 {
-        return pts.to_vec();
-    }
-    let mut keep = vec![false; pts.len()];
-    keep[0] = true;
-    keep[pts.len() - 1] = true;
-    let mut stack = vec![(0, pts.len() - 1)];
-    while let Some((a, b)) = stack.pop() {
-        let mut best = (0.0, 0);
-        for k in a + 1..b {
-            let d = homospline_geom::math::distance_point_segment(&pts[k], &pts[a], &pts[b]);
-            if d > best.0 {
-                best = (d, k);
-            }
-        }
-        if best.0 > tol {
-            keep[best.1] = true;
-            stack.push((a, best.1));
-            stack.push((best.1, b));
-        }
-    }
-    pts.iter()
-        .zip(keep)
-        .filter(|(_, k)| *k)
-        .map(|(p, _)| *p)
-        .collect()
 }

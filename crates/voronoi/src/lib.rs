@@ -6,13 +6,20 @@
 //! - [`field`]: [`DistanceField`], the exact Euclidean brushfire with the nearest obstacle of
 //!   every cell, and its local updates.
 //! - [`graph`]: [`VoronoiGraph`], the generalized Voronoi graph with start and goal attached.
+//! - [`skeleton`]: the complete graph's ridge, by distance-ordered homotopic thinning: the
+//!   medial axis of free space wherever an obstacle faces another *or itself*.
+//! - [`attach`]: [`MapGraph`], a complete graph prepared once, and start and goal joined to it
+//!   along maximum-clearance routes for each query.
 //!
 //! [`build`] does all three for a scene.
 
+pub mod attach;
 pub mod field;
 pub mod graph;
 pub mod grid;
+pub mod skeleton;
 
+pub use attach::{MapGraph, build_complete, complete_graph};
 pub use field::{DistanceField, UpdateError};
 pub use graph::{Edge, GraphError, GridObstacle, Node, NodeKind, VoronoiGraph};
 pub use grid::{Grid, GridError};
