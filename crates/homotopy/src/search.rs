@@ -45,6 +45,13 @@ pub struct SearchConfig {
     pub blocked_regions: Vec<(Point, Real)>,
     /// Budget of partial paths taken from the queue.
     pub max_expansions: usize,
+    /// Expand only the first (cheapest) partial path to reach a node with a given word. The
+    /// exact search enumerates every simple path, which explodes on a map's graph with
+    /// thousands of cycles (seconds for the second class); with this, each (node, word) state
+    /// is expanded once, so the work grows with the classes found times the graph. It can
+    /// miss a class whose cheapest simple path needs a prefix that the first one to reach a
+    /// state blocks (by simplicity); the maps' default.
+    pub one_path_per_state: bool,
 }
 
 impl Default for SearchConfig {
@@ -56,6 +63,7 @@ impl Default for SearchConfig {
             blocked_edges: Vec::new(),
             blocked_regions: Vec::new(),
             max_expansions: 1_000_000,
+            one_path_per_state: false,
         }
     }
 }
@@ -262,6 +270,7 @@ pub fn k_best_classes(
         });
     }
     let mut seen: HashSet<Signature> = HashSet::new();
+    let mut expanded: HashSet<(usize, Signature)> = HashSet::new();
     let mut classes = Vec::new();
     let mut expansions = 0;
     let mut complete = true;
@@ -273,8 +282,14 @@ pub fn k_best_classes(
             complete = false;
             break;
         }
-        expansions += 1;
         let node = arena[id].node;
+        if cfg.one_path_per_state
+            && node != goal
+            && !expanded.insert((node, arena[id].word.clone()))
+        {
+            continue;
+        }
+        expansions += 1;
         if node == goal {
             if seen.insert(arena[id].word.clone()) {
                 classes.push(assemble(graph, &arena, id));

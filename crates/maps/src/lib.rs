@@ -20,6 +20,10 @@ pub use model::GridModel;
 /// close, more than the scenes' default of 10.
 pub const MAX_VIA_POINTS: usize = 32;
 
+/// Evaluation budget of one optimisation round on a map, whatever the path's length (L-BFGS
+/// takes four evaluations per budget unit): the work per plan grows linearly with the path.
+pub const MAX_EVALUATIONS_PER_ROUND: usize = 800;
+
 /// The planner's default configuration for maps: [`PlanConfig::default`] with
 /// [`MAX_VIA_POINTS`] and L-BFGS. A map path needs up to 64 dimensions, where Nelder-Mead
 /// (the paper's optimiser, the default on scenes) spends twice the time for the same success
@@ -28,6 +32,8 @@ pub fn map_config() -> PlanConfig {
     let mut cfg = PlanConfig::default();
     cfg.growth.max_via_points = MAX_VIA_POINTS;
     cfg.growth.optimizer = homospline_optim::Optimizer::Lbfgs;
+    cfg.search.one_path_per_state = true;
+    cfg.growth.max_evaluations_per_round = MAX_EVALUATIONS_PER_ROUND;
     cfg
 }
 

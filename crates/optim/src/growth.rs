@@ -37,6 +37,9 @@ pub struct GrowthConfig {
     pub max_via_points: usize,
     /// Evaluation budget of one round, per optimised coordinate.
     pub evaluations_per_dimension: usize,
+    /// Evaluation budget of one round in all, whatever the dimension: with it the work of a
+    /// round grows linearly with the via-points (each evaluation does), not quadratically.
+    pub max_evaluations_per_round: usize,
     /// A round must lower the cost by this fraction to count as an improvement.
     pub min_improvement: Real,
     /// The optimiser.
@@ -56,6 +59,7 @@ impl Default for GrowthConfig {
             max_rounds: 3,
             max_via_points: 10,
             evaluations_per_dimension: 30,
+            max_evaluations_per_round: usize::MAX,
             min_improvement: 1e-3,
             optimizer: Optimizer::NelderMead,
             step_fraction: 0.1,
@@ -174,7 +178,10 @@ pub fn grow(
             .sum::<Real>()
             / (points.len() - 1) as Real;
         let step = (cfg.step_fraction * spacing).max(1e-6);
-        let budget = cfg.evaluations_per_dimension * x0.len();
+        let budget = cfg
+            .evaluations_per_dimension
+            .saturating_mul(x0.len())
+            .min(cfg.max_evaluations_per_round);
         let (x, value) = match cfg.optimizer {
             Optimizer::NelderMead => {
                 let nm = NelderMead::new(x0.len())

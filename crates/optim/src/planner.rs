@@ -281,11 +281,17 @@ pub fn plan_world(
                     poly[0] = world.start;
                     let last = poly.len() - 1;
                     poly[last] = world.goal;
-                    let centred = centre(&poly, world.model, 1.0 / graph.resolution);
-                    let poly = if rays.signature(&centred) == c.signature {
-                        centred
-                    } else {
+                    // On a map the class path already runs along the ridge through free
+                    // cells; a rasterised scene's runs along cell sides and is centred.
+                    let poly = if world.grid_is_exact {
                         poly
+                    } else {
+                        let centred = centre(&poly, world.model, 1.0 / graph.resolution);
+                        if rays.signature(&centred) == c.signature {
+                            centred
+                        } else {
+                            poly
+                        }
                     };
                     (poly, Some(c.signature), c.cost)
                 })
@@ -293,11 +299,14 @@ pub fn plan_world(
             (seeds, Some(graph))
         }
     };
+    let graph_cell = graph.as_ref().map(|g| 1.0 / g.resolution);
     let to = Instant::now();
     let run = || -> Vec<ClassPlan> {
         seeds
             .par_iter()
-            .map(|(poly, sig, gcost)| optimise_class(world, poly, sig.as_ref(), *gcost, cfg))
+            .map(|(poly, sig, gcost)| {
+                optimise_class(world, poly, sig.as_ref(), *gcost, cfg, graph_cell)
+            })
             .collect()
     };
     let mut classes = match cfg.threads {
@@ -413,6 +422,91 @@ fn seed_points(
     last
 }
 
+/// Via-points for a seed polyline that runs through free cells (a map's ridge), by certified
+/// subdivision: the Douglas-Peucker vertices at one cell, with no gap longer than
+/// [`SEED_MAX_GAP`] cells, then a via-point added at the middle (by arc length along the
+/// seed) of every spline segment that is not certified collision-free, until all are. As
+/// via-points close in, the spline tends to the polyline, which has positive clearance, so
+/// this ends; it is also stopped at one via-point per quarter cell of path. The count follows
+/// the path: a long winding path gets many via-points, a straight one few. If the spline is
+/// certified but leaves its class or the bounds, every segment is halved.
+fn subdivided_seed(
+    poly: &[Point],
+    model: &dyn ClearanceModel,
+    guard: &Guard<'_>,
+    cfg: &GrowthConfig,
+    cell: Real,
+) -> Vec<Point> {
+    let mut cum = Vec::with_capacity(poly.len());
+    let mut acc = 0.0;
+    cum.push(0.0);
+    for w in poly.windows(2) {
+        acc += (w[1] - w[0]).norm();
+        cum.push(acc);
+    }
+    let total = acc;
+    let at = |s: Real| -> Point {
+        let i = cum.partition_point(|&c| c < s).clamp(1, poly.len() - 1);
+        let seg = cum[i] - cum[i - 1];
+        let f = if seg > 0.0 {
+            ((s - cum[i - 1]) / seg).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        poly[i - 1] + (poly[i] - poly[i - 1]) * f
+    };
+    // Arc-length positions of the Douglas-Peucker vertices (a subsequence of the polyline).
+    let kept = homospline_geom::math::douglas_peucker(poly, cell, usize::MAX);
+    let mut params = Vec::with_capacity(kept.len());
+    let mut k = 0;
+    for (i, p) in poly.iter().enumerate() {
+        if k < kept.len() && *p == kept[k] {
+            params.push(cum[i]);
+            k += 1;
+        }
+    }
+    let max_gap = SEED_MAX_GAP * cell;
+    let mut filled = vec![params[0]];
+    for w in params.windows(2) {
+        let n = ((w[1] - w[0]) / max_gap).ceil().max(1.0) as usize;
+        for j in 1..=n {
+            filled.push(w[0] + (w[1] - w[0]) * j as Real / n as Real);
+        }
+    }
+    let mut params = filled;
+    params.dedup();
+    let cap = ((total / (0.25 * cell)).ceil() as usize).max(3);
+    loop {
+        let pts: Vec<Point> = params.iter().map(|&s| at(s)).collect();
+        let Ok(sp) = Spline::new(&pts, cfg.parametrization, cfg.end) else {
+            return pts;
+        };
+        let mut bad = homospline_spline::certify::uncertified_segments(&sp, model);
+        if bad.is_empty() {
+            if guard.cost(&sp, model, cfg).is_finite() {
+                return pts;
+            }
+            bad = (0..sp.segments()).collect();
+        }
+        if params.len() + bad.len() > cap {
+            return pts;
+        }
+        let mut next = Vec::with_capacity(params.len() + bad.len());
+        let mut b = bad.iter().peekable();
+        for (i, &s) in params.iter().enumerate() {
+            next.push(s);
+            if b.peek() == Some(&&i) {
+                b.next();
+                next.push(0.5 * (s + params[i + 1]));
+            }
+        }
+        params = next;
+    }
+}
+
+/// Longest gap between a map seed's first via-points, cells.
+pub const SEED_MAX_GAP: Real = 16.0;
+
 fn resample(poly: &[Point], inner: usize) -> Vec<Point> {
     let cum: Vec<Real> = std::iter::once(0.0)
         .chain(poly.windows(2).scan(0.0, |acc, w| {
@@ -446,6 +540,7 @@ fn optimise_class(
     signature: Option<&Signature>,
     graph_cost: Real,
     cfg: &PlanConfig,
+    graph_cell: Option<Real>,
 ) -> ClassPlan {
     let t = Instant::now();
     let (model, rays) = (world.model, &world.rays);
@@ -455,9 +550,12 @@ fn optimise_class(
         bounds: world.bounds,
         collision_free: signature.is_some(),
     };
-    let seed = match signature {
-        Some(_) => seed_points(seed_poly, model, &guard, growth),
-        None => seed_poly.to_vec(),
+    let seed = match (signature, graph_cell) {
+        (Some(_), Some(cell)) if world.grid_is_exact => {
+            subdivided_seed(seed_poly, model, &guard, growth, cell)
+        }
+        (Some(_), _) => seed_points(seed_poly, model, &guard, growth),
+        (None, _) => seed_poly.to_vec(),
     };
     let grown: Option<Grown> = grow(&seed, model, growth, &guard).ok();
     let (via_points, spline, terms, iterations, evaluations) = match grown {

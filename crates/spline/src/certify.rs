@@ -41,31 +41,31 @@ type Interval = (usize, Real, Real, u32, Real, Real);
 
 /// Eight intervals per segment, in the order they are popped (start of the curve first).
 fn initial_intervals(spline: &Spline, model: &dyn ClearanceModel) -> Vec<Interval> {
-    let knots = spline.knots();
     let mut stack = Vec::with_capacity(8 * spline.segments());
     for seg in (0..spline.segments()).rev() {
-        let h = knots[seg + 1] - knots[seg];
-        let n = 8;
-        let ends: Vec<(Real, Real)> = (0..=n)
-            .map(|k| {
-                let s = h * k as Real / n as Real;
-                (s, model.exact_clearance(&spline.eval_segment(seg, s).0))
-            })
-            .collect();
-        for k in (0..n).rev() {
-            stack.push((seg, ends[k].0, ends[k + 1].0, 0, ends[k].1, ends[k + 1].1));
-        }
+        push_segment(spline, model, seg, &mut stack);
     }
     stack
 }
 
-/// Whether `spline` is proven collision-free: the same intervals and bounds as
-/// [`min_clearance`], subdivided only until each interval's lower bound is positive, and
-/// stopped at the first point found in collision (or an interval that cannot be proven
-/// after 60 halvings). Cheaper than a bracket when only the answer matters; it can prove
-/// a curve free that `min_clearance` with a coarse `tol` leaves unproven within `tol` of 0.
-pub fn is_collision_free(spline: &Spline, model: &dyn ClearanceModel) -> bool {
-    let mut stack = initial_intervals(spline, model);
+/// Pushes the eight initial intervals of segment `seg`, last first.
+fn push_segment(spline: &Spline, model: &dyn ClearanceModel, seg: usize, stack: &mut Vec<Interval>) {
+    let knots = spline.knots();
+    let h = knots[seg + 1] - knots[seg];
+    let n = 8;
+    let ends: Vec<(Real, Real)> = (0..=n)
+        .map(|k| {
+            let s = h * k as Real / n as Real;
+            (s, model.exact_clearance(&spline.eval_segment(seg, s).0))
+        })
+        .collect();
+    for k in (0..n).rev() {
+        stack.push((seg, ends[k].0, ends[k + 1].0, 0, ends[k].1, ends[k + 1].1));
+    }
+}
+
+/// Proves the intervals on `stack` clear, as [`is_collision_free`] does.
+fn prove(spline: &Spline, model: &dyn ClearanceModel, stack: &mut Vec<Interval>) -> bool {
     while let Some((seg, s0, s1, depth, d0, d1)) = stack.pop() {
         if d0 <= 0.0 || d1 <= 0.0 {
             return false;
@@ -85,6 +85,30 @@ pub fn is_collision_free(spline: &Spline, model: &dyn ClearanceModel) -> bool {
         stack.push((seg, s0, m, depth + 1, d0, dm));
     }
     true
+}
+
+/// The segments of `spline` (between consecutive via-points) that are not proven
+/// collision-free by the intervals and bounds of [`is_collision_free`], in order: where a
+/// seed needs more via-points.
+pub fn uncertified_segments(spline: &Spline, model: &dyn ClearanceModel) -> Vec<usize> {
+    let mut stack = Vec::new();
+    (0..spline.segments())
+        .filter(|&seg| {
+            stack.clear();
+            push_segment(spline, model, seg, &mut stack);
+            !prove(spline, model, &mut stack)
+        })
+        .collect()
+}
+
+/// Whether `spline` is proven collision-free: the same intervals and bounds as
+/// [`min_clearance`], subdivided only until each interval's lower bound is positive, and
+/// stopped at the first point found in collision (or an interval that cannot be proven
+/// after 60 halvings). Cheaper than a bracket when only the answer matters; it can prove
+/// a curve free that `min_clearance` with a coarse `tol` leaves unproven within `tol` of 0.
+pub fn is_collision_free(spline: &Spline, model: &dyn ClearanceModel) -> bool {
+    let mut stack = initial_intervals(spline, model);
+    prove(spline, model, &mut stack)
 }
 
 /// Brackets the minimum clearance of `spline` to within `tol` (> 0).
