@@ -24,6 +24,11 @@ pub const MAX_VIA_POINTS: usize = 32;
 /// takes four evaluations per budget unit): the work per plan grows linearly with the path.
 pub const MAX_EVALUATIONS_PER_ROUND: usize = 800;
 
+/// Budget of the class search on a map: the graph of a whole map has thousands of cycles, and
+/// past the classes near the shortest path each further one costs a wide sweep; when the
+/// budget runs out the classes found so far are optimised (the result says so).
+pub const MAX_EXPANSIONS: usize = 20_000;
+
 /// The planner's default configuration for maps: [`PlanConfig::default`] with
 /// [`MAX_VIA_POINTS`] and L-BFGS. A map path needs up to 64 dimensions, where Nelder-Mead
 /// (the paper's optimiser, the default on scenes) spends twice the time for the same success
@@ -33,6 +38,7 @@ pub fn map_config() -> PlanConfig {
     cfg.growth.max_via_points = MAX_VIA_POINTS;
     cfg.growth.optimizer = homospline_optim::Optimizer::Lbfgs;
     cfg.search.one_path_per_state = true;
+    cfg.search.max_expansions = MAX_EXPANSIONS;
     cfg.growth.max_evaluations_per_round = MAX_EVALUATIONS_PER_ROUND;
     cfg
 }

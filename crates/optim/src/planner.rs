@@ -475,6 +475,7 @@ fn subdivided_seed(
     }
     let mut params = filled;
     params.dedup();
+    grade(&mut params);
     let cap = ((total / (0.25 * cell)).ceil() as usize).max(3);
     loop {
         let pts: Vec<Point> = params.iter().map(|&s| at(s)).collect();
@@ -501,7 +502,66 @@ fn subdivided_seed(
             }
         }
         params = next;
+        grade(&mut params);
     }
+}
+
+/// Splits every gap longer than twice a neighbouring one, until none is: with uniform
+/// parameters a spline through unevenly spaced via-points overshoots, and graded spacing
+/// keeps it close to its polyline.
+fn grade(params: &mut Vec<Real>) {
+    loop {
+        let gaps: Vec<Real> = params.windows(2).map(|w| w[1] - w[0]).collect();
+        let split: Vec<bool> = (0..gaps.len())
+            .map(|i| {
+                let left = if i > 0 { gaps[i - 1] } else { Real::INFINITY };
+                let right = gaps.get(i + 1).copied().unwrap_or(Real::INFINITY);
+                gaps[i] > 2.0 * left.min(right)
+            })
+            .collect();
+        if !split.iter().any(|&b| b) {
+            return;
+        }
+        let mut next = Vec::with_capacity(params.len() * 2);
+        for (i, &s) in params.iter().enumerate() {
+            next.push(s);
+            if split.get(i).copied().unwrap_or(false) {
+                next.push(0.5 * (s + params[i + 1]));
+            }
+        }
+        *params = next;
+    }
+}
+
+/// The reported path of a certified curve: its arc-length samples, with curve points added
+/// (by halving the parameter interval, up to 16 times) wherever the chord between two samples
+/// is not clear although the curve is, as where a curve passes a corner at a small clearance:
+/// the path that is checked segment by segment and reported is then clear too.
+fn refine_samples(
+    sp: &Spline,
+    model: &dyn ClearanceModel,
+    samples: &[(Real, Point)],
+) -> Vec<Point> {
+    let mut out = Vec::with_capacity(samples.len());
+    let Some(&(_, first)) = samples.first() else {
+        return out;
+    };
+    out.push(first);
+    let mut stack = Vec::new();
+    for w in samples.windows(2) {
+        stack.push((w[0], w[1], 0u32));
+        while let Some(((ta, pa), (tb, pb), depth)) = stack.pop() {
+            if depth >= 16 || model.segment_clearance(&pa, &pb) > 0.0 {
+                out.push(pb);
+                continue;
+            }
+            let tm = 0.5 * (ta + tb);
+            let pm = sp.position(tm);
+            stack.push(((tm, pm), (tb, pb), depth + 1));
+            stack.push(((ta, pa), (tm, pm), depth + 1));
+        }
+    }
+    out
 }
 
 /// Longest gap between a map seed's first via-points, cells.
@@ -557,6 +617,19 @@ fn optimise_class(
         (Some(_), _) => seed_points(seed_poly, model, &guard, growth),
         (None, _) => seed_poly.to_vec(),
     };
+    // On a map the via-points follow the path (hundreds on a long one), and with uniform
+    // parameters over [0, 1] the roughness grows with the cube of their number: it would
+    // swamp every other term. There it is measured with one unit of parameter per segment,
+    // which is the same integral divided by (segments)^3.
+    let scaled;
+    let growth = if world.grid_is_exact && seed.len() > 2 {
+        let mut g = growth.clone();
+        g.cost.w_roughness /= ((seed.len() - 1) as Real).powi(3);
+        scaled = g;
+        &scaled
+    } else {
+        growth
+    };
     let grown: Option<Grown> = grow(&seed, model, growth, &guard).ok();
     let (via_points, spline, terms, iterations, evaluations) = match grown {
         Some(g) => (
@@ -571,13 +644,14 @@ fn optimise_class(
     let (path, length, min_clear, certified, free, in_class) = match &spline {
         Some(sp) => {
             let length = sp.length();
-            let path: Vec<Point> = sp
-                .sample_by_arc_length((length / 1000.0).min(0.5))
-                .into_iter()
-                .map(|(_, p)| p)
-                .collect();
-            let min_clear = model.polyline_clearance(&path);
             let cert = min_clearance(sp, model, cfg.certify_tolerance);
+            let samples = sp.sample_by_arc_length((length / 1000.0).min(0.5));
+            let path = if cert.collision_free() {
+                refine_samples(sp, model, &samples)
+            } else {
+                samples.into_iter().map(|(_, p)| p).collect()
+            };
+            let min_clear = model.polyline_clearance(&path);
             let inside = path.iter().all(|p| world.bounds.contains(p));
             let in_class = signature.is_none_or(|s| &rays.signature(&path) == s);
             (

@@ -49,7 +49,12 @@ fn initial_intervals(spline: &Spline, model: &dyn ClearanceModel) -> Vec<Interva
 }
 
 /// Pushes the eight initial intervals of segment `seg`, last first.
-fn push_segment(spline: &Spline, model: &dyn ClearanceModel, seg: usize, stack: &mut Vec<Interval>) {
+fn push_segment(
+    spline: &Spline,
+    model: &dyn ClearanceModel,
+    seg: usize,
+    stack: &mut Vec<Interval>,
+) {
     let knots = spline.knots();
     let h = knots[seg + 1] - knots[seg];
     let n = 8;

@@ -323,6 +323,10 @@ struct NodePartial {
     ga: Vector,
 }
 
+/// Segments on each side of a via-point over which its influence is taken in [`gradient`]
+/// on long curves (more than `2 * BASIS_WINDOW + 2` points).
+pub const BASIS_WINDOW: usize = 20;
+
 /// The cost of `spline` against `model`.
 pub fn evaluate(spline: &Spline, model: &dyn ClearanceModel, cfg: &CostConfig) -> CostTerms {
     run(spline, model, cfg, None)
@@ -363,8 +367,28 @@ pub fn gradient(
     }
     let mut partials = Vec::new();
     let terms = run(spline, model, cfg, Some(&mut partials));
-    let basis = spline.basis();
     let mut g = vec![Vector::zeros(); n.saturating_sub(2)];
+    if n > 2 * BASIS_WINDOW + 2 {
+        // Long curves (maps): each via-point's basis on its window of segments only, so the
+        // gradient costs O(n) rather than O(n^2) (see `Spline::local_basis`).
+        let local: Vec<(usize, Spline)> = (1..n - 1)
+            .map(|j| spline.local_basis(j, BASIS_WINDOW))
+            .collect();
+        for p in &partials {
+            let lo = (p.seg + 1).saturating_sub(BASIS_WINDOW).max(1);
+            let hi = (p.seg + BASIS_WINDOW).min(n - 2);
+            for j in lo..=hi {
+                let (first, b) = &local[j - 1];
+                if p.seg < *first || p.seg - first >= b.segments() {
+                    continue;
+                }
+                let (b0, b1, b2) = b.eval_segment(p.seg - first, p.s);
+                g[j - 1] += p.gq * b0.x + p.gv * b1.x + p.ga * b2.x;
+            }
+        }
+        return (terms, g);
+    }
+    let basis = spline.basis();
     for p in &partials {
         for (j, gj) in g.iter_mut().enumerate() {
             let (b, b1, b2) = basis[j + 1].eval_segment(p.seg, p.s);
