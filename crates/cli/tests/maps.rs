@@ -74,7 +74,7 @@ fn bench_scen_reports_success_time_and_length_ratio() {
     assert_ok(&out);
     let text = String::from_utf8(out.stdout).unwrap();
     for needle in [
-        "3 scenarios on random-32-32-10",
+        "3 of 461 scenarios (the first: the shortest paths only) on random-32-32-10",
         "success",
         "time / plan",
         "length / octile optimum",
@@ -84,6 +84,92 @@ fn bench_scen_reports_success_time_and_length_ratio() {
     let rows = std::fs::read_to_string(&csv).unwrap();
     assert_eq!(rows.lines().count(), 4);
     assert!(rows.starts_with("index,bucket,start_x"));
+}
+
+#[test]
+fn bench_scen_samples_every_bucket_and_summarises_per_bucket() {
+    let csv = tmp("s.csv");
+    let out = homospline()
+        .args([
+            "bench-scen",
+            "fixtures/maps/movingai/maze-32-32-2-random-1.scen",
+            "--sample",
+            "4",
+            "--classes",
+            "1",
+            "--time-limit",
+            "60000",
+        ])
+        .args(["--csv", csv.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        text.contains("(sampled evenly over every bucket)"),
+        "{text}"
+    );
+    assert!(text.contains("timeouts 0"), "{text}");
+    assert!(text.contains("buckets   optimal length"), "{text}");
+    let rows = std::fs::read_to_string(&csv).unwrap();
+    // The first and the last (longest) scenarios of the file are among the four.
+    let index: Vec<&str> = rows
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').next().unwrap())
+        .collect();
+    let total = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../fixtures/maps/movingai/maze-32-32-2-random-1.scen"
+    ))
+    .unwrap()
+    .lines()
+    .skip(1)
+    .count();
+    assert_eq!(index.len(), 4);
+    assert_eq!(index[0], "0");
+    assert_eq!(index[3], (total - 1).to_string());
+}
+
+#[test]
+fn a_map_graph_saved_once_serves_plans() {
+    let g = tmp("maze.msgpack");
+    let out = homospline()
+        .args(["graph", "fixtures/maps/movingai/maze-32-32-2.map", "--out"])
+        .arg(&g)
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let args = [
+        "--start",
+        "7.5,20.5",
+        "--goal",
+        "22.5,25.5",
+        "--classes",
+        "2",
+    ];
+    let with = homospline()
+        .args(["plan", "fixtures/maps/movingai/maze-32-32-2.map", "--graph"])
+        .arg(&g)
+        .args(args)
+        .output()
+        .unwrap();
+    let without = homospline()
+        .args(["plan", "fixtures/maps/movingai/maze-32-32-2.map"])
+        .args(args)
+        .output()
+        .unwrap();
+    assert_eq!(with.status.code(), without.status.code());
+    // The same classes, lengths and clearances (timings differ).
+    let table = |o: &std::process::Output| -> Vec<String> {
+        String::from_utf8_lossy(&o.stdout)
+            .lines()
+            .filter(|l| l.trim_start().starts_with(char::is_numeric))
+            .map(|l| l.split_whitespace().take(5).collect::<Vec<_>>().join(" "))
+            .collect()
+    };
+    assert_eq!(table(&with), table(&without));
+    assert!(!table(&with).is_empty());
 }
 
 #[test]
