@@ -1,9 +1,11 @@
-//! Criterion bench of planning on a 512 x 512 occupancy map: the graph (grid, brushfire,
-//! Voronoi graph, clearance model) and the full plan with 5 classes.
+//! Criterion bench of planning on 512 x 512 occupancy maps: the map's preparation (grid,
+//! brushfire, complete Voronoi graph, clearance model), the full plan with 5 classes on a
+//! seeded city, and time per plan against path length on maze512-8-0 (prepared once; one
+//! scenario from each of five length bands of its `.scen`, up to 2,400 cells).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use homospline_geom::Point;
-use homospline_maps::{OccupancyMap, plan_map, prepare};
+use homospline_maps::{OccupancyMap, PreparedMap, movingai, plan_map};
 use homospline_optim::{GrowthConfig, Optimizer, PlanConfig};
 use std::hint::black_box;
 
@@ -51,8 +53,8 @@ fn bench(c: &mut Criterion) {
     let (plan, prepared) = plan_map(&map, s, t, &cfg).unwrap();
     eprintln!(
         "city-512: graph {} nodes {} edges; {} classes, best {:?}, free {}; stages voronoi {:.1} ms classes {:.2} ms optimise {:.1} ms",
-        prepared.graph.nodes.len(),
-        prepared.graph.edges.len(),
+        prepared.graph.graph.nodes.len(),
+        prepared.graph.graph.edges.len(),
         plan.classes.len(),
         plan.best,
         plan.classes.iter().filter(|c| c.collision_free).count(),
@@ -61,8 +63,11 @@ fn bench(c: &mut Criterion) {
         plan.timing.optimize
     );
     let mut g = c.benchmark_group("maps");
-    g.bench_function("graph/512", |b| {
-        b.iter(|| prepare(black_box(&map), s, t).unwrap())
+    g.bench_function("prepare/512", |b| {
+        b.iter(|| PreparedMap::new(black_box(&map)).unwrap())
+    });
+    g.bench_function("plan_prepared_5_classes/512", |b| {
+        b.iter(|| prepared.plan(s, t, &cfg).unwrap())
     });
     g.bench_function("plan_5_classes/512", |b| {
         b.iter(|| plan_map(black_box(&map), s, t, &cfg).unwrap())
@@ -83,6 +88,34 @@ fn bench(c: &mut Criterion) {
     g.bench_function("plan_5_classes_scene_defaults/512", |b| {
         b.iter(|| plan_map(black_box(&map), s, t, &scene_defaults).unwrap())
     });
+    g.finish();
+    // Time per plan against path length, the map prepared once.
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../fixtures/maps/movingai/");
+    let maze = movingai::read_map(
+        &std::fs::read_to_string(format!("{dir}maze512-8-0.map")).unwrap(),
+        "maze512-8-0.map",
+    )
+    .unwrap();
+    let scen = movingai::read_scen(
+        &std::fs::read_to_string(format!("{dir}maze512-8-0.map.scen")).unwrap(),
+        "maze512-8-0.map.scen",
+    )
+    .unwrap();
+    let prepared = PreparedMap::new(&maze).unwrap();
+    let mut g = c.benchmark_group("maze512_by_length");
+    for k in 1..=5 {
+        let sc = &scen[k * (scen.len() - 1) / 5];
+        let plan = prepared.plan(sc.start, sc.goal, &cfg).unwrap();
+        eprintln!(
+            "maze512 octile {:.0}: collision-free {}, length {:.1}",
+            sc.optimal_length,
+            plan.best.is_some(),
+            plan.best.map_or(f64::NAN, |b| plan.classes[b - 1].length)
+        );
+        g.bench_function(format!("plan/{:.0}", sc.optimal_length), |b| {
+            b.iter(|| prepared.plan(sc.start, sc.goal, &cfg).unwrap())
+        });
+    }
     g.finish();
 }
 
