@@ -67,9 +67,9 @@ fn simple_from_mask(mask: u8) -> bool {
             let mut k = 0;
             while k < comp.len() {
                 let a = comp[k];
-                for b in 0..8 {
-                    if !seen[b] && member(b) && adjacent(a, b) {
-                        seen[b] = true;
+                for (b, sb) in seen.iter_mut().enumerate() {
+                    if !*sb && member(b) && adjacent(a, b) {
+                        *sb = true;
                         comp.push(b);
                     }
                 }

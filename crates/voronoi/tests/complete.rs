@@ -43,9 +43,8 @@ fn cave(w: usize, h: usize, seed: u64) -> Grid {
                 for dj in -1i64..=1 {
                     for di in -1i64..=1 {
                         let (a, b) = (i as i64 + di, j as i64 + dj);
-                        if a < 0 || b < 0 || a >= w as i64 || b >= h as i64 {
-                            n += 1;
-                        } else if prev[b as usize * w + a as usize] {
+                        let outside = a < 0 || b < 0 || a >= w as i64 || b >= h as i64;
+                        if outside || prev[b as usize * w + a as usize] {
                             n += 1;
                         }
                     }
@@ -133,10 +132,10 @@ fn maze(w: usize, h: usize, c: usize, seed: u64) -> Grid {
         }
         stack.push((nx, ny));
     }
-    for k in 0..w * h {
+    for (k, o) in occ.iter_mut().enumerate() {
         let (i, j) = (k % w, k / w);
-        if occ[k] && i > 1 && j > 1 && i + 2 < w && j + 2 < h && chance(&mut s, 0.03) {
-            occ[k] = false;
+        if *o && i > 1 && j > 1 && i + 2 < w && j + 2 < h && chance(&mut s, 0.03) {
+            *o = false;
         }
     }
     with_ring(w, h, |i, j| occ[j * w + i])
