@@ -84,3 +84,47 @@ proptest! {
         check(&pts, end, &model, &cfg())?;
     }
 }
+
+/// A curve longer than `2 * BASIS_WINDOW + 2` points takes the windowed bases (linear cost):
+/// its gradient still agrees with central differences.
+#[test]
+fn long_curves_take_the_windowed_gradient() {
+    let n = 2 * homospline_spline::cost::BASIS_WINDOW + 12;
+    let pts: Vec<Point> = (0..n)
+        .map(|k| {
+            let x = k as Real * 2.0;
+            Point::new(x, 20.0 + 3.0 * (x * 0.3).sin())
+        })
+        .collect();
+    let model = CircleModel::new(
+        (0..12)
+            .map(|k| Circle::new(7.0 * k as Real + 3.0, 13.0 + (k % 3) as Real, 2.0))
+            .collect(),
+    );
+    // No truncation of far circles (it is noise to finite differences).
+    let cfg = CostConfig {
+        tolerance: 0.0,
+        ..CostConfig::paper_voronoi()
+    };
+    let s = Spline::new(&pts, Parametrization::Uniform, EndCondition::Natural).unwrap();
+    let (terms, g) = gradient(&s, &model, &cfg);
+    // The same allowance as above for the safety term's minimiser.
+    let safety_scale = cfg.w_safety * terms.safety * cfg.omega.ln();
+    let h = 1e-6;
+    for j in [1, n / 2, n - 2] {
+        for axis in 0..2 {
+            let at = |d: Real| {
+                let mut p = pts.clone();
+                p[j][axis] += d;
+                let sp = Spline::new(&p, Parametrization::Uniform, EndCondition::Natural).unwrap();
+                evaluate(&sp, &model, &cfg).total
+            };
+            let fd = (at(h) - at(-h)) / (2.0 * h);
+            let an = g[j - 1][axis];
+            assert!(
+                (fd - an).abs() <= 1e-4 * fd.abs().max(1.0) + 1e-5 * safety_scale,
+                "point {j} axis {axis}: analytic {an}, differences {fd}"
+            );
+        }
+    }
+}
