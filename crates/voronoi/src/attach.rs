@@ -373,33 +373,13 @@ impl VoronoiGraph {
                 queue.push(other);
             }
         }
-        let mut keep_node: Vec<bool> = (0..n).map(|k| degree[k] > 0 || !had_edges[k]).collect();
-        for k in [self.start, self.goal].into_iter().flatten() {
-            keep_node[k] = true;
-        }
+        let keep_node: Vec<bool> = (0..n).map(|k| degree[k] > 0 || !had_edges[k]).collect();
         let mut k = 0;
         self.edges.retain(|_| {
             k += 1;
             alive[k - 1]
         });
-        let mut map = vec![usize::MAX; n];
-        let mut nodes = Vec::new();
-        for (i, node) in self.nodes.iter().enumerate() {
-            if keep_node[i] {
-                map[i] = nodes.len();
-                nodes.push(Node {
-                    id: nodes.len(),
-                    ..node.clone()
-                });
-            }
-        }
-        for e in &mut self.edges {
-            e.from = map[e.from];
-            e.to = map[e.to];
-        }
-        self.start = self.start.map(|s| map[s]);
-        self.goal = self.goal.map(|s| map[s]);
-        self.nodes = nodes;
+        self.keep_nodes(keep_node);
     }
 }
 

@@ -82,6 +82,24 @@ pub struct GridObstacle {
     pub representative: [Real; 2],
 }
 
+impl GridObstacle {
+    /// The obstacles of `field` inside the wall, each represented by its key cell's centre.
+    pub fn of_field(grid: &Grid, field: &DistanceField) -> Vec<GridObstacle> {
+        field
+            .obstacles()
+            .filter(|&k| k != field.wall_key())
+            .map(|key| {
+                let (i, j) = (key as usize % grid.width(), key as usize / grid.width());
+                let p = grid.center(i, j);
+                GridObstacle {
+                    key,
+                    representative: [p.x, p.y],
+                }
+            })
+            .collect()
+    }
+}
+
 /// The graph, with start and goal attached when they were given.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct VoronoiGraph {
@@ -681,18 +699,7 @@ impl VoronoiGraph {
             edges: Vec::new(),
             start: None,
             goal: None,
-            obstacles: field
-                .obstacles()
-                .filter(|&k| k != field.wall_key())
-                .map(|key| {
-                    let (i, j) = (key as usize % grid.width(), key as usize / grid.width());
-                    let p = grid.center(i, j);
-                    GridObstacle {
-                        key,
-                        representative: [p.x, p.y],
-                    }
-                })
-                .collect(),
+            obstacles: GridObstacle::of_field(grid, field),
         };
         // Attach start and goal by splitting chains at the crack corner they reach.
         let mut attach = |g: &mut VoronoiGraph,
@@ -843,13 +850,19 @@ impl VoronoiGraph {
             used[e.from] = true;
             used[e.to] = true;
         }
+        self.keep_nodes(used);
+    }
+
+    /// Keeps the nodes marked in `keep` (and start and goal) and renumbers; every edge's ends
+    /// must be kept.
+    pub(crate) fn keep_nodes(&mut self, mut keep: Vec<bool>) {
         for n in [self.start, self.goal].into_iter().flatten() {
-            used[n] = true;
+            keep[n] = true;
         }
         let mut map = vec![usize::MAX; self.nodes.len()];
         let mut nodes = Vec::new();
         for (i, n) in self.nodes.iter().enumerate() {
-            if used[i] {
+            if keep[i] {
                 map[i] = nodes.len();
                 nodes.push(Node {
                     id: nodes.len(),
@@ -866,7 +879,7 @@ impl VoronoiGraph {
         self.nodes = nodes;
     }
 
-    /// The graph as the JSON of `shared/docs/formats.md`.
+    /// The graph as the JSON of `docs/formats.md`.
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).unwrap_or_default()
     }

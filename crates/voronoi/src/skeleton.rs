@@ -346,17 +346,7 @@ pub fn trace(grid: &Grid, field: &DistanceField, keep: &[bool]) -> VoronoiGraph 
         edges,
         start: None,
         goal: None,
-        obstacles: field
-            .obstacles()
-            .filter(|&k| k != field.wall_key())
-            .map(|key| {
-                let p = grid.center(key as usize % w, key as usize / w);
-                GridObstacle {
-                    key,
-                    representative: [p.x, p.y],
-                }
-            })
-            .collect(),
+        obstacles: GridObstacle::of_field(grid, field),
     }
 }
 
