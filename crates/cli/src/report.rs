@@ -1,4 +1,4 @@
-//! The plan result of `shared/docs/formats.md` as JSON, and the table `homospline plan`
+//! The plan result of `docs/formats.md` as JSON, and the table `homospline plan`
 //! prints.
 
 use std::fmt::Write;

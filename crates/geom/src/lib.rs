@@ -9,7 +9,7 @@
 //! - [`query`]: clearance, segment distance, intersection, line of sight and ray casts,
 //!   with the [`CircleSet`] entry point that picks a plain loop or parry's BVH by size.
 //! - [`polygon`]: a provable circle cover of simple polygons.
-//! - [`scene`]: the scene file of `shared/docs/formats.md`, validated.
+//! - [`scene`]: the scene file of `docs/formats.md`, validated.
 //!
 //! ```
 //! use homospline_geom::{Point, Scene};

@@ -1,4 +1,4 @@
-//! Scenes: the scene file of `shared/docs/formats.md` (version 1), read from YAML or JSON,
+//! Scenes: the scene file of `docs/formats.md` (version 1), read from YAML or JSON,
 //! validated with errors that name the file, the line and the field, and written back.
 //!
 //! JSON is read with the YAML parser too (JSON is YAML 1.2's flow style), so both formats
