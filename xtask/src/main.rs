@@ -10,6 +10,8 @@
 //!   `NAME.straight.txt`: the plan with each seed, one line per class (signature, length,
 //!   clearance, every cost term, collision-free, in class, rounds), never timings.
 //! - `fixtures/random/NAME.yaml` -> `fixtures/golden/plan/NAME.voronoi.txt`.
+//! - `fixtures/maps/movingai/NAME.map` with its scenario file -> `fixtures/golden/maps/NAME.txt`:
+//!   the plans of 4 scenarios spread evenly over the file, at the map defaults.
 //! - `fixtures/invalid/NAME.*` -> `fixtures/invalid/NAME.expected`: the exact error line.
 //!
 //! Tolerances are the rounding of the printed numbers: lengths and clearances to 1e-3 map
@@ -163,6 +165,9 @@ fn regress(bless: bool) -> Result<bool> {
         )?;
         count += 1;
     }
+    let (map_ok, map_count) = regress_maps(&root, bless)?;
+    ok &= map_ok;
+    count += map_count;
     let invalid = files(&root.join("fixtures/invalid"), |p| {
         p.extension().is_none_or(|e| e != "expected")
     })?;
@@ -187,6 +192,70 @@ fn regress(bless: bool) -> Result<bool> {
         if ok { "all match" } else { "MISMATCHES" }
     );
     Ok(ok)
+}
+
+/// Scenarios planned per fixture map, spread evenly over its `.scen` file (first and last
+/// included): every length the file covers, not only its short end.
+const MAP_SCENARIOS: usize = 4;
+
+/// The scenario file beside a fixture map: `NAME.map.scen` or `NAME-random-1.scen`.
+fn scenarios_of(map: &Path) -> Option<PathBuf> {
+    let name = map.file_name()?.to_str()?;
+    let stem = map.file_stem()?.to_str()?;
+    [format!("{name}.scen"), format!("{stem}-random-1.scen")]
+        .into_iter()
+        .map(|f| map.with_file_name(f))
+        .find(|p| p.is_file())
+}
+
+/// Plans `MAP_SCENARIOS` scenarios of every fixture map with a scenario file, the map
+/// prepared once, at the map defaults, against `fixtures/golden/maps/NAME.txt`.
+fn regress_maps(root: &Path, bless: bool) -> Result<(bool, usize)> {
+    let maps = files(&root.join("fixtures/maps/movingai"), |p| {
+        p.extension().is_some_and(|e| e == "map")
+    })?;
+    let (mut ok, mut count) = (true, 0);
+    for path in &maps {
+        let Some(scen_path) = scenarios_of(path) else {
+            continue;
+        };
+        let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("map");
+        let text = std::fs::read_to_string(path)?;
+        let map = homospline_maps::movingai::read_map(&text, &path.display().to_string())?;
+        let scen_text = std::fs::read_to_string(&scen_path)?;
+        let scen =
+            homospline_maps::movingai::read_scen(&scen_text, &scen_path.display().to_string())?;
+        let prepared = homospline_maps::PreparedMap::new(&map)?;
+        let cfg = homospline_maps::map_config();
+        let mut actual = String::new();
+        for k in 0..MAP_SCENARIOS.min(scen.len()) {
+            let i = if MAP_SCENARIOS > 1 {
+                k * (scen.len() - 1) / (MAP_SCENARIOS - 1)
+            } else {
+                0
+            };
+            let s = &scen[i];
+            let plan = prepared
+                .plan(s.start, s.goal, &cfg)
+                .with_context(|| format!("planning scenario {i} of {}", scen_path.display()))?;
+            actual += &format!(
+                "scenario {i} bucket {} octile {:.3}\n{}",
+                s.bucket,
+                s.optimal_length,
+                plan_golden(&plan)
+            );
+        }
+        ok &= compare(
+            &format!("maps {stem}"),
+            &root
+                .join("fixtures/golden/maps")
+                .join(format!("{stem}.txt")),
+            &actual,
+            bless,
+        )?;
+        count += 1;
+    }
+    Ok((ok, count))
 }
 
 /// Six significant digits.
@@ -214,12 +283,13 @@ fn plan_golden(plan: &Plan) -> String {
     for c in &plan.classes {
         let t = &c.cost;
         s += &format!(
-            "#{} {} length={:.3} clearance={:.3} free={} in_class={} rounds={} via={}\n   cost total={} T={} R={} L={} D={} maxc={} vis={}/{} danger={} critical={} shelter={} time={}\n",
+            "#{} {} length={:.3} clearance={:.3} free={} safe={} in_class={} rounds={} via={}\n   cost total={} T={} R={} L={} D={} maxc={} vis={}/{} danger={} critical={} shelter={} time={}\n",
             c.rank,
             c.signature,
             c.length,
             c.min_clearance,
             c.collision_free,
+            c.safe,
             c.in_class,
             c.iterations,
             c.via_points.len().saturating_sub(2),

@@ -11,7 +11,7 @@ use homospline_maps::OccupancyMap;
 use homospline_optim::{
     GrowthConfig, Optimizer, PlanConfig, Seed, default_resolution, plan_with_graph,
 };
-use homospline_spline::CostConfig;
+use homospline_spline::{CostConfig, RoughnessForm};
 use homospline_voronoi::VoronoiGraph;
 
 /// Exit code when no plan could be found.
@@ -42,6 +42,26 @@ enum OptimizerArg {
     NelderMead,
     /// L-BFGS on the analytic gradient.
     Lbfgs,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum RoughnessArg {
+    /// integral |q''| dt: the paper's (4).
+    Paper,
+    /// integral |q''|^2 dt: the bending energy.
+    Energy,
+    /// sqrt(integral |q''|^2 dt): the authors' code.
+    Authors,
+}
+
+impl From<RoughnessArg> for RoughnessForm {
+    fn from(a: RoughnessArg) -> Self {
+        match a {
+            RoughnessArg::Paper => RoughnessForm::Paper,
+            RoughnessArg::Energy => RoughnessForm::Energy,
+            RoughnessArg::Authors => RoughnessForm::Authors,
+        }
+    }
 }
 
 #[derive(Subcommand, Debug)]
@@ -266,6 +286,17 @@ struct PlanArgs {
     /// one-cell doors need more).
     #[arg(long)]
     max_via: Option<usize>,
+    /// Rounds of the growth loop (the paper's iteration limit; default 3).
+    #[arg(long)]
+    rounds: Option<usize>,
+    /// Form of roughness (4): paper = integral |q''| dt (default), energy = integral
+    /// |q''|^2 dt, authors = sqrt(integral |q''|^2 dt).
+    #[arg(long, value_enum)]
+    roughness: Option<RoughnessArg>,
+    /// Hard margin, map units: candidates less clear than this are rejected, and the chosen
+    /// class must be certified at least this clear (default 0: only collisions).
+    #[arg(long, value_name = "X", default_value_t = 0.0)]
+    clearance_floor: f64,
     /// Write the plan result (formats.md) here.
     #[arg(long, value_name = "FILE")]
     json: Option<PathBuf>,
@@ -410,6 +441,19 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
     } else {
         PlanConfig::default()
     };
+    if let Some(form) = a.roughness {
+        cost.roughness = form.into();
+    }
+    if !(a.clearance_floor.is_finite() && a.clearance_floor >= 0.0) {
+        return Err(bad(format!(
+            "--clearance-floor {}: must be a finite number >= 0",
+            a.clearance_floor
+        )));
+    }
+    let rounds = a.rounds.unwrap_or(base.growth.max_rounds);
+    if !(1..=100).contains(&rounds) {
+        return Err(bad(format!("--rounds {rounds}: must be between 1 and 100")));
+    }
     let max_via = a.max_via.unwrap_or(base.growth.max_via_points);
     if !(1..=200).contains(&max_via) {
         return Err(bad(format!(
@@ -431,9 +475,11 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
                 None => base.growth.optimizer,
             },
             max_via_points: max_via,
+            max_rounds: rounds,
             ..base.growth.clone()
         },
         threads: a.threads,
+        clearance_floor: a.clearance_floor,
         ..base
     };
     let alpha = cfg.growth.cost.alpha;

@@ -5,6 +5,8 @@ use std::fmt::Write;
 
 use homospline_geom::Point;
 use homospline_optim::Plan;
+use homospline_spline::CostTerms;
+use homospline_spline::cost::TERMS;
 use serde::Serialize;
 
 #[derive(Serialize)]
@@ -29,26 +31,26 @@ struct ClassJson<'a> {
     min_clearance: f64,
     certified_clearance: f64,
     collision_free: bool,
+    safe: bool,
     in_class: bool,
     iterations: usize,
     evaluations: usize,
     time_ms: f64,
 }
 
-#[derive(Serialize)]
-struct CostJson {
-    total: f64,
-    topology: f64,
-    roughness: f64,
-    length: f64,
-    safety: f64,
-    max_clearance: f64,
-    start_visibility: f64,
-    goal_visibility: f64,
-    danger: f64,
-    critical: f64,
-    sheltered: f64,
-    passing_time: f64,
+/// Every cost term by its name in `homospline_spline::cost::TERMS`, after the total.
+struct CostJson(CostTerms);
+
+impl Serialize for CostJson {
+    fn serialize<S: serde::Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = ser.serialize_map(Some(TERMS.len() + 1))?;
+        m.serialize_entry("total", &finite(self.0.total))?;
+        for t in &TERMS {
+            m.serialize_entry(t.name, &finite((t.value)(&self.0)))?;
+        }
+        m.end()
+    }
 }
 
 #[derive(Serialize)]
@@ -73,8 +75,8 @@ fn finite(x: f64) -> f64 {
     }
 }
 
-/// The plan as the JSON of formats.md (plus `pareto`, `certified_clearance`, `in_class` and
-/// every cost term).
+/// The plan as the JSON of `docs/formats.md` (plus `pareto`, `certified_clearance`, `safe`,
+/// `in_class` and every cost term).
 pub fn plan_json(plan: &Plan) -> String {
     let doc = PlanJson {
         scene: &plan.scene,
@@ -88,24 +90,12 @@ pub fn plan_json(plan: &Plan) -> String {
                 seed_path: pts(&c.seed_path),
                 via_points: pts(&c.via_points),
                 path: pts(&c.path),
-                cost: CostJson {
-                    total: finite(c.cost.total),
-                    topology: c.cost.topology,
-                    roughness: c.cost.roughness,
-                    length: c.cost.length,
-                    safety: finite(c.cost.safety),
-                    max_clearance: c.cost.max_clearance,
-                    start_visibility: c.cost.start_visibility,
-                    goal_visibility: c.cost.goal_visibility,
-                    danger: c.cost.danger,
-                    critical: c.cost.critical,
-                    sheltered: c.cost.sheltered,
-                    passing_time: c.cost.passing_time,
-                },
+                cost: CostJson(c.cost),
                 length: c.length,
                 min_clearance: finite(c.min_clearance),
                 certified_clearance: finite(c.certified_clearance),
                 collision_free: c.collision_free,
+                safe: c.safe,
                 in_class: c.in_class,
                 iterations: c.iterations,
                 evaluations: c.evaluations,
@@ -149,13 +139,13 @@ pub fn plan_table(plan: &Plan) -> String {
     );
     let _ = writeln!(
         s,
-        "{:>4}  {:<14} {:>8} {:>9} {:>11} {:>11} {:>6} {:>6} {:>8}  collision-free",
+        "{:>4}  {:<14} {:>8} {:>9} {:>11} {:>11} {:>6} {:>6} {:>8}  collision-free  safe",
         "rank", "class", "length", "clearance", "roughness", "cost", "rounds", "evals", "time ms"
     );
     for c in &plan.classes {
         let _ = writeln!(
             s,
-            "{:>4}  {:<14} {:>8.2} {:>9.3} {:>11.1} {:>11.2} {:>6} {:>6} {:>8.1}  {}{}",
+            "{:>4}  {:<14} {:>8.2} {:>9.3} {:>11.1} {:>11.2} {:>6} {:>6} {:>8.1}  {:<14}  {}",
             c.rank,
             short(&c.signature, 14),
             c.length,
@@ -166,10 +156,11 @@ pub fn plan_table(plan: &Plan) -> String {
             c.evaluations,
             c.time_ms,
             if c.collision_free { "yes" } else { "NO" },
-            if plan.pareto.contains(&c.rank) {
-                "  pareto"
-            } else {
-                ""
+            match (c.safe, plan.pareto.contains(&c.rank)) {
+                (true, true) => "yes   pareto",
+                (false, true) => "no    pareto",
+                (true, false) => "yes",
+                (false, false) => "no",
             }
         );
     }
@@ -178,10 +169,15 @@ pub fn plan_table(plan: &Plan) -> String {
             let c = &plan.classes[b - 1];
             let _ = writeln!(
                 s,
-                "chosen: rank {b}, class {}, length {:.2}, minimum clearance {:.3}",
+                "chosen: rank {b}, class {}, length {:.2}, minimum clearance {:.3}{}",
                 short(&c.signature, 40),
                 c.length,
-                c.min_clearance
+                c.min_clearance,
+                if c.safe {
+                    ""
+                } else {
+                    " (below dm: no collision-free class keeps the required clearance)"
+                }
             );
         }
         None => {

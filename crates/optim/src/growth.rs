@@ -79,6 +79,10 @@ pub struct Guard<'a> {
     /// is not positive: a seed that is collision-free stays so. Off for the straight seed,
     /// which starts in collision.
     pub collision_free: bool,
+    /// Reject candidates whose clearance is below this (0: no floor). [`grow`] applies it as
+    /// a ratchet: while the current curve is below the floor, a candidate may not fall below
+    /// the current curve's clearance, so a seed below the floor can still climb to it.
+    pub clearance_floor: Real,
 }
 
 impl Guard<'_> {
@@ -88,11 +92,26 @@ impl Guard<'_> {
             return Real::INFINITY;
         }
         let terms = evaluate(spline, model, &cfg.cost);
-        if self.collision_free && terms.min_clearance <= 0.0 {
+        if self.rejects(terms.min_clearance) {
             Real::INFINITY
         } else {
             terms.total
         }
+    }
+
+    /// Whether a candidate of minimum clearance `m` is rejected.
+    pub fn rejects(&self, m: Real) -> bool {
+        (self.collision_free && m <= 0.0)
+            || (self.clearance_floor > 0.0 && m < self.clearance_floor)
+    }
+
+    /// This guard with its floor lowered to `current` when the current curve is below it.
+    fn ratchet(&self, current: Real) -> Self {
+        let mut g = self.clone();
+        if g.clearance_floor > 0.0 {
+            g.clearance_floor = g.clearance_floor.min(current);
+        }
+        g
     }
 }
 
@@ -144,6 +163,25 @@ pub fn admissible(spline: &Spline, guard: &Guard<'_>, samples_per_segment: usize
     }
 }
 
+/// Spacing of the reported path's samples along a curve of length `length`.
+pub fn report_spacing(length: Real) -> Real {
+    (length / 1000.0).min(0.5)
+}
+
+/// Whether the curve stays inside `bounds`: certified per segment by its Bezier control box,
+/// else checked at the samples of the reported path (`report_spacing`).
+pub fn stays_in_bounds(spline: &Spline, bounds: &Bounds) -> bool {
+    let boxed = (0..spline.segments()).all(|i| {
+        let (lo, hi) = spline.segment_box(i);
+        bounds.contains(&lo) && bounds.contains(&hi)
+    });
+    boxed
+        || spline
+            .sample_by_arc_length(report_spacing(spline.length()))
+            .iter()
+            .all(|(_, p)| bounds.contains(p))
+}
+
 /// Runs the growth loop from `seed` (`S`, initial via-points, `T`).
 pub fn grow(
     seed: &[Point],
@@ -157,8 +195,13 @@ pub fn grow(
     let mut points = seed.to_vec();
     let mut evaluations = 0;
     let mut rounds = Vec::new();
-    let mut best_cost = guard.cost(&spline, model, cfg);
+    let outer = guard;
+    // Clearance of the current curve, for the floor's ratchet.
+    let mut current = evaluate(&spline, model, &cfg.cost).min_clearance;
+    let mut best_cost = outer.ratchet(current).cost(&spline, model, cfg);
     for round in 0..cfg.max_rounds.max(1) {
+        let round_guard = outer.ratchet(current);
+        let guard = &round_guard;
         let x0: Vec<Real> = points[1..points.len() - 1]
             .iter()
             .flat_map(|p| [p.x, p.y])
@@ -207,7 +250,7 @@ pub fn grow(
                     match build(&pts) {
                         Some(sp) if admissible(&sp, guard, cfg.guard_samples) => {
                             let (terms, g) = gradient(&sp, model, &cfg.cost);
-                            if guard.collision_free && terms.min_clearance <= 0.0 {
+                            if guard.rejects(terms.min_clearance) {
                                 (Real::INFINITY, vec![0.0; x.len()])
                             } else {
                                 (terms.total, g.iter().flat_map(|v| [v.x, v.y]).collect())
@@ -226,9 +269,11 @@ pub fn grow(
         if value < best_cost {
             let candidate = to_points(s, t, &x);
             // A guarded round's result must also be certified clear (samples can miss a thin
-            // overlap); otherwise the round's starting curve stands.
+            // overlap) and stay inside the bounds between the guard's samples; otherwise the
+            // round's starting curve stands.
             if let Some(sp) = build(&candidate)
                 && (!guard.collision_free || is_collision_free(&sp, model))
+                && stays_in_bounds(&sp, &guard.bounds)
             {
                 points = candidate;
                 spline = sp;
@@ -268,9 +313,12 @@ pub fn grow(
         match build(&grown) {
             Some(sp2)
                 if guard.cost(&sp2, model, cfg).is_finite()
-                    && (!guard.collision_free || is_collision_free(&sp2, model)) =>
+                    && (!guard.collision_free || is_collision_free(&sp2, model))
+                    && stays_in_bounds(&sp2, &guard.bounds) =>
             {
-                best_cost = evaluate(&sp2, model, &cfg.cost).total;
+                let terms = evaluate(&sp2, model, &cfg.cost);
+                best_cost = terms.total;
+                current = terms.min_clearance;
                 points = grown;
                 spline = sp2;
             }

@@ -56,6 +56,10 @@ pub struct PlanConfig {
     pub threads: Option<usize>,
     /// Tolerance of the certified clearance, map units.
     pub certify_tolerance: Real,
+    /// A hard margin: the growth loop rejects candidates whose clearance is below it (see
+    /// [`Guard::clearance_floor`]), and the chosen class must be certified at least this
+    /// clear. 0 (default): only collisions are rejected.
+    pub clearance_floor: Real,
 }
 
 impl Default for PlanConfig {
@@ -68,6 +72,7 @@ impl Default for PlanConfig {
             growth: GrowthConfig::default(),
             threads: None,
             certify_tolerance: 1e-3,
+            clearance_floor: 0.0,
         }
     }
 }
@@ -113,6 +118,9 @@ pub struct ClassPlan {
     /// Collision-free: the sampled path and the certified curve both clear every circle,
     /// and the path stays inside the bounds.
     pub collision_free: bool,
+    /// Certified to keep the required clearance `dm`: the paper's rule is that a path
+    /// breaking it is not used while another keeps it, so safe classes rank first.
+    pub safe: bool,
     /// Still in the class of its seed (always true for guarded Voronoi seeds).
     pub in_class: bool,
     /// Rounds of the growth loop.
@@ -154,7 +162,8 @@ pub struct Plan {
     pub seed: Seed,
     /// Classes in rank order.
     pub classes: Vec<ClassPlan>,
-    /// Rank of the chosen class: the best collision-free one; `None` if none is.
+    /// Rank of the chosen class: the best-ranked collision-free class certified at least
+    /// [`PlanConfig::clearance_floor`] clear; `None` if none is.
     pub best: Option<usize>,
     /// Ranks of the Pareto-optimal classes over (length, roughness, minimum clearance).
     pub pareto: Vec<usize>,
@@ -236,6 +245,12 @@ pub fn plan_world(
     if cfg.classes == 0 {
         return Err(PlanError::Config("classes must be at least 1".into()));
     }
+    if !(cfg.clearance_floor.is_finite() && cfg.clearance_floor >= 0.0) {
+        return Err(PlanError::Config(format!(
+            "clearance floor must be finite and >= 0, got {}",
+            cfg.clearance_floor
+        )));
+    }
     cfg.growth
         .cost
         .validate()
@@ -283,6 +298,9 @@ pub fn plan_world(
                     poly[last] = world.goal;
                     // On a map the class path already runs along the ridge through free
                     // cells; a rasterised scene's runs along cell sides and is centred.
+                    let poly = shortcut_ends(&poly, world.model, 1.0 / graph.resolution, |p| {
+                        rays.signature(p) == c.signature
+                    });
                     let poly = if world.grid_is_exact {
                         poly
                     } else {
@@ -318,17 +336,26 @@ pub fn plan_world(
         None => run(),
     };
     timing.optimize = ms(to);
-    // Rank: collision-free first, then by cost; ties by signature for determinism.
+    // Rank: collision-free and safe first, then collision-free, then the rest; within each,
+    // by cost; ties by signature for determinism.
+    let group = |c: &ClassPlan| match (c.collision_free, c.safe) {
+        (true, true) => 0,
+        (true, false) => 1,
+        _ => 2,
+    };
     classes.sort_by(|a, b| {
-        b.collision_free
-            .cmp(&a.collision_free)
+        group(a)
+            .cmp(&group(b))
             .then(a.cost.total.total_cmp(&b.cost.total))
             .then(a.signature.cmp(&b.signature))
     });
     for (i, c) in classes.iter_mut().enumerate() {
         c.rank = i + 1;
     }
-    let best = classes.first().filter(|c| c.collision_free).map(|c| c.rank);
+    let best = classes
+        .iter()
+        .find(|c| c.collision_free && c.certified_clearance >= cfg.clearance_floor)
+        .map(|c| c.rank);
     let pareto = classes
         .iter()
         .filter(|a| {
@@ -358,6 +385,84 @@ pub fn plan_world(
     })
 }
 
+/// Start and goal join the graph along their maximum-clearance route, which may meet the
+/// ridge behind them: the class path then runs away from its start and turns back (or passes
+/// its goal and curls into it), and the curve through it does too. This replaces each end's
+/// stretch, up to `4 clearance + 8 cells` of arc length from the start (goal), by the
+/// straight segment to the farthest point of it that the segment reaches with at least the
+/// stretch's least vertex clearance less half a cell, as long as the class stays the same.
+fn shortcut_ends(
+    poly: &[Point],
+    model: &dyn ClearanceModel,
+    cell: Real,
+    same_class: impl Fn(&[Point]) -> bool,
+) -> Vec<Point> {
+    // The indices `k > 1` (within the window) of the points `poly[k]` that `poly[0]` joins.
+    let reachable = |poly: &[Point]| -> Vec<usize> {
+        let window = 4.0 * model.clearance(&poly[0]).0.max(cell) + 8.0 * cell;
+        let mut arc = 0.0;
+        let mut stretch = model.clearance(&poly[0]).0;
+        let mut out = Vec::new();
+        for k in 1..poly.len() - 1 {
+            arc += (poly[k] - poly[k - 1]).norm();
+            if arc > window {
+                break;
+            }
+            stretch = stretch.min(model.clearance(&poly[k]).0);
+            if k > 1 && clear_at_least(model, poly[0], poly[k], stretch - 0.5 * cell, cell) {
+                out.push(k);
+            }
+        }
+        out
+    };
+    if poly.len() < 3 {
+        return poly.to_vec();
+    }
+    let mut out = poly.to_vec();
+    for pass in 0..2 {
+        // The farthest point whose shortcut keeps the class (a few tries: each is a
+        // signature of the whole path). The second pass works on the reversed path.
+        for &k in reachable(&out).iter().rev().take(SHORTCUT_TRIES) {
+            let mut cut = vec![out[0]];
+            cut.extend_from_slice(&out[k..]);
+            if pass == 1 {
+                cut.reverse();
+            }
+            if same_class(&cut) {
+                if pass == 1 {
+                    cut.reverse();
+                }
+                out = cut;
+                break;
+            }
+        }
+        out.reverse();
+    }
+    out
+}
+
+/// Shortcuts tried at each end of a seed, farthest first.
+const SHORTCUT_TRIES: usize = 32;
+
+/// Whether the segment `ab` keeps at least `target` clearance: the model's bound on the
+/// whole segment, else on its halves, down to pieces of an eighth of a cell.
+fn clear_at_least(
+    model: &dyn ClearanceModel,
+    a: Point,
+    b: Point,
+    target: Real,
+    cell: Real,
+) -> bool {
+    if model.segment_clearance(&a, &b) >= target {
+        return true;
+    }
+    if (b - a).norm() <= 0.125 * cell {
+        return false;
+    }
+    let m = Point::from((a.coords + b.coords) * 0.5);
+    clear_at_least(model, a, m, target, cell) && clear_at_least(model, m, b, target, cell)
+}
+
 /// The graph's edges run along cell sides, so in a passage one cell wide a class path can lie
 /// on an obstacle's boundary. This resamples the path every half cell and moves each inner
 /// point up the clearance gradient, a quarter cell at a time, until it is two cells clear or
@@ -384,15 +489,15 @@ fn centre(poly: &[Point], model: &dyn ClearanceModel, cell: Real) -> Vec<Point> 
 }
 
 /// Via-points for a seed polyline: Douglas-Peucker vertices, the tolerance halved until the
-/// spline through them is admissible (in the class, inside the bounds, clear of obstacles);
-/// then evenly spaced points, more and more of them. The first admissible set wins; if none
-/// is, the densest set is returned and the class is reported as it ends up.
+/// spline through them is admissible (in the class, inside the bounds, clear of obstacles and
+/// of the guard's floor); then evenly spaced points, more and more of them. The first
+/// admissible set wins; `None` if none is.
 fn seed_points(
     poly: &[Point],
     model: &dyn ClearanceModel,
     guard: &Guard<'_>,
     cfg: &GrowthConfig,
-) -> Vec<Point> {
+) -> Option<Vec<Point>> {
     let ok = |pts: &[Point]| {
         Spline::new(pts, cfg.parametrization, cfg.end).is_ok_and(|sp| {
             guard.cost(&sp, model, cfg).is_finite() && is_collision_free(&sp, model)
@@ -404,22 +509,22 @@ fn seed_points(
     for _ in 0..16 {
         let pts = homospline_geom::math::douglas_peucker(poly, tol, limit);
         if ok(&pts) {
-            return pts;
+            return Some(pts);
         }
         if pts.len() >= limit {
             break;
         }
         tol *= 0.5;
     }
-    let mut last = Vec::new();
-    for inner in 1..=cfg.max_via_points {
-        let pts = resample(poly, inner);
-        if ok(&pts) {
-            return pts;
-        }
-        last = pts;
-    }
-    last
+    (1..=cfg.max_via_points)
+        .map(|inner| resample(poly, inner))
+        .find(|pts| ok(pts))
+}
+
+/// The densest evenly spaced via-points, when no set is admissible: the class is optimised
+/// and reported as it ends up.
+fn last_resort(poly: &[Point], cfg: &GrowthConfig) -> Vec<Point> {
+    resample(poly, cfg.max_via_points)
 }
 
 /// Via-points for a seed polyline that runs through free cells (a map's ridge), by certified
@@ -609,22 +714,34 @@ fn optimise_class(
         class: signature.map(|s| (rays, s)),
         bounds: world.bounds,
         collision_free: signature.is_some(),
+        clearance_floor: cfg.clearance_floor,
+    };
+    // A seed need only be collision-free: the growth loop's ratchet raises it to the floor.
+    // On scenes the first via-point set that already keeps the floor is preferred.
+    let seed_guard = Guard {
+        clearance_floor: 0.0,
+        ..guard.clone()
     };
     let seed = match (signature, graph_cell) {
         (Some(_), Some(cell)) if world.grid_is_exact => {
-            subdivided_seed(seed_poly, model, &guard, growth, cell)
+            subdivided_seed(seed_poly, model, &seed_guard, growth, cell)
         }
-        (Some(_), _) => seed_points(seed_poly, model, &guard, growth),
+        (Some(_), _) => (guard.clearance_floor > 0.0)
+            .then(|| seed_points(seed_poly, model, &guard, growth))
+            .flatten()
+            .or_else(|| seed_points(seed_poly, model, &seed_guard, growth))
+            .unwrap_or_else(|| last_resort(seed_poly, growth)),
         (None, _) => seed_poly.to_vec(),
     };
     // On a map the via-points follow the path (hundreds on a long one), and with uniform
-    // parameters over [0, 1] the roughness grows with the cube of their number: it would
-    // swamp every other term. There it is measured with one unit of parameter per segment,
-    // which is the same integral divided by (segments)^3.
+    // parameters over [0, 1] the roughness grows with a power of their number (the paper's
+    // form: the first; the energy: the third): it would swamp every other term. There it is
+    // measured with one unit of parameter per segment, which is the same integral divided
+    // by segments^power (`RoughnessForm::segment_power`).
     let scaled;
     let growth = if world.grid_is_exact && seed.len() > 2 {
         let mut g = growth.clone();
-        g.cost.w_roughness /= ((seed.len() - 1) as Real).powi(3);
+        g.cost.w_roughness /= ((seed.len() - 1) as Real).powf(g.cost.roughness.segment_power());
         scaled = g;
         &scaled
     } else {
@@ -645,7 +762,7 @@ fn optimise_class(
         Some(sp) => {
             let length = sp.length();
             let cert = min_clearance(sp, model, cfg.certify_tolerance);
-            let samples = sp.sample_by_arc_length((length / 1000.0).min(0.5));
+            let samples = sp.sample_by_arc_length(crate::growth::report_spacing(length));
             let path = if cert.collision_free() {
                 refine_samples(sp, model, &samples)
             } else {
@@ -687,6 +804,7 @@ fn optimise_class(
         min_clearance: min_clear,
         certified_clearance: certified,
         collision_free: free,
+        safe: certified >= growth.cost.dm,
         in_class,
         iterations,
         evaluations,

@@ -3,12 +3,13 @@
 //! Integrals are taken with Gauss-Legendre quadrature on each spline segment, split into
 //! [`CostConfig::pieces`] equal pieces of [`CostConfig::nodes`] nodes. The minimal clearance
 //! `m(C)` of the safety term is the smallest node clearance refined by Brent's method
-//! around it. Terms (method.md section 3):
+//! around it. The terms (`docs/method.md`, section 3) are listed once, in [`TERMS`], which
+//! drives their names, their validation and the weighted total:
 //!
 //! | term | value |
 //! |---|---|
 //! | topology `T` (2) | `sum_c integral U_c(q) dl`, `U_c = 1 + tanh(alpha (r_c - d_c))` |
-//! | roughness `R` (4) | `integral |q''|^2 dt` |
+//! | roughness `R` (4) | `integral |q''| dt` (paper, default); `integral |q''|^2 dt` (energy); `sqrt(integral |q''|^2 dt)` (authors) |
 //! | length `L` (5) | `integral dl` |
 //! | safety `D` (7) | `omega^(dm - m(C))` |
 //! | maximal clearance | `integral max(0, d(q) - d_max) dl` |
@@ -21,6 +22,7 @@
 //! The analytic [`gradient`] covers every term but the three line-of-sight shares
 //! (visibility and shelter), which are piecewise constant in the node positions of the
 //! quadrature; their weight enters the gradient as zero (say so to a gradient optimiser).
+//! Roughness is exact, segment by segment ([`crate::roughness`]), and so is its gradient.
 
 use homospline_geom::{Point, Real, Scene, Vector};
 use thiserror::Error;
@@ -28,6 +30,8 @@ use thiserror::Error;
 use crate::curve::{Parametrization, Spline};
 use crate::field::{ClearanceModel, FieldSample};
 use crate::quad::gauss_legendre_cached;
+pub use crate::roughness::RoughnessForm;
+use crate::roughness::roughness;
 
 /// Weights and parameters of the cost.
 #[derive(Clone, Debug, PartialEq)]
@@ -54,6 +58,8 @@ pub struct CostConfig {
     pub w_sheltered: Real,
     /// Passing time.
     pub w_passing_time: Real,
+    /// The form of roughness (4).
+    pub roughness: RoughnessForm,
     /// `alpha` of the potential (1).
     pub alpha: Real,
     /// Required clearance `dm` of the safety term.
@@ -83,15 +89,186 @@ pub struct CostConfig {
     pub hazards: Vec<Point>,
 }
 
+/// One weighted term of the cost: its names, its weight and its value.
+pub struct Term {
+    /// Name for `--weight NAME=VALUE` and [`CostConfig::set`].
+    pub name: &'static str,
+    /// The paper's name of the weight (`g1` .. `g4`), if it has one.
+    pub alias: Option<&'static str>,
+    /// The weight in a configuration.
+    pub weight: fn(&CostConfig) -> Real,
+    weight_mut: fn(&mut CostConfig) -> &mut Real,
+    /// The unweighted value in a set of terms.
+    pub value: fn(&CostTerms) -> Real,
+}
+
+/// Every weighted term, in the order of the total.
+pub const TERMS: [Term; 11] = [
+    Term {
+        name: "topology",
+        alias: Some("g1"),
+        weight: |c| c.w_topology,
+        weight_mut: |c| &mut c.w_topology,
+        value: |t| t.topology,
+    },
+    Term {
+        name: "roughness",
+        alias: Some("g2"),
+        weight: |c| c.w_roughness,
+        weight_mut: |c| &mut c.w_roughness,
+        value: |t| t.roughness,
+    },
+    Term {
+        name: "length",
+        alias: Some("g3"),
+        weight: |c| c.w_length,
+        weight_mut: |c| &mut c.w_length,
+        value: |t| t.length,
+    },
+    Term {
+        name: "safety",
+        alias: Some("g4"),
+        weight: |c| c.w_safety,
+        weight_mut: |c| &mut c.w_safety,
+        value: |t| t.safety,
+    },
+    Term {
+        name: "max_clearance",
+        alias: None,
+        weight: |c| c.w_max_clearance,
+        weight_mut: |c| &mut c.w_max_clearance,
+        value: |t| t.max_clearance,
+    },
+    Term {
+        name: "start_visibility",
+        alias: None,
+        weight: |c| c.w_start_visibility,
+        weight_mut: |c| &mut c.w_start_visibility,
+        value: |t| t.start_visibility,
+    },
+    Term {
+        name: "goal_visibility",
+        alias: None,
+        weight: |c| c.w_goal_visibility,
+        weight_mut: |c| &mut c.w_goal_visibility,
+        value: |t| t.goal_visibility,
+    },
+    Term {
+        name: "danger",
+        alias: None,
+        weight: |c| c.w_danger,
+        weight_mut: |c| &mut c.w_danger,
+        value: |t| t.danger,
+    },
+    Term {
+        name: "critical",
+        alias: None,
+        weight: |c| c.w_critical,
+        weight_mut: |c| &mut c.w_critical,
+        value: |t| t.critical,
+    },
+    Term {
+        name: "sheltered",
+        alias: None,
+        weight: |c| c.w_sheltered,
+        weight_mut: |c| &mut c.w_sheltered,
+        value: |t| t.sheltered,
+    },
+    Term {
+        name: "passing_time",
+        alias: None,
+        weight: |c| c.w_passing_time,
+        weight_mut: |c| &mut c.w_passing_time,
+        value: |t| t.passing_time,
+    },
+];
+
+/// What a parameter must satisfy.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Rule {
+    /// Finite and `> 0`.
+    Positive,
+    /// Finite.
+    Finite,
+}
+
+/// One real parameter of the cost that [`CostConfig::set`] can change.
+pub struct Parameter {
+    /// Name for `--weight NAME=VALUE` and [`CostConfig::set`].
+    pub name: &'static str,
+    /// What it must satisfy.
+    pub rule: Rule,
+    /// Its value in a configuration.
+    pub get: fn(&CostConfig) -> Real,
+    get_mut: fn(&mut CostConfig) -> &mut Real,
+}
+
+/// Every settable parameter.
+pub const PARAMETERS: [Parameter; 6] = [
+    Parameter {
+        name: "alpha",
+        rule: Rule::Positive,
+        get: |c| c.alpha,
+        get_mut: |c| &mut c.alpha,
+    },
+    Parameter {
+        name: "dm",
+        rule: Rule::Finite,
+        get: |c| c.dm,
+        get_mut: |c| &mut c.dm,
+    },
+    Parameter {
+        name: "omega",
+        rule: Rule::Positive,
+        get: |c| c.omega,
+        get_mut: |c| &mut c.omega,
+    },
+    Parameter {
+        name: "d_max",
+        rule: Rule::Positive,
+        get: |c| c.d_max,
+        get_mut: |c| &mut c.d_max,
+    },
+    Parameter {
+        name: "v_max",
+        rule: Rule::Positive,
+        get: |c| c.v_max,
+        get_mut: |c| &mut c.v_max,
+    },
+    Parameter {
+        name: "lateral_accel",
+        rule: Rule::Positive,
+        get: |c| c.lateral_accel,
+        get_mut: |c| &mut c.lateral_accel,
+    },
+];
+
 /// Why a cost configuration is unusable.
 #[derive(Debug, Error, PartialEq)]
 pub enum CostConfigError {
+    /// No weight or parameter has this name.
+    #[error("unknown weight or parameter '{0}' (weights: {weights}; parameters: {params})", weights = term_names(), params = parameter_names())]
+    Unknown(String),
     /// A weight is negative, NaN or infinite.
     #[error("weight {0} must be finite and >= 0, got {1}")]
     Weight(&'static str, Real),
     /// A parameter is out of its range.
     #[error("parameter {0} {1}, got {2}")]
     Parameter(&'static str, &'static str, Real),
+}
+
+/// The weights' names, comma-separated.
+pub fn term_names() -> String {
+    TERMS.iter().map(|t| t.name).collect::<Vec<_>>().join(", ")
+}
+
+/// The settable parameters' names, comma-separated.
+pub fn parameter_names() -> String {
+    PARAMETERS
+        .iter()
+        .map(|p| p.name)
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 impl Default for CostConfig {
@@ -115,6 +292,7 @@ impl CostConfig {
             w_critical: 0.0,
             w_sheltered: 0.0,
             w_passing_time: 0.0,
+            roughness: RoughnessForm::Paper,
             alpha: 0.5,
             dm: 3.0,
             omega: 20.0,
@@ -164,79 +342,56 @@ impl CostConfig {
         self
     }
 
-    /// Sets a weight by its name (`topology`, `roughness`, `length`, `safety`,
-    /// `max_clearance`, `start_visibility`, `goal_visibility`, `danger`, `critical`,
-    /// `sheltered`, `passing_time`) or a parameter (`alpha`, `dm`, `omega`, `d_max`, `v_max`,
-    /// `lateral_accel`); validated.
-    pub fn set(&mut self, name: &str, value: Real) -> Result<(), String> {
+    /// Sets a weight by its name in [`TERMS`] (or the paper's `g1` .. `g4`) or a parameter
+    /// of [`PARAMETERS`]; validated, and on error the old value stays.
+    pub fn set(&mut self, name: &str, value: Real) -> Result<(), CostConfigError> {
         let slot = self
             .slot(name)
-            .ok_or_else(|| format!("unknown weight or parameter '{name}'"))?;
+            .ok_or_else(|| CostConfigError::Unknown(name.to_string()))?;
         let old = std::mem::replace(slot, value);
-        self.validate().map_err(|e| {
+        self.validate().inspect_err(|_| {
             if let Some(slot) = self.slot(name) {
                 *slot = old;
             }
-            e.to_string()
         })
     }
 
     /// The weight or parameter called `name`.
     fn slot(&mut self, name: &str) -> Option<&mut Real> {
-        Some(match name {
-            "topology" | "g1" => &mut self.w_topology,
-            "roughness" | "g2" => &mut self.w_roughness,
-            "length" | "g3" => &mut self.w_length,
-            "safety" | "g4" => &mut self.w_safety,
-            "max_clearance" => &mut self.w_max_clearance,
-            "start_visibility" => &mut self.w_start_visibility,
-            "goal_visibility" => &mut self.w_goal_visibility,
-            "danger" => &mut self.w_danger,
-            "critical" => &mut self.w_critical,
-            "sheltered" => &mut self.w_sheltered,
-            "passing_time" => &mut self.w_passing_time,
-            "alpha" => &mut self.alpha,
-            "dm" => &mut self.dm,
-            "omega" => &mut self.omega,
-            "d_max" => &mut self.d_max,
-            "v_max" => &mut self.v_max,
-            "lateral_accel" => &mut self.lateral_accel,
-            _ => return None,
-        })
+        if let Some(t) = TERMS
+            .iter()
+            .find(|t| t.name == name || t.alias == Some(name))
+        {
+            return Some((t.weight_mut)(self));
+        }
+        PARAMETERS
+            .iter()
+            .find(|p| p.name == name)
+            .map(|p| (p.get_mut)(self))
     }
 
     /// Checks every weight and parameter.
     pub fn validate(&self) -> Result<(), CostConfigError> {
-        for (name, w) in [
-            ("topology", self.w_topology),
-            ("roughness", self.w_roughness),
-            ("length", self.w_length),
-            ("safety", self.w_safety),
-            ("max_clearance", self.w_max_clearance),
-            ("start_visibility", self.w_start_visibility),
-            ("goal_visibility", self.w_goal_visibility),
-            ("danger", self.w_danger),
-            ("critical", self.w_critical),
-            ("sheltered", self.w_sheltered),
-            ("passing_time", self.w_passing_time),
-        ] {
+        for t in &TERMS {
+            let w = (t.weight)(self);
             if !(w.is_finite() && w >= 0.0) {
-                return Err(CostConfigError::Weight(name, w));
+                return Err(CostConfigError::Weight(t.name, w));
             }
         }
-        for (name, v) in [
-            ("alpha", self.alpha),
-            ("omega", self.omega),
-            ("v_max", self.v_max),
-            ("lateral_accel", self.lateral_accel),
-            ("d_max", self.d_max),
-        ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(CostConfigError::Parameter(
-                    name,
-                    "must be finite and > 0",
-                    v,
-                ));
+        for p in &PARAMETERS {
+            let v = (p.get)(self);
+            match p.rule {
+                Rule::Positive if !(v.is_finite() && v > 0.0) => {
+                    return Err(CostConfigError::Parameter(
+                        p.name,
+                        "must be finite and > 0",
+                        v,
+                    ));
+                }
+                Rule::Finite if !v.is_finite() => {
+                    return Err(CostConfigError::Parameter(p.name, "must be finite", v));
+                }
+                _ => {}
             }
         }
         if !(0.0..=1e-3).contains(&self.tolerance) {
@@ -245,9 +400,6 @@ impl CostConfig {
                 "must be in [0, 1e-3]",
                 self.tolerance,
             ));
-        }
-        if !self.dm.is_finite() {
-            return Err(CostConfigError::Parameter("dm", "must be finite", self.dm));
         }
         if !(2..=64).contains(&self.nodes) {
             return Err(CostConfigError::Parameter(
@@ -266,19 +418,11 @@ impl CostConfig {
         Ok(())
     }
 
-    /// The weighted sum of `t`.
+    /// The weighted sum of `t`, term by term in the order of [`TERMS`].
     pub fn total(&self, t: &CostTerms) -> Real {
-        self.w_topology * t.topology
-            + self.w_roughness * t.roughness
-            + self.w_length * t.length
-            + self.w_safety * t.safety
-            + self.w_max_clearance * t.max_clearance
-            + self.w_start_visibility * t.start_visibility
-            + self.w_goal_visibility * t.goal_visibility
-            + self.w_danger * t.danger
-            + self.w_critical * t.critical
-            + self.w_sheltered * t.sheltered
-            + self.w_passing_time * t.passing_time
+        TERMS
+            .iter()
+            .fold(0.0, |acc, term| acc + (term.weight)(self) * (term.value)(t))
     }
 }
 
@@ -477,226 +621,365 @@ fn unit(v: &Vector) -> Vector {
     if n > 0.0 { v / n } else { Vector::zeros() }
 }
 
+/// One quadrature node of the curve.
+#[derive(Clone, Copy)]
+struct Node {
+    /// Spline segment.
+    seg: usize,
+    /// Parameter within the segment.
+    s: Real,
+    /// Quadrature weight times the piece's parameter length (`dt`).
+    dt: Real,
+    /// `q'`.
+    v: Vector,
+    /// `q''`.
+    a: Vector,
+    /// `|q'|`.
+    speed: Real,
+}
+
+/// The curve at its quadrature nodes, with its length.
+struct Samples {
+    points: Vec<Point>,
+    nodes: Vec<Node>,
+    length: Real,
+}
+
+/// Step 1: every quadrature node of the curve, and its length.
+fn sample(spline: &Spline, cfg: &CostConfig) -> Samples {
+    let (gx, gw) = gauss_legendre_cached(cfg.nodes.clamp(2, 64));
+    let pieces = cfg.pieces.max(1);
+    let knots = spline.knots();
+    let cap = spline.segments() * pieces * gx.len();
+    let mut out = Samples {
+        points: Vec::with_capacity(cap),
+        nodes: Vec::with_capacity(cap),
+        length: 0.0,
+    };
+    for seg in 0..spline.segments() {
+        let h = (knots[seg + 1] - knots[seg]) / pieces as Real;
+        for piece in 0..pieces {
+            let base = h * piece as Real;
+            for (&x, &w) in gx.iter().zip(gw.iter()) {
+                let s = base + h * x;
+                let (p, v, a) = spline.eval_segment(seg, s);
+                let speed = v.norm();
+                let dt = w * h;
+                out.length += dt * speed;
+                out.points.push(p);
+                out.nodes.push(Node {
+                    seg,
+                    s,
+                    dt,
+                    v,
+                    a,
+                    speed,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// Step 2: the field (potential and clearance) at every node, in one batch query. Far
+/// circles' potential may be left out within the configured tolerance.
+fn query_field(
+    model: &dyn ClearanceModel,
+    samples: &Samples,
+    roughness: Real,
+    cfg: &CostConfig,
+) -> Vec<FieldSample> {
+    let mut field = vec![FieldSample::default(); samples.points.len()];
+    // Left-out potential per unit length <= allowance, so the topology term loses at most
+    // allowance * L = tolerance * (g2 R + g3 L) <= tolerance * total.
+    let length = samples.length;
+    let allowance = if cfg.w_topology > 0.0 && length > 0.0 {
+        cfg.tolerance * (cfg.w_roughness * roughness + cfg.w_length * length)
+            / (cfg.w_topology * length)
+    } else {
+        0.0
+    };
+    model.field_batch(&samples.points, cfg.alpha, allowance, &mut field);
+    field
+}
+
+/// The node of least clearance.
+#[derive(Clone, Copy)]
+struct Worst {
+    clearance: Real,
+    index: usize,
+}
+
+/// What [`run`] must compute beyond what the weights need.
+#[derive(Clone, Copy)]
+struct Needs {
+    /// Every term's value (an evaluation reports them all; a gradient only what it weighs).
+    all: bool,
+    field: bool,
+    clearance: bool,
+    line_of_sight: bool,
+}
+
+impl Needs {
+    fn of(cfg: &CostConfig, gradient: bool) -> Self {
+        let all = !gradient;
+        Self {
+            all,
+            field: all || cfg.w_topology > 0.0 || cfg.w_safety > 0.0 || cfg.w_max_clearance > 0.0,
+            clearance: all || cfg.w_safety > 0.0 || cfg.w_max_clearance > 0.0,
+            line_of_sight: cfg.w_start_visibility > 0.0
+                || cfg.w_goal_visibility > 0.0
+                || (cfg.w_sheltered > 0.0 && !cfg.hazards.is_empty()),
+        }
+    }
+}
+
+/// Step 3: the integrals over the nodes (topology, maximal clearance, danger, critical,
+/// passing time) and, with `grad`, each node's partial derivatives; returns the node of least
+/// clearance.
+fn integrate(
+    samples: &Samples,
+    field: &[FieldSample],
+    cfg: &CostConfig,
+    needs: Needs,
+    t: &mut CostTerms,
+    mut grad: Option<&mut Vec<NodePartial>>,
+) -> Option<Worst> {
+    let mut worst: Option<Worst> = None;
+    for (idx, n) in samples.nodes.iter().enumerate() {
+        let (p, wq, v, a, speed) = (samples.points[idx], n.dt, n.v, n.a, n.speed);
+        let vhat = if speed > 0.0 {
+            v / speed
+        } else {
+            Vector::zeros()
+        };
+        let (u, du) = if needs.field {
+            (field[idx].potential, field[idx].potential_grad)
+        } else {
+            (0.0, Vector::zeros())
+        };
+        t.topology += wq * u * speed;
+        let mut gq = du * (cfg.w_topology * wq * speed);
+        let mut gv = vhat * (cfg.w_length + cfg.w_topology * u) * wq;
+        let mut ga = Vector::zeros();
+        if needs.clearance {
+            let (d, dd) = (field[idx].clearance, field[idx].clearance_grad);
+            if worst.is_none_or(|w| d < w.clearance) {
+                worst = Some(Worst {
+                    clearance: d,
+                    index: idx,
+                });
+            }
+            if d > cfg.d_max {
+                t.max_clearance += wq * (d - cfg.d_max) * speed;
+                gq += dd * (cfg.w_max_clearance * wq * speed);
+                gv += vhat * (cfg.w_max_clearance * wq * (d - cfg.d_max));
+            }
+        }
+        for &(at, dmin) in &cfg.danger_points {
+            let r = p - at;
+            let e = dmin - r.norm();
+            if e > 0.0 {
+                t.danger += wq * e * e * speed;
+                gq -= unit(&r) * (cfg.w_danger * wq * speed * 2.0 * e);
+                gv += vhat * (cfg.w_danger * wq * e * e);
+            }
+        }
+        for &(at, dmax) in &cfg.critical_points {
+            let r = p - at;
+            let e = r.norm() - dmax;
+            if e > 0.0 {
+                t.critical += wq * e * e * speed;
+                gq += unit(&r) * (cfg.w_critical * wq * speed * 2.0 * e);
+                gv += vhat * (cfg.w_critical * wq * e * e);
+            }
+        }
+        if cfg.w_passing_time > 0.0 || needs.all {
+            let c = v.x * a.y - v.y * a.x;
+            // The curvature limit binds when sqrt(|c| / (a_lat speed^3)) > 1 / v_max, that
+            // is |c| v_max^2 > a_lat speed^3: no root or division to decide.
+            let curvy = c.abs() * cfg.v_max * cfg.v_max > cfg.lateral_accel * speed * speed * speed;
+            if !curvy || speed == 0.0 || c == 0.0 {
+                t.passing_time += wq * speed / cfg.v_max;
+                gv += vhat * (cfg.w_passing_time * wq / cfg.v_max);
+            } else {
+                // f = sqrt(|c| / a_lat) speed^(-1/2).
+                let k0 = 1.0 / cfg.lateral_accel.sqrt();
+                t.passing_time += wq * k0 * c.abs().sqrt() / speed.sqrt();
+                let dc = c.signum() / (2.0 * c.abs().sqrt());
+                let w = cfg.w_passing_time * wq * k0;
+                gv += (Vector::new(a.y, -a.x) * (dc / speed.sqrt())
+                    - v * (0.5 * c.abs().sqrt() * speed.powf(-2.5)))
+                    * w;
+                ga += Vector::new(-v.y, v.x) * (dc / speed.sqrt() * w);
+            }
+        }
+        if let Some(g) = grad.as_deref_mut() {
+            g.push(NodePartial {
+                seg: n.seg,
+                s: n.s,
+                gq,
+                gv,
+                ga,
+            });
+        }
+    }
+    worst
+}
+
+/// Step 4: `m(C)`, the worst node's clearance refined by Brent's method between its
+/// neighbours (where a local minimum next to the smallest sample lies), in global `t` so that
+/// a minimum across a knot is found too. Returns `(t, m)`.
+fn refine_min_clearance(
+    spline: &Spline,
+    model: &dyn ClearanceModel,
+    samples: &Samples,
+    worst: Worst,
+) -> (Real, Real) {
+    let knots = spline.knots();
+    let t_of = |i: usize| knots[samples.nodes[i].seg] + samples.nodes[i].s;
+    let idx = worst.index;
+    let t0 = t_of(idx);
+    let ta = if idx > 0 { t_of(idx - 1) } else { 0.0 };
+    let tz = if idx + 1 < samples.nodes.len() {
+        t_of(idx + 1)
+    } else {
+        1.0
+    };
+    // The bracket's stretch of curve lies in the box of its Bezier control points (per
+    // segment it touches); only circles that can come nearer than the worst node's clearance
+    // there matter.
+    let (sa, sz) = (spline.locate(ta).0, spline.locate(tz).0);
+    let (mut lo, mut hi) = (spline.position(ta), spline.position(ta));
+    for k in sa..=sz {
+        let s0 = (ta - knots[k]).max(0.0);
+        let s1 = (tz - knots[k]).min(knots[k + 1] - knots[k]);
+        let ((p0, v0, _), (p3, v3, _)) = (spline.eval_segment(k, s0), spline.eval_segment(k, s1));
+        let third = (s1 - s0) / 3.0;
+        for p in [p0, p0 + v0 * third, p3 - v3 * third, p3] {
+            lo = lo.inf(&p);
+            hi = hi.sup(&p);
+        }
+    }
+    let local = model.restricted(&lo, &hi, worst.clearance);
+    let near: &dyn ClearanceModel = local.as_deref().unwrap_or(model);
+    let f = |t: Real| near.clearance(&spline.position(t)).0;
+    let (tb, fb) = brent_min(f, (ta, tz), (t0, worst.clearance), 1e-10);
+    // Brent searches the open bracket; a minimum at one of its ends (the start or the goal
+    // inside an obstacle's reach) is taken there exactly.
+    let (tb, fb) = [(ta, f(ta)), (tz, f(tz))]
+        .into_iter()
+        .fold((tb, fb), |best, e| if e.1 < best.1 { e } else { best });
+    if fb < worst.clearance {
+        (tb, fb)
+    } else {
+        (t0, worst.clearance)
+    }
+}
+
+/// Step 5: the line-of-sight shares (start and goal visibility, shelter from hazards).
+fn line_of_sight_shares(
+    spline: &Spline,
+    model: &dyn ClearanceModel,
+    samples: &Samples,
+    cfg: &CostConfig,
+    t: &mut CostTerms,
+) {
+    let total_len = samples.length.max(Real::MIN_POSITIVE);
+    let dl = |i: usize| samples.nodes[i].dt * samples.nodes[i].speed;
+    let start = spline.points()[0];
+    let goal = *spline.points().last().unwrap_or(&start);
+    let visible_prefix = |from: &Point, order: &mut dyn Iterator<Item = usize>| {
+        let mut len = 0.0;
+        for i in order {
+            if !model.line_of_sight(from, &samples.points[i]) {
+                break;
+            }
+            len += dl(i);
+        }
+        len
+    };
+    let count = samples.points.len();
+    if cfg.w_start_visibility > 0.0 {
+        t.start_visibility = 1.0 - visible_prefix(&start, &mut (0..count)) / total_len;
+    }
+    if cfg.w_goal_visibility > 0.0 {
+        t.goal_visibility = 1.0 - visible_prefix(&goal, &mut (0..count).rev()) / total_len;
+    }
+    if cfg.w_sheltered > 0.0 && !cfg.hazards.is_empty() {
+        let hidden: Real = (0..count)
+            .filter(|&i| {
+                cfg.hazards
+                    .iter()
+                    .all(|h| !model.line_of_sight(h, &samples.points[i]))
+            })
+            .map(dl)
+            .sum();
+        t.sheltered = 1.0 - hidden / total_len;
+    }
+}
+
+/// Every term of the cost, and with `grad` the partial derivatives of the weighted total at
+/// each node (the safety term's at the point of least clearance).
 fn run(
     spline: &Spline,
     model: &dyn ClearanceModel,
     cfg: &CostConfig,
     mut grad: Option<&mut Vec<NodePartial>>,
 ) -> CostTerms {
-    let (gx, gw) = gauss_legendre_cached(cfg.nodes.clamp(2, 64));
-    let pieces = cfg.pieces.max(1);
+    let needs = Needs::of(cfg, grad.is_some());
+    let samples = sample(spline, cfg);
+    let rough = roughness(spline, cfg.roughness, grad.is_some());
     let mut t = CostTerms {
         min_clearance: Real::INFINITY,
+        length: samples.length,
+        roughness: rough.value,
         ..CostTerms::default()
     };
-    let need_field =
-        cfg.w_topology > 0.0 || cfg.w_safety > 0.0 || cfg.w_max_clearance > 0.0 || grad.is_none();
-    let need_clearance = cfg.w_safety > 0.0 || cfg.w_max_clearance > 0.0 || grad.is_none();
-    let knots = spline.knots();
-    let nodes = gx.len();
-    // All quadrature nodes of the curve first, then one field query for all of them.
-    let mut pts = Vec::with_capacity(spline.segments() * pieces * nodes);
-    let mut meta = Vec::with_capacity(pts.capacity()); // (segment, s, weight, v, a, |v|)
-    // Length and roughness first: they bound the total from below, which sets how much of
-    // the far circles' potential may be left out.
-    let (mut length, mut roughness) = (0.0, 0.0);
-    for seg in 0..spline.segments() {
-        let h = (knots[seg + 1] - knots[seg]) / pieces as Real;
-        for piece in 0..pieces {
-            let base = h * piece as Real;
-            for k in 0..nodes {
-                let s = base + h * gx[k];
-                let (p, v, a) = spline.eval_segment(seg, s);
-                let speed = v.norm();
-                length += gw[k] * h * speed;
-                roughness += gw[k] * h * a.norm_squared();
-                pts.push(p);
-                meta.push((seg, s, gw[k] * h, v, a, speed));
-            }
+    if let Some(g) = grad.as_deref_mut() {
+        // Roughness depends on q'' at the knots only.
+        let knots = spline.knots();
+        let last = spline.segments() - 1;
+        for (i, d) in rough.knot_partials.iter().enumerate() {
+            let (seg, s) = if i <= last {
+                (i, 0.0)
+            } else {
+                (last, knots[last + 1] - knots[last])
+            };
+            g.push(NodePartial {
+                seg,
+                s,
+                gq: Vector::zeros(),
+                gv: Vector::zeros(),
+                ga: d * cfg.w_roughness,
+            });
         }
     }
-    (t.length, t.roughness) = (length, roughness);
-    let mut field = vec![FieldSample::default(); pts.len()];
-    if need_field {
-        // Left-out potential per unit length <= allowance, so the topology term loses at
-        // most allowance * L = tolerance * (g2 R + g3 L) <= tolerance * total.
-        let allowance = if cfg.w_topology > 0.0 && length > 0.0 {
-            cfg.tolerance * (cfg.w_roughness * roughness + cfg.w_length * length)
-                / (cfg.w_topology * length)
-        } else {
-            0.0
-        };
-        model.field_batch(&pts, cfg.alpha, allowance, &mut field);
-    }
-    // Node with the smallest clearance: (clearance, segment, s, node index).
-    let mut worst = (Real::INFINITY, 0usize, 0.0, 0usize);
-    // (segment, s, length weight, point) of each node, in order, for the line-of-sight shares.
-    let mut trail: Vec<(usize, Real, Real, Point)> = Vec::new();
-    let need_trail = cfg.w_start_visibility > 0.0
-        || cfg.w_goal_visibility > 0.0
-        || (cfg.w_sheltered > 0.0 && !cfg.hazards.is_empty());
-    {
-        {
-            for (idx, &(seg, s, wq, v, a, speed)) in meta.iter().enumerate() {
-                let p = pts[idx];
-                let vhat = if speed > 0.0 {
-                    v / speed
-                } else {
-                    Vector::zeros()
-                };
-                let (u, du) = (field[idx].potential, field[idx].potential_grad);
-                t.topology += wq * u * speed;
-                let mut gq = Vector::zeros();
-                let mut gv = vhat * (cfg.w_length + cfg.w_topology * u) * wq;
-                let mut ga = a * (2.0 * cfg.w_roughness * wq);
-                gq += du * (cfg.w_topology * wq * speed);
-                if need_clearance {
-                    let (d, dd) = (field[idx].clearance, field[idx].clearance_grad);
-                    if d < worst.0 {
-                        worst = (d, seg, s, idx);
-                    }
-                    if d > cfg.d_max {
-                        t.max_clearance += wq * (d - cfg.d_max) * speed;
-                        gq += dd * (cfg.w_max_clearance * wq * speed);
-                        gv += vhat * (cfg.w_max_clearance * wq * (d - cfg.d_max));
-                    }
-                }
-                for &(at, dmin) in &cfg.danger_points {
-                    let r = p - at;
-                    let dist = r.norm();
-                    let e = dmin - dist;
-                    if e > 0.0 {
-                        t.danger += wq * e * e * speed;
-                        gq -= unit(&r) * (cfg.w_danger * wq * speed * 2.0 * e);
-                        gv += vhat * (cfg.w_danger * wq * e * e);
-                    }
-                }
-                for &(at, dmax) in &cfg.critical_points {
-                    let r = p - at;
-                    let e = r.norm() - dmax;
-                    if e > 0.0 {
-                        t.critical += wq * e * e * speed;
-                        gq += unit(&r) * (cfg.w_critical * wq * speed * 2.0 * e);
-                        gv += vhat * (cfg.w_critical * wq * e * e);
-                    }
-                }
-                if cfg.w_passing_time > 0.0 || grad.is_none() {
-                    let c = v.x * a.y - v.y * a.x;
-                    // The curvature limit binds when sqrt(|c| / (a_lat speed^3)) > 1 / v_max,
-                    // that is |c| v_max^2 > a_lat speed^3: no root or division to decide.
-                    let curvy =
-                        c.abs() * cfg.v_max * cfg.v_max > cfg.lateral_accel * speed * speed * speed;
-                    if !curvy || speed == 0.0 || c == 0.0 {
-                        t.passing_time += wq * speed / cfg.v_max;
-                        gv += vhat * (cfg.w_passing_time * wq / cfg.v_max);
-                    } else {
-                        // f = sqrt(|c| / a_lat) speed^(-1/2).
-                        let k0 = 1.0 / cfg.lateral_accel.sqrt();
-                        t.passing_time += wq * k0 * c.abs().sqrt() / speed.sqrt();
-                        let dc = c.signum() / (2.0 * c.abs().sqrt());
-                        let w = cfg.w_passing_time * wq * k0;
-                        gv += (Vector::new(a.y, -a.x) * (dc / speed.sqrt())
-                            - v * (0.5 * c.abs().sqrt() * speed.powf(-2.5)))
-                            * w;
-                        ga += Vector::new(-v.y, v.x) * (dc / speed.sqrt() * w);
-                    }
-                }
-                if need_trail {
-                    trail.push((seg, s, wq * speed, p));
-                }
-                if let Some(g) = grad.as_deref_mut() {
-                    g.push(NodePartial { seg, s, gq, gv, ga });
-                }
-            }
-        }
-    }
-    let total_len = t.length.max(Real::MIN_POSITIVE);
-    if need_clearance && worst.0.is_finite() {
-        // Brent's refinement of m(C) between the worst node's neighbours (where a local
-        // minimum next to the smallest sample lies), in global `t` so that a minimum across
-        // a knot is found too.
-        let (_, seg, s0, idx) = worst;
-        let t0 = knots[seg] + s0;
-        let t_of = |i: usize| knots[meta[i].0] + meta[i].1;
-        let ta = if idx > 0 { t_of(idx - 1) } else { 0.0 };
-        let tz = if idx + 1 < meta.len() {
-            t_of(idx + 1)
-        } else {
-            1.0
-        };
-        // The bracket's stretch of curve lies in the box of its Bezier control points (per
-        // segment it touches); only circles that can come nearer than the worst node's
-        // clearance there matter.
-        let (sa, sz) = (spline.locate(ta).0, spline.locate(tz).0);
-        let (mut lo, mut hi) = (spline.position(ta), spline.position(ta));
-        for k in sa..=sz {
-            let s0 = (ta - knots[k]).max(0.0);
-            let s1 = (tz - knots[k]).min(knots[k + 1] - knots[k]);
-            let ((p0, v0, _), (p3, v3, _)) =
-                (spline.eval_segment(k, s0), spline.eval_segment(k, s1));
-            let third = (s1 - s0) / 3.0;
-            for p in [p0, p0 + v0 * third, p3 - v3 * third, p3] {
-                lo = lo.inf(&p);
-                hi = hi.sup(&p);
-            }
-        }
-        let local = model.restricted(&lo, &hi, worst.0);
-        let near: &dyn ClearanceModel = local.as_deref().unwrap_or(model);
-        let f = |t: Real| near.clearance(&spline.position(t)).0;
-        let (tb, fb) = brent_min(f, (ta, tz), (t0, worst.0), 1e-10);
-        // Brent searches the open bracket; a minimum at one of its ends (the start or the
-        // goal inside an obstacle's reach) is taken there exactly.
-        let (tb, fb) = [(ta, f(ta)), (tz, f(tz))]
-            .into_iter()
-            .fold((tb, fb), |best, e| if e.1 < best.1 { e } else { best });
-        let (tm, m) = if fb < worst.0 {
-            (tb, fb)
-        } else {
-            (t0, worst.0)
-        };
-        let (seg, sm) = spline.locate(tm);
+    let field = if needs.field {
+        query_field(model, &samples, t.roughness, cfg)
+    } else {
+        Vec::new()
+    };
+    let worst = integrate(&samples, &field, cfg, needs, &mut t, grad.as_deref_mut());
+    if let Some(worst) = worst.filter(|w| w.clearance.is_finite()) {
+        let (tm, m) = refine_min_clearance(spline, model, &samples, worst);
         t.min_clearance = m;
         t.safety = cfg.omega.powf(cfg.dm - m);
         if let Some(g) = grad {
-            let (_, dd) = model.clearance(&spline.eval_segment(seg, sm).0);
+            let (seg, s) = spline.locate(tm);
+            let (_, dd) = model.clearance(&spline.eval_segment(seg, s).0);
             let coef = -cfg.w_safety * t.safety * cfg.omega.ln();
             g.push(NodePartial {
                 seg,
-                s: sm,
+                s,
                 gq: dd * coef,
                 gv: Vector::zeros(),
                 ga: Vector::zeros(),
             });
         }
     }
-    if need_trail {
-        let start = spline.points()[0];
-        let goal = *spline.points().last().unwrap_or(&start);
-        let visible_prefix =
-            |from: &Point, order: &mut dyn Iterator<Item = &(usize, Real, Real, Point)>| {
-                let mut len = 0.0;
-                for (_, _, dl, p) in order {
-                    if !model.line_of_sight(from, p) {
-                        break;
-                    }
-                    len += dl;
-                }
-                len
-            };
-        if cfg.w_start_visibility > 0.0 {
-            t.start_visibility = 1.0 - visible_prefix(&start, &mut trail.iter()) / total_len;
-        }
-        if cfg.w_goal_visibility > 0.0 {
-            t.goal_visibility = 1.0 - visible_prefix(&goal, &mut trail.iter().rev()) / total_len;
-        }
-        if cfg.w_sheltered > 0.0 && !cfg.hazards.is_empty() {
-            let hidden: Real = trail
-                .iter()
-                .filter(|(_, _, _, p)| cfg.hazards.iter().all(|h| !model.line_of_sight(h, p)))
-                .map(|(_, _, dl, _)| dl)
-                .sum();
-            t.sheltered = 1.0 - hidden / total_len;
-        }
+    if needs.line_of_sight {
+        line_of_sight_shares(spline, model, &samples, cfg, &mut t);
     }
     t.total = cfg.total(&t);
     t
@@ -715,11 +998,23 @@ mod tests {
         assert_eq!(c.w_length, 1.0);
         assert_eq!(
             c.set("safty", 1.0).unwrap_err(),
-            "unknown weight or parameter 'safty'"
+            CostConfigError::Unknown("safty".into())
         );
-        assert!(c.set("alpha", -1.0).is_err());
+        assert!(
+            c.set("safty", 1.0)
+                .unwrap_err()
+                .to_string()
+                .starts_with("unknown weight or parameter 'safty' (weights: topology, roughness")
+        );
+        assert_eq!(
+            c.set("alpha", -1.0).unwrap_err(),
+            CostConfigError::Parameter("alpha", "must be finite and > 0", -1.0)
+        );
         assert_eq!(c.alpha, 0.5);
-        assert!(c.set("roughness", Real::NAN).is_err());
+        assert!(matches!(
+            c.set("roughness", Real::NAN),
+            Err(CostConfigError::Weight("roughness", _))
+        ));
         assert_eq!(c.w_roughness, 1.0);
     }
 }

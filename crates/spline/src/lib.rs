@@ -7,6 +7,8 @@
 //!   is this point from obstacles, and towards where", with [`CircleModel`] (exact).
 //! - [`cost`]: [`CostConfig`] (weights and parameters, the paper's presets), [`evaluate`]
 //!   and [`gradient`] (analytic, with respect to the inner via-points).
+//! - [`roughness`]: roughness (4) in closed form per segment, in the paper's, the energy
+//!   and the authors' forms.
 //! - [`certify`]: [`min_clearance`], a certified interval for the minimum clearance along the
 //!   curve, refined where clearance is small.
 //!
@@ -30,8 +32,9 @@ pub mod cost;
 pub mod curve;
 pub mod field;
 pub mod quad;
+pub mod roughness;
 
 pub use certify::{CertifiedClearance, is_collision_free, min_clearance};
-pub use cost::{CostConfig, CostTerms, evaluate, gradient};
+pub use cost::{CostConfig, CostConfigError, CostTerms, RoughnessForm, evaluate, gradient};
 pub use curve::{EndCondition, Parametrization, Spline, SplineError};
 pub use field::{CircleModel, ClearanceModel};

@@ -2,7 +2,8 @@
 
 use homospline_geom::{Circle, Point, Real};
 use homospline_spline::{
-    CircleModel, CostConfig, EndCondition, Parametrization, Spline, evaluate, gradient,
+    CircleModel, CostConfig, EndCondition, Parametrization, RoughnessForm, Spline, evaluate,
+    gradient,
 };
 use proptest::prelude::*;
 
@@ -71,6 +72,7 @@ proptest! {
         inner in prop::collection::vec((5.0..55.0, 5.0..55.0), 1..6),
         circles in prop::collection::vec((0.0..60.0, 0.0..60.0, 1.0..5.0), 1..12),
         clamped in any::<bool>(),
+        form in prop::sample::select(RoughnessForm::ALL.to_vec()),
     ) {
         let mut pts = vec![Point::new(2.0, 30.0)];
         pts.extend(inner.into_iter().map(|(x, y)| Point::new(x, y)));
@@ -81,7 +83,7 @@ proptest! {
         } else {
             EndCondition::Natural
         };
-        check(&pts, end, &model, &cfg())?;
+        check(&pts, end, &model, &CostConfig { roughness: form, ..cfg() })?;
     }
 }
 
