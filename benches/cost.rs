@@ -4,7 +4,9 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use homospline_geom::{Circle, Point, Real};
-use homospline_spline::{CircleModel, CostConfig, Spline, evaluate, gradient, min_clearance};
+use homospline_spline::{
+    CircleModel, CostConfig, RoughnessForm, Spline, evaluate, gradient, min_clearance,
+};
 use std::hint::black_box;
 
 /// 60 circles on a jittered 10 x 6 lattice over 90 x 66 units, radii 1.5 to 2.5.
@@ -47,6 +49,16 @@ fn bench(c: &mut Criterion) {
         let cfg = CostConfig::paper_original();
         b.iter(|| evaluate(black_box(&spline), &model, &cfg))
     });
+    for form in [RoughnessForm::Energy, RoughnessForm::Authors] {
+        let cfg = CostConfig {
+            roughness: form,
+            ..CostConfig::paper_voronoi()
+        };
+        g.bench_function(
+            format!("cost_paper_voronoi_{form}_12_via_60_circles"),
+            |b| b.iter(|| evaluate(black_box(&spline), &model, &cfg)),
+        );
+    }
     g.bench_function("gradient_12_via_60_circles", |b| {
         b.iter(|| gradient(black_box(&spline), &model, &cfg))
     });

@@ -717,17 +717,13 @@ fn bench_scen(a: BenchArgs) -> anyhow::Result<u8> {
             Outcome::Timeout { .. } => timeouts += 1,
             _ => failures.push(format!(
                 "  line {} (bucket {}, optimal {:.1}): {what}",
-                k + 1,
-                s.bucket,
-                s.optimal_length
+                s.line, s.bucket, s.optimal_length
             )),
         }
         if matches!(outcome, Outcome::Timeout { .. }) {
             failures.push(format!(
                 "  line {} (bucket {}, optimal {:.1}): timeout ({ms:.0} ms)",
-                k + 1,
-                s.bucket,
-                s.optimal_length
+                s.line, s.bucket, s.optimal_length
             ));
         }
         seen.push((

@@ -22,6 +22,8 @@ pub struct Scenario {
     pub goal: Point,
     /// The 8-connected (octile) optimal length given by the file.
     pub optimal_length: f64,
+    /// Line of the file it was read from (1-based).
+    pub line: usize,
 }
 
 fn format_err(source: &str, line: Option<usize>, problem: impl Into<String>) -> MapError {
@@ -138,6 +140,7 @@ pub fn read_scen(text: &str, source: &str) -> Result<Vec<Scenario>, MapError> {
                 start: c(r.start_pos),
                 goal: c(r.goal_pos),
                 optimal_length: r.optimal_length,
+                line: n + 1,
             });
         }
     }

@@ -390,7 +390,8 @@ pub fn plan_world(
 /// its goal and curls into it), and the curve through it does too. This replaces each end's
 /// stretch, up to `4 clearance + 8 cells` of arc length from the start (goal), by the
 /// straight segment to the farthest point of it that the segment reaches with at least the
-/// stretch's least vertex clearance less half a cell, as long as the class stays the same.
+/// stretch's least vertex clearance less half a cell (and at least half of it: a start next
+/// to a wall keeps its margin), as long as the class stays the same.
 fn shortcut_ends(
     poly: &[Point],
     model: &dyn ClearanceModel,
@@ -409,7 +410,8 @@ fn shortcut_ends(
                 break;
             }
             stretch = stretch.min(model.clearance(&poly[k]).0);
-            if k > 1 && clear_at_least(model, poly[0], poly[k], stretch - 0.5 * cell, cell) {
+            let target = (stretch - 0.5 * cell).max(0.5 * stretch);
+            if k > 1 && clear_at_least(model, poly[0], poly[k], target, cell) {
                 out.push(k);
             }
         }
@@ -588,6 +590,7 @@ fn subdivided_seed(
             return pts;
         };
         let mut bad = homospline_spline::certify::uncertified_segments(&sp, model);
+
         if bad.is_empty() {
             if guard.cost(&sp, model, cfg).is_finite() {
                 return pts;
@@ -761,7 +764,12 @@ fn optimise_class(
     let (path, length, min_clear, certified, free, in_class) = match &spline {
         Some(sp) => {
             let length = sp.length();
-            let cert = min_clearance(sp, model, cfg.certify_tolerance);
+            let mut cert = min_clearance(sp, model, cfg.certify_tolerance);
+            if !cert.collision_free() && cert.upper > 0.0 && is_collision_free(sp, model) {
+                // Proven clear, but closer than the tolerance to an obstacle (a one-cell
+                // door): bracket it tightly enough to say so.
+                cert = min_clearance(sp, model, 1e-9_f64.max(1e-6 * cert.upper));
+            }
             let samples = sp.sample_by_arc_length(crate::growth::report_spacing(length));
             let path = if cert.collision_free() {
                 refine_samples(sp, model, &samples)
