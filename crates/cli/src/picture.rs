@@ -1,6 +1,11 @@
 //! SVG pictures the way the paper's figures show a plan: the potential field as a heat map,
 //! obstacles, the Voronoi graph, the class seeds, the optimised paths (the chosen one bold),
 //! start and goal, a legend and a scale bar. Each layer is a `<g>` with its own `id`.
+//!
+//! A map's occupancy is one raster, a PNG of one pixel per cell (a minimal encoder below:
+//! 1-bit indexed colour, stored deflate blocks) embedded as a data URI and drawn pixelated,
+//! so that no seams show between cells; its Voronoi graph is drawn thin and light, under the
+//! paths.
 
 use homospline_geom::{Bounds, Point, Real, Scene};
 use homospline_maps::OccupancyMap;
@@ -8,12 +13,14 @@ use homospline_optim::Plan;
 use homospline_voronoi::VoronoiGraph;
 use svg::Document;
 use svg::node::element::path::Data;
-use svg::node::element::{Circle, Group, Line, Path, Rectangle, Text};
+use svg::node::element::{Circle, Group, Image, Line, Path, Rectangle, Text};
 
 /// Picture width in pixels.
 const WIDTH: Real = 900.0;
 /// Heat-map cells along the longer side.
 const HEAT_CELLS: usize = 90;
+/// Colour of occupied map cells (`#555`, as scene obstacles).
+const OCCUPIED: [u8; 3] = [0x55, 0x55, 0x55];
 /// Colours of the class paths, by rank.
 const PALETTE: [&str; 8] = [
     "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf", "#7f7f7f",
@@ -47,6 +54,40 @@ impl Background<'_> {
             Background::Map(map) => doc.add(cells(map, v)),
         }
     }
+
+    /// How the Voronoi graph is drawn over this background: on a map, thin and light (at
+    /// most 0.6 of a cell wide) so the paths stand out.
+    fn graph_style(&self, v: &View) -> GraphStyle {
+        match self {
+            Background::Scene(..) => GraphStyle {
+                colour: "#999",
+                width: 1.2,
+                node_colour: "#777",
+                node_radius: 2.2,
+                opacity: None,
+            },
+            Background::Map(map) => {
+                let width = (0.6 * map.cell * v.scale).min(1.0);
+                GraphStyle {
+                    colour: "#bbb",
+                    width,
+                    node_colour: "#bbb",
+                    node_radius: width,
+                    opacity: Some(0.5),
+                }
+            }
+        }
+    }
+}
+
+/// Stroke and node dots of the Voronoi graph.
+struct GraphStyle {
+    colour: &'static str,
+    width: Real,
+    node_colour: &'static str,
+    node_radius: Real,
+    /// Opacity of the whole layer.
+    opacity: Option<Real>,
 }
 
 struct View {
@@ -144,16 +185,19 @@ fn obstacles(scene: &Scene, v: &View) -> Group {
     g
 }
 
-fn voronoi(graph: &VoronoiGraph, v: &View) -> Group {
+fn voronoi(graph: &VoronoiGraph, v: &View, style: &GraphStyle) -> Group {
     let mut g = Group::new().set("id", "voronoi");
+    if let Some(o) = style.opacity {
+        g = g.set("opacity", o);
+    }
     for e in &graph.edges {
         let pts: Vec<Point> = e.polyline.iter().map(|p| Point::new(p[0], p[1])).collect();
         g = g.add(
             Path::new()
                 .set("d", v.poly(&pts))
                 .set("fill", "none")
-                .set("stroke", "#999")
-                .set("stroke-width", 1.2),
+                .set("stroke", style.colour)
+                .set("stroke-width", style.width),
         );
     }
     for n in &graph.nodes {
@@ -161,43 +205,161 @@ fn voronoi(graph: &VoronoiGraph, v: &View) -> Group {
             Circle::new()
                 .set("cx", v.x(n.at[0]))
                 .set("cy", v.y(n.at[1]))
-                .set("r", 2.2)
-                .set("fill", "#777"),
+                .set("r", style.node_radius)
+                .set("fill", style.node_colour),
         );
     }
     g
 }
 
-/// Occupied cells, one rectangle per run along a row.
+/// Occupied cells: one `<image>`, a PNG of one pixel per cell (occupied grey, free
+/// transparent), placed over the map's bounds and drawn pixelated. PNG rows run down the
+/// screen: cell row `j` is picture row `j` when the map's y runs down (MovingAI), row
+/// `height - 1 - j` when it runs up (ROS).
 fn cells(map: &OccupancyMap, v: &View) -> Group {
-    let mut g = Group::new().set("id", "obstacles");
-    for j in 0..map.height {
-        let mut i = 0;
-        while i < map.width {
-            if !map.occupied[j * map.width + i] {
-                i += 1;
-                continue;
+    let (w, h) = (map.width, map.height);
+    let b = map.bounds();
+    let (y_a, y_b) = (v.y(b.min.y), v.y(b.max.y));
+    // Whether cell row 0 is at the top of the picture (the map's y runs down the screen).
+    let row0_on_top = y_a <= y_b;
+    let png = png::indexed_1bit(w, h, [[0xff; 3], OCCUPIED], [0, 0xff], |i, r| {
+        let j = if row0_on_top { r } else { h - 1 - r };
+        map.occupied[j * w + i]
+    });
+    let image = Image::new()
+        .set("x", v.x(b.min.x))
+        .set("y", y_a.min(y_b))
+        .set("width", (b.max.x - b.min.x) * v.scale)
+        .set("height", (y_a - y_b).abs())
+        .set("preserveAspectRatio", "none")
+        .set("image-rendering", "optimizeSpeed")
+        .set("style", "image-rendering: pixelated")
+        .set("href", format!("data:image/png;base64,{}", base64(&png)));
+    Group::new().set("id", "obstacles").add(image)
+}
+
+/// Standard base64 with padding.
+fn base64(bytes: &[u8]) -> String {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for chunk in bytes.chunks(3) {
+        let n = chunk
+            .iter()
+            .enumerate()
+            .fold(0u32, |n, (k, &b)| n | u32::from(b) << (16 - 8 * k));
+        for k in 0..4 {
+            if k <= chunk.len() {
+                out.push(ALPHABET[(n >> (18 - 6 * k) & 63) as usize] as char);
+            } else {
+                out.push('=');
             }
-            let start = i;
-            while i < map.width && map.occupied[j * map.width + i] {
-                i += 1;
-            }
-            let (x0, y0) = (
-                map.origin.x + start as Real * map.cell,
-                map.origin.y + j as Real * map.cell,
-            );
-            let (y_a, y_b) = (v.y(y0), v.y(y0 + map.cell));
-            g = g.add(
-                Rectangle::new()
-                    .set("x", v.x(x0))
-                    .set("y", y_a.min(y_b))
-                    .set("width", (i - start) as Real * map.cell * v.scale)
-                    .set("height", (y_a - y_b).abs())
-                    .set("fill", "#555"),
-            );
         }
     }
-    g
+    out
+}
+
+/// A minimal PNG encoder: 1-bit indexed colour, the zlib stream made of stored (uncompressed)
+/// deflate blocks. A map picture's occupancy is small at one bit per cell; no compression
+/// library is needed.
+mod png {
+    /// The PNG of a `width x height` image whose pixel `(column, row)` (row 0 at the top) is
+    /// palette entry 1 where `pixel` says so and entry 0 elsewhere; `palette` gives the two
+    /// RGB colours and `alpha` their opacities.
+    pub(super) fn indexed_1bit(
+        width: usize,
+        height: usize,
+        palette: [[u8; 3]; 2],
+        alpha: [u8; 2],
+        pixel: impl Fn(usize, usize) -> bool,
+    ) -> Vec<u8> {
+        let stride = width.div_ceil(8);
+        let mut raw = vec![0u8; (stride + 1) * height];
+        for (r, row) in raw.chunks_mut(stride + 1).enumerate() {
+            // row[0] = 0: no filter.
+            for i in 0..width {
+                if pixel(i, r) {
+                    row[1 + i / 8] |= 0x80 >> (i % 8);
+                }
+            }
+        }
+        let mut ihdr = Vec::with_capacity(13);
+        ihdr.extend_from_slice(&(width as u32).to_be_bytes());
+        ihdr.extend_from_slice(&(height as u32).to_be_bytes());
+        // Bit depth 1, colour type 3 (indexed), deflate, no filter method, no interlace.
+        ihdr.extend_from_slice(&[1, 3, 0, 0, 0]);
+        let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
+        chunk(&mut out, b"IHDR", &ihdr);
+        chunk(&mut out, b"PLTE", palette.as_flattened());
+        chunk(&mut out, b"tRNS", &alpha);
+        chunk(&mut out, b"IDAT", &zlib_stored(&raw));
+        chunk(&mut out, b"IEND", &[]);
+        out
+    }
+
+    /// A chunk: length, type, data, CRC-32 of type and data.
+    fn chunk(out: &mut Vec<u8>, kind: &[u8; 4], data: &[u8]) {
+        out.extend_from_slice(&(data.len() as u32).to_be_bytes());
+        let start = out.len();
+        out.extend_from_slice(kind);
+        out.extend_from_slice(data);
+        let crc = crc32(&out[start..]);
+        out.extend_from_slice(&crc.to_be_bytes());
+    }
+
+    /// A zlib stream of `data` in stored deflate blocks (at most 65,535 bytes each).
+    fn zlib_stored(data: &[u8]) -> Vec<u8> {
+        // CMF: deflate, 32 KiB window; FLG: no dictionary, check bits making CMF FLG a
+        // multiple of 31.
+        let mut out = vec![0x78, 0x01];
+        let mut blocks = data.chunks(0xffff).peekable();
+        if blocks.peek().is_none() {
+            out.extend_from_slice(&[1, 0, 0, 0xff, 0xff]);
+        }
+        while let Some(block) = blocks.next() {
+            // BFINAL on the last block, BTYPE 00 (stored), then padding to the byte.
+            out.push(u8::from(blocks.peek().is_none()));
+            let len = block.len() as u16;
+            out.extend_from_slice(&len.to_le_bytes());
+            out.extend_from_slice(&(!len).to_le_bytes());
+            out.extend_from_slice(block);
+        }
+        out.extend_from_slice(&adler32(data).to_be_bytes());
+        out
+    }
+
+    /// CRC-32 (ISO-HDLC, as PNG uses it).
+    pub(super) fn crc32(data: &[u8]) -> u32 {
+        let mut table = [0u32; 256];
+        for (n, t) in table.iter_mut().enumerate() {
+            let mut c = n as u32;
+            for _ in 0..8 {
+                c = if c & 1 == 1 {
+                    0xedb8_8320 ^ (c >> 1)
+                } else {
+                    c >> 1
+                };
+            }
+            *t = c;
+        }
+        !data.iter().fold(!0u32, |c, &b| {
+            table[((c ^ u32::from(b)) & 0xff) as usize] ^ (c >> 8)
+        })
+    }
+
+    /// Adler-32 (zlib's check of the uncompressed data).
+    pub(super) fn adler32(data: &[u8]) -> u32 {
+        let (mut a, mut b) = (1u32, 0u32);
+        // 5,552 bytes is the longest run whose sums cannot overflow before the modulo.
+        for run in data.chunks(5552) {
+            for &x in run {
+                a += u32::from(x);
+                b += a;
+            }
+            a %= 65521;
+            b %= 65521;
+        }
+        b << 16 | a
+    }
 }
 
 fn endpoints(start: Point, goal: Point, v: &View) -> Group {
@@ -306,13 +468,14 @@ fn document(v: &View) -> Document {
 pub fn plan_svg(bg: &Background<'_>, plan: &Plan) -> String {
     let v = View::new(bg);
     let mut doc = bg.layers(&v, document(&v));
+    let style = bg.graph_style(&v);
     if let Some(g) = &plan.graph {
-        doc = doc.add(voronoi(g, &v));
+        doc = doc.add(voronoi(g, &v, &style));
     }
     let mut seeds = Group::new().set("id", "seeds");
     let mut paths = Group::new().set("id", "paths");
     let mut best = Group::new().set("id", "best");
-    let mut items = vec![("#999", "Voronoi graph".to_owned(), false)];
+    let mut items = vec![(style.colour, "Voronoi graph".to_owned(), false)];
     for c in &plan.classes {
         let colour = PALETTE[(c.rank - 1) % PALETTE.len()];
         seeds = seeds.add(
@@ -360,8 +523,9 @@ pub fn plan_svg(bg: &Background<'_>, plan: &Plan) -> String {
 /// A Voronoi graph: background, graph, start and goal, legend, scale bar.
 pub fn graph_svg(bg: &Background<'_>, graph: &VoronoiGraph) -> String {
     let v = View::new(bg);
+    let style = bg.graph_style(&v);
     let items = vec![(
-        "#999",
+        style.colour,
         format!(
             "Voronoi graph: {} nodes, {} edges",
             graph.nodes.len(),
@@ -373,9 +537,216 @@ pub fn graph_svg(bg: &Background<'_>, graph: &VoronoiGraph) -> String {
         n.and_then(|i| graph.nodes.get(i))
             .map(|n| Point::new(n.at[0], n.at[1]))
     };
-    let mut doc = bg.layers(&v, document(&v)).add(voronoi(graph, &v));
+    let mut doc = bg.layers(&v, document(&v)).add(voronoi(graph, &v, &style));
     if let (Some(s), Some(t)) = (at(graph.start), at(graph.goal)) {
         doc = doc.add(endpoints(s, t, &v));
     }
     doc.add(legend(&items, &v)).add(scale_bar(&v)).to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use homospline_maps::ros::{RosMapYaml, read_map};
+    use homospline_voronoi::{Edge, Node, NodeKind};
+
+    #[test]
+    fn checksums_match_their_check_values() {
+        assert_eq!(png::crc32(b"123456789"), 0xcbf4_3926);
+        assert_eq!(png::adler32(b"Wikipedia"), 0x11e6_0398);
+        // Past the 5,552-byte runs: the sums are reduced in time.
+        let long = vec![0xffu8; 100_000];
+        let (mut a, mut b) = (1u64, 0u64);
+        for &x in &long {
+            a = (a + u64::from(x)) % 65521;
+            b = (b + a) % 65521;
+        }
+        assert_eq!(png::adler32(&long), (b << 16 | a) as u32);
+    }
+
+    /// A map `w x h` with a ring and a few cells set, not symmetric in either axis.
+    fn map(w: usize, h: usize, y_down: bool) -> OccupancyMap {
+        let occupied = (0..w * h)
+            .map(|k| {
+                let (i, j) = (k % w, k / w);
+                i == 0 || j == 0 || (i * 7 + j * j * 3) % 11 == 0 || (i < 3 && j + 2 == h)
+            })
+            .collect();
+        OccupancyMap {
+            name: "m".to_owned(),
+            width: w,
+            height: h,
+            cell: 0.5,
+            origin: Point::new(-2.0, 3.0),
+            occupied,
+            y_down,
+        }
+    }
+
+    /// The `<image>` elements of an SVG: each one's attributes.
+    fn images(svg: &str) -> Vec<Vec<(String, String)>> {
+        let mut reader = quick_xml::Reader::from_str(svg);
+        let mut out = Vec::new();
+        loop {
+            match reader.read_event().expect("well-formed SVG") {
+                quick_xml::events::Event::Empty(e) | quick_xml::events::Event::Start(e)
+                    if e.name().as_ref() == b"image" =>
+                {
+                    out.push(
+                        e.attributes()
+                            .map(|a| {
+                                let a = a.unwrap();
+                                (
+                                    String::from_utf8(a.key.as_ref().to_vec()).unwrap(),
+                                    String::from_utf8(a.value.to_vec()).unwrap(),
+                                )
+                            })
+                            .collect(),
+                    );
+                }
+                quick_xml::events::Event::Eof => break,
+                _ => {}
+            }
+        }
+        out
+    }
+
+    fn unbase64(text: &str) -> Vec<u8> {
+        const ALPHABET: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+        let mut bits = 0u32;
+        let mut n = 0;
+        let mut out = Vec::new();
+        for c in text.bytes().filter(|&c| c != b'=') {
+            bits = bits << 6 | ALPHABET.iter().position(|&a| a == c).unwrap() as u32;
+            n += 6;
+            if n >= 8 {
+                n -= 8;
+                out.push((bits >> n) as u8);
+            }
+        }
+        out
+    }
+
+    /// The occupancy a PNG holds, read by the ROS map reader (image row 0 at the top, y up).
+    fn decode(png: &[u8], w: usize, h: usize) -> Vec<bool> {
+        let yaml = RosMapYaml {
+            image: "m.png".to_owned(),
+            resolution: 1.0,
+            origin: [0.0, 0.0, 0.0],
+            negate: 0,
+            occupied_thresh: 0.65,
+            free_thresh: 0.196,
+            mode: None,
+        };
+        let m = read_map(&yaml, "m.yaml", png, "m.png").unwrap();
+        assert_eq!((m.width, m.height), (w, h));
+        m.occupied
+    }
+
+    #[test]
+    fn the_png_decodes_back_to_the_pixels() {
+        // Wider than 8 and not a multiple of it; more than one stored block.
+        for (w, h) in [(1, 1), (13, 5), (300, 1800)] {
+            let on = |i: usize, r: usize| (i * 5 + r * 3) % 7 < 2;
+            let png = png::indexed_1bit(w, h, [[0xff; 3], [0x55; 3]], [0, 0xff], on);
+            assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+            let occ = decode(&png, w, h);
+            for r in 0..h {
+                for i in 0..w {
+                    // The reader puts image row r at y index h - 1 - r.
+                    assert_eq!(
+                        occ[(h - 1 - r) * w + i],
+                        on(i, r),
+                        "({i}, {r}) of {w} x {h}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_map_is_one_raster_over_its_cells_the_right_way_up() {
+        let (w, h) = (21, 9);
+        for y_down in [true, false] {
+            let m = map(w, h, y_down);
+            let g = VoronoiGraph {
+                resolution: 2.0,
+                nodes: vec![
+                    Node {
+                        id: 0,
+                        at: [1.0, 5.0],
+                        clearance: 1.0,
+                        kind: NodeKind::Junction,
+                    },
+                    Node {
+                        id: 1,
+                        at: [6.0, 5.0],
+                        clearance: 1.0,
+                        kind: NodeKind::DeadEnd,
+                    },
+                ],
+                edges: vec![Edge {
+                    from: 0,
+                    to: 1,
+                    length: 5.0,
+                    min_clearance: 1.0,
+                    mean_clearance: 1.0,
+                    polyline: vec![[1.0, 5.0], [6.0, 5.0]],
+                }],
+                start: None,
+                goal: None,
+                obstacles: vec![],
+            };
+            let svg = graph_svg(&Background::Map(&m), &g);
+            assert!(!svg.contains("fill=\"#555\""), "no cell rectangles");
+            let imgs = images(&svg);
+            assert_eq!(imgs.len(), 1);
+            let attr = |k: &str| {
+                imgs[0]
+                    .iter()
+                    .find(|(a, _)| a == k)
+                    .map(|(_, v)| v.clone())
+                    .unwrap()
+            };
+            let num = |k: &str| attr(k).parse::<f64>().unwrap();
+            // The map is 10.5 x 4.5 units: 900 px across.
+            let scale = 900.0 / 10.5;
+            assert_eq!((num("x"), num("y")), (0.0, 0.0));
+            assert!((num("width") - 900.0).abs() < 1e-9);
+            assert!((num("height") - 4.5 * scale).abs() < 1e-9);
+            assert!(attr("style").contains("image-rendering: pixelated"));
+            let png = unbase64(attr("href").strip_prefix("data:image/png;base64,").unwrap());
+            let occ = decode(&png, w, h);
+            for j in 0..h {
+                // Picture row of cell row j: from the top, j when y runs down.
+                let r = if y_down { j } else { h - 1 - j };
+                for i in 0..w {
+                    assert_eq!(occ[(h - 1 - r) * w + i], m.occupied[j * w + i]);
+                }
+            }
+            // The graph is thin (0.6 of a cell at most), light and half transparent.
+            assert!(svg.contains("<g id=\"voronoi\" opacity=\"0.5\">"), "{svg}");
+            assert!(svg.contains("stroke=\"#bbb\" stroke-width=\"1\""));
+        }
+    }
+
+    #[test]
+    fn the_raster_sits_where_the_cells_do() {
+        // A cell's centre in map coordinates lands on its pixel of the image.
+        for y_down in [true, false] {
+            let m = map(21, 9, y_down);
+            let v = View::new(&Background::Map(&m));
+            let b = m.bounds();
+            let (top, bottom) = (
+                v.y(b.min.y).min(v.y(b.max.y)),
+                v.y(b.min.y).max(v.y(b.max.y)),
+            );
+            let px = (bottom - top) / m.height as Real;
+            for j in 0..m.height {
+                let y = m.origin.y + (j as Real + 0.5) * m.cell;
+                let r = ((v.y(y) - top) / px).floor() as usize;
+                assert_eq!(r, if y_down { j } else { m.height - 1 - j });
+            }
+        }
+    }
 }

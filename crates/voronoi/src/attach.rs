@@ -1,19 +1,26 @@
-//! Start and goal on a prepared (complete) graph: each joins the ridge along a
-//! maximum-clearance route, the graph is pruned of every dead end that leads to neither, and
-//! the result is the graph a query searches. The prepared graph itself is not changed, so one
-//! map serves many queries.
+//! Start and goal joined to a graph, both ways.
+//!
+//! - On a prepared (complete) graph, [`MapGraph`]: each joins the ridge along a
+//!   maximum-clearance route, the graph is pruned of every dead end that leads to neither, and
+//!   the result is the graph a query searches. The prepared graph itself is not changed, so
+//!   one map serves many queries.
+//! - On the crack graph of a scene ([`VoronoiGraph::build`]): each joins the nearest crack
+//!   along the breadth-first free-cell path, splitting the chain it reaches; when start and
+//!   goal share a free region without any crack, the path between them is the graph.
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use homospline_geom::math::douglas_peucker;
 use homospline_geom::{Point, Real};
 use rustc_hash::FxHashMap;
 
+use crate::crack::CrackGraph;
 use crate::field::DistanceField;
-use crate::graph::{Edge, GraphError, Node, NodeKind, POLYLINE_TOLERANCE, VoronoiGraph};
+use crate::graph::{Edge, GraphError, Node, NodeKind, VoronoiGraph};
 use crate::grid::Grid;
+use crate::simplify::{edge_along, simplify};
 use crate::skeleton::{skeleton_cells, trace};
+use crate::trace::{Chain, NO_NODE};
 
 /// How strongly the route from start or goal to the ridge avoids walls: a step of length `l`
 /// into a cell of clearance `c` cells costs `l (1 + WALL_AVERSION / c)`.
@@ -165,12 +172,7 @@ impl MapGraph {
         p: Point,
         what: &'static str,
     ) -> Result<(Vec<usize>, Anchor), GraphError> {
-        let (i0, j0) = grid
-            .cell_of(&p)
-            .ok_or(GraphError::Outside(what, p.x, p.y))?;
-        if grid.occupied(i0, j0) {
-            return Err(GraphError::Occupied(what, p.x, p.y));
-        }
+        let (i0, j0) = free_cell(grid, p, what)?;
         let (w, h) = (grid.width(), grid.height());
         let occ = grid.occupancy();
         let start = grid.index(i0, j0);
@@ -243,13 +245,10 @@ fn split(g: &mut VoronoiGraph, field: &DistanceField, grid: &Grid, a: Anchor) ->
         return n;
     };
     let n = g.nodes.len();
-    let clearance = grid
-        .cell_of(&at)
-        .map_or(0.0, |(i, j)| field.clearance_cells(i, j) * grid.cell());
     g.nodes.push(Node {
         id: n,
         at: [at.x, at.y],
-        clearance,
+        clearance: clearance_at(grid, field, &at),
         kind: NodeKind::Junction,
     });
     let old = g.edges[edge].clone();
@@ -303,84 +302,14 @@ fn endpoint(
     let target = g.nodes[to].at;
     pts.push(Point::new(target[0], target[1]));
     let mut poly = vec![p];
-    poly.extend(douglas_peucker(
-        &pts,
-        POLYLINE_TOLERANCE * grid.cell(),
-        usize::MAX,
-    ));
+    poly.extend(simplify(&pts, grid.cell()));
     poly.dedup();
     if poly.len() == 1 {
         poly.push(p);
     }
     let clears: Vec<Real> = cells.iter().map(|&c| cl(c)).collect();
-    g.edges.push(Edge {
-        from: id,
-        to,
-        length: poly.windows(2).map(|s| (s[1] - s[0]).norm()).sum(),
-        min_clearance: clears.iter().copied().fold(Real::INFINITY, Real::min),
-        mean_clearance: clears.iter().sum::<Real>() / clears.len() as Real,
-        polyline: poly.iter().map(|q| [q.x, q.y]).collect(),
-    });
+    g.edges.push(edge_along(id, to, &poly, &clears));
     id
-}
-
-impl VoronoiGraph {
-    /// Removes dead ends, leaf first, while `removable(graph, edge, leaf node)` says so. Start
-    /// and goal are never removed, nor the last edge of a component (both of its ends
-    /// leaves), so every piece of the graph keeps at least one edge. Drops the nodes this
-    /// leaves without edges (nodes that had none to begin with stay).
-    pub fn prune_dead_ends(&mut self, removable: impl Fn(&VoronoiGraph, usize, usize) -> bool) {
-        let n = self.nodes.len();
-        let mut degree = vec![0usize; n];
-        let mut incident: Vec<Vec<usize>> = vec![Vec::new(); n];
-        for (k, e) in self.edges.iter().enumerate() {
-            degree[e.from] += 1;
-            degree[e.to] += 1;
-            incident[e.from].push(k);
-            if e.to != e.from {
-                incident[e.to].push(k);
-            }
-        }
-        let had_edges: Vec<bool> = degree.iter().map(|&d| d > 0).collect();
-        let protected = |k: usize, g: &VoronoiGraph| {
-            matches!(g.nodes[k].kind, NodeKind::Start | NodeKind::Goal)
-        };
-        let mut alive = vec![true; self.edges.len()];
-        let mut queue: Vec<usize> = (0..n)
-            .filter(|&k| degree[k] == 1 && !protected(k, self))
-            .rev()
-            .collect();
-        while let Some(leaf) = queue.pop() {
-            if degree[leaf] != 1 {
-                continue;
-            }
-            let Some(&e) = incident[leaf].iter().find(|&&e| alive[e]) else {
-                continue;
-            };
-            let edge = &self.edges[e];
-            let other = if edge.from == leaf {
-                edge.to
-            } else {
-                edge.from
-            };
-            if degree[other] == 1 || !removable(self, e, leaf) {
-                continue;
-            }
-            alive[e] = false;
-            degree[leaf] = 0;
-            degree[other] -= 1;
-            if degree[other] == 1 && !protected(other, self) {
-                queue.push(other);
-            }
-        }
-        let keep_node: Vec<bool> = (0..n).map(|k| degree[k] > 0 || !had_edges[k]).collect();
-        let mut k = 0;
-        self.edges.retain(|_| {
-            k += 1;
-            alive[k - 1]
-        });
-        self.keep_nodes(keep_node);
-    }
 }
 
 /// The complete graph with start and goal attached, built from scratch (for one query; use
@@ -392,4 +321,212 @@ pub fn build_complete(
     goal: Point,
 ) -> Result<VoronoiGraph, GraphError> {
     MapGraph::build(grid, field).with_endpoints(grid, field, start, goal)
+}
+
+/// The cell holding `p`, which must be free.
+fn free_cell(grid: &Grid, p: Point, what: &'static str) -> Result<(usize, usize), GraphError> {
+    let (i, j) = grid
+        .cell_of(&p)
+        .ok_or(GraphError::Outside(what, p.x, p.y))?;
+    if grid.occupied(i, j) {
+        return Err(GraphError::Occupied(what, p.x, p.y));
+    }
+    Ok((i, j))
+}
+
+/// The clearance of the cell holding `p` in map units (0 outside the grid).
+fn clearance_at(grid: &Grid, field: &DistanceField, p: &Point) -> Real {
+    grid.cell_of(p)
+        .map_or(0.0, |(i, j)| field.clearance_cells(i, j) * grid.cell())
+}
+
+/// Joins `p` to the crack graph `cg` of `g`: along the breadth-first free-cell path to the
+/// nearest cell that borders a crack, to the crack corner it reaches (a node, or a new one
+/// splitting the chain through it). Adds the node of `p` (of `kind`) and its connector to
+/// `g`; the node's id.
+pub(crate) fn attach_to_cracks(
+    cg: &mut CrackGraph<'_>,
+    g: &mut VoronoiGraph,
+    p: Point,
+    what: &'static str,
+    kind: NodeKind,
+) -> Result<usize, GraphError> {
+    let start = free_cell(cg.grid, p, what)?;
+    let (path, corner) = free_bfs(cg.grid, start, |ci, cj| cg.cracks.corner_of_cell(ci, cj))
+        .ok_or(GraphError::DifferentRegions)?;
+    let at_node = match cg.net.node_of[corner] {
+        NO_NODE => split_chain(cg, g, corner)?,
+        n => n as usize,
+    };
+    let id = g.nodes.len();
+    g.nodes.push(Node {
+        id,
+        at: [p.x, p.y],
+        clearance: clearance_at(cg.grid, cg.field, &p),
+        kind,
+    });
+    g.edges.push(connector(cg, id, at_node, &path, corner));
+    Ok(id)
+}
+
+/// Makes `corner` a node of `g` by splitting the (first) chain through it: the head keeps the
+/// chain's place, the tail goes last. The node's id.
+fn split_chain(
+    cg: &mut CrackGraph<'_>,
+    g: &mut VoronoiGraph,
+    corner: usize,
+) -> Result<usize, GraphError> {
+    let (ci, k) = cg
+        .net
+        .chains
+        .iter()
+        .enumerate()
+        .find_map(|(ci, ch)| ch.sites.iter().position(|&x| x == corner).map(|k| (ci, k)))
+        .ok_or(GraphError::DifferentRegions)?;
+    let n = g.nodes.len();
+    let q = cg.corner_point(corner);
+    g.nodes.push(Node {
+        id: n,
+        at: [q.x, q.y],
+        clearance: cg.corner_clearance(corner),
+        kind: NodeKind::Junction,
+    });
+    cg.net.node_of[corner] = n as u32;
+    let chains = &mut cg.net.chains;
+    let old = chains.swap_remove(ci);
+    let tail = Chain {
+        from: n,
+        to: old.to,
+        sites: old.sites[k..].to_vec(),
+        steps: old.steps[k..].to_vec(),
+    };
+    let head = Chain {
+        from: old.from,
+        to: n,
+        sites: old.sites[..=k].to_vec(),
+        steps: old.steps[..k].to_vec(),
+    };
+    chains.insert(ci.min(chains.len()), head);
+    chains.push(tail);
+    Ok(n)
+}
+
+/// When start and goal share a free region without any crack (no obstacle inside it, so
+/// one class), adds both to `g` and returns the edge along the free-cell path between them:
+/// their graph. `None` (and `g` unchanged) when the region has a crack.
+pub(crate) fn join_directly(
+    cg: &CrackGraph<'_>,
+    g: &mut VoronoiGraph,
+    s: Point,
+    t: Point,
+) -> Result<Option<Edge>, GraphError> {
+    let Some(path) = direct_path(cg, s, t)? else {
+        return Ok(None);
+    };
+    let (ns, nt) = (g.nodes.len(), g.nodes.len() + 1);
+    g.nodes.push(Node {
+        id: ns,
+        at: [s.x, s.y],
+        clearance: clearance_at(cg.grid, cg.field, &s),
+        kind: NodeKind::Start,
+    });
+    g.nodes.push(Node {
+        id: nt,
+        at: [t.x, t.y],
+        clearance: clearance_at(cg.grid, cg.field, &t),
+        kind: NodeKind::Goal,
+    });
+    g.start = Some(ns);
+    g.goal = Some(nt);
+    // Kept as it was before the module split: the connector's end is corner 0 (the grid's
+    // lower-left corner), which takes part in the simplification and the length before the
+    // polyline's ends are set to start and goal.
+    let mut e = connector(cg, ns, nt, &path, 0);
+    let last = e.polyline.len() - 1;
+    e.polyline[last] = [t.x, t.y];
+    e.polyline[0] = [s.x, s.y];
+    Ok(Some(e))
+}
+
+/// Breadth-first over free cells (4-connected, fixed neighbour order: deterministic) from
+/// `start` to the first cell where `stop` answers; that cell's path from `start` and the
+/// answer. `None` when the free region is exhausted first.
+fn free_bfs<T>(
+    grid: &Grid,
+    start: (usize, usize),
+    mut stop: impl FnMut(usize, usize) -> Option<T>,
+) -> Option<(Vec<(usize, usize)>, T)> {
+    let (w, h) = (grid.width(), grid.height());
+    let mut parent = FxHashMap::default();
+    let mut queue = std::collections::VecDeque::new();
+    parent.insert(start, start);
+    queue.push_back(start);
+    while let Some((ci, cj)) = queue.pop_front() {
+        if let Some(answer) = stop(ci, cj) {
+            let mut path = vec![(ci, cj)];
+            let mut cur = (ci, cj);
+            while parent[&cur] != cur {
+                cur = parent[&cur];
+                path.push(cur);
+            }
+            path.reverse();
+            return Some((path, answer));
+        }
+        for (di, dj) in [(1i64, 0i64), (0, 1), (-1, 0), (0, -1)] {
+            let (ni, nj) = (ci as i64 + di, cj as i64 + dj);
+            if ni < 0 || nj < 0 || ni as usize >= w || nj as usize >= h {
+                continue;
+            }
+            let n = (ni as usize, nj as usize);
+            if !grid.occupied(n.0, n.1) && !parent.contains_key(&n) {
+                parent.insert(n, (ci, cj));
+                queue.push_back(n);
+            }
+        }
+    }
+    None
+}
+
+/// When start and goal share a free region without any crack (no obstacle inside it), the
+/// free-cell path from start to goal; `None` when the region has a crack.
+fn direct_path(
+    cg: &CrackGraph<'_>,
+    s: Point,
+    t: Point,
+) -> Result<Option<Vec<(usize, usize)>>, GraphError> {
+    let start = free_cell(cg.grid, s, "start")?;
+    let goal = free_cell(cg.grid, t, "goal")?;
+    let found = free_bfs(cg.grid, start, |ci, cj| {
+        if cg.cracks.corner_of_cell(ci, cj).is_some() {
+            Some(false)
+        } else {
+            ((ci, cj) == goal).then_some(true)
+        }
+    });
+    match found {
+        Some((path, true)) => Ok(Some(path)),
+        Some((_, false)) => Ok(None),
+        // The region holds no crack and not the goal: they are apart.
+        None => Err(GraphError::DifferentRegions),
+    }
+}
+
+/// The edge from node `from` along the free cells of `path` (their centres) to crack corner
+/// `corner`, with the cells' clearances.
+fn connector(
+    cg: &CrackGraph<'_>,
+    from: usize,
+    to: usize,
+    path: &[(usize, usize)],
+    corner: usize,
+) -> Edge {
+    let grid = cg.grid;
+    let mut pts: Vec<Point> = Vec::with_capacity(path.len() + 2);
+    pts.extend(path.iter().map(|&(i, j)| grid.center(i, j)));
+    pts.push(cg.corner_point(corner));
+    let cl: Vec<Real> = path
+        .iter()
+        .map(|&(i, j)| cg.field.clearance_cells(i, j) * grid.cell())
+        .collect();
+    edge_along(from, to, &simplify(&pts, grid.cell()), &cl)
 }

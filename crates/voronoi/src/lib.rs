@@ -5,19 +5,33 @@
 //!   given directly (occupancy maps). Knows nothing of circles beyond rasterising them.
 //! - [`field`]: [`DistanceField`], the exact Euclidean brushfire with the nearest obstacle of
 //!   every cell, and its local updates.
-//! - [`graph`]: [`VoronoiGraph`], the generalized Voronoi graph with start and goal attached.
+//! - [`graph`]: [`VoronoiGraph`], the generalized Voronoi graph with start and goal attached:
+//!   the format (nodes, edges, MessagePack, JSON) and [`VoronoiGraph::build`], the crack graph
+//!   of a scene.
+//! - `crack` (private): the cracks between the nearest-obstacle regions, the crack graph's
+//!   network; `regions` (private): stray cells of a region joined to a neighbour first.
+//! - `trace` (private): one tracer of a network into nodes and chains, for both graphs.
+//! - `simplify` (private): chains into edge polylines (geom's Douglas-Peucker) with lengths
+//!   and clearances.
+//! - `prune` (private): spurs and dead ends off a graph.
 //! - [`skeleton`]: the complete graph's ridge, by distance-ordered homotopic thinning: the
 //!   medial axis of free space wherever an obstacle faces another *or itself*.
-//! - [`attach`]: [`MapGraph`], a complete graph prepared once, and start and goal joined to it
-//!   along maximum-clearance routes for each query.
+//! - [`attach`]: start and goal joined to a graph: [`MapGraph`], a complete graph prepared
+//!   once, joined along maximum-clearance routes for each query; and the crack graph's
+//!   breadth-first joins.
 //!
-//! [`build`] does all three for a scene.
+//! [`build`] does grid, field and graph for a scene.
 
 pub mod attach;
+mod crack;
 pub mod field;
 pub mod graph;
 pub mod grid;
+mod prune;
+mod regions;
+mod simplify;
 pub mod skeleton;
+mod trace;
 
 pub use attach::{MapGraph, build_complete, complete_graph};
 pub use field::{DistanceField, UpdateError};

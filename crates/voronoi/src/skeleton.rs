@@ -2,9 +2,9 @@
 //! space, where obstacles face each other *and* where one obstacle faces itself across a
 //! corridor or a room, traced into nodes and edges.
 //!
-//! The crack graph of [`crate::graph`] holds only the boundaries between different obstacles'
-//! regions; on a map, where every wall touching the border is one obstacle, corridors and
-//! rooms have none. Here the ridge comes from distance-ordered homotopic thinning (Pudney
+//! The crack graph of [`VoronoiGraph::build`] holds only the boundaries between different
+//! obstacles' regions; on a map, where every wall touching the border is one obstacle,
+//! corridors and rooms have none. Here the ridge comes from distance-ordered homotopic thinning (Pudney
 //! 1998): free cells are removed in order of increasing clearance while their removal keeps
 //! the topology of free space, so what remains
 //! - is homotopy equivalent to the free space: one connected piece per free component
@@ -21,19 +21,21 @@
 //! component and its occupied neighbours one 8-component (Bertrand's topological numbers),
 //! read from a 256-entry table.
 //!
-//! The traced graph has a node at every skeleton cell whose number of neighbours is not two,
-//! an edge per chain between them, and polylines through cell centres simplified to within
+//! The traced graph (by the crack graph's tracer, the private `trace` module) has a node at
+//! every skeleton cell whose number of neighbours is not two, an edge per chain between them,
+//! and polylines through cell centres simplified to within
 //! [`crate::graph::POLYLINE_TOLERANCE`] cell: every polyline point lies in a free cell.
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use homospline_geom::math::douglas_peucker;
 use homospline_geom::{Point, Real};
 
 use crate::field::DistanceField;
-use crate::graph::{Edge, GridObstacle, Node, NodeKind, POLYLINE_TOLERANCE, VoronoiGraph};
+use crate::graph::{GridObstacle, Node, NodeKind, VoronoiGraph};
 use crate::grid::Grid;
+use crate::simplify::{edge_along, simplify};
+use crate::trace::{self as chains, Lattice};
 
 /// Neighbour offsets in ring order, starting east, counter-clockwise in (i, j); even entries
 /// are the 4-neighbours.
@@ -191,25 +193,67 @@ pub fn skeleton_cells(grid: &Grid, field: &DistanceField) -> Vec<bool> {
     keep
 }
 
-/// The neighbours of skeleton cell `c` in the traced graph: its 4-neighbours in the skeleton,
-/// except that every full 2 x 2 block loses its lower horizontal edge (a block encloses no
-/// occupied cell, so it must not count as a cycle; the block stays connected through its
-/// other three edges).
-fn neighbours(keep: &[bool], w: usize, c: usize, out: &mut Vec<usize>) {
-    out.clear();
-    let full_above = |a: usize| keep[a + w] && keep[a + w + 1];
-    // East: edge (c, c + 1) is broken when the block above it is full.
-    if keep[c + 1] && !full_above(c) {
-        out.push(c + 1);
+/// The skeleton as a network of cells: the 4-neighbours in the skeleton, except that every full
+/// 2 x 2 block loses its lower horizontal edge (a block encloses no occupied cell, so it must
+/// not count as a cycle; the block stays connected through its other three edges).
+struct Skeleton<'a> {
+    keep: &'a [bool],
+    w: usize,
+    /// Neighbours of every skeleton cell.
+    degree: Vec<u8>,
+}
+
+impl<'a> Skeleton<'a> {
+    fn new(keep: &'a [bool], w: usize) -> Self {
+        let mut s = Self {
+            keep,
+            w,
+            degree: vec![0; keep.len()],
+        };
+        let mut nb = Vec::with_capacity(4);
+        for (c, &k) in keep.iter().enumerate() {
+            if k {
+                s.neighbours(c, &mut nb);
+                s.degree[c] = nb.len() as u8;
+            }
+        }
+        s
     }
-    if keep[c + w] {
-        out.push(c + w);
+}
+
+/// Cells are the sites, cell sides the steps (`2 * c` to the east of `c`, `2 * c + 1` to the
+/// north).
+impl Lattice for Skeleton<'_> {
+    fn sites(&self) -> usize {
+        self.keep.len()
     }
-    if keep[c - 1] && !full_above(c - 1) {
-        out.push(c - 1);
+
+    fn member(&self, c: usize) -> bool {
+        self.keep[c]
     }
-    if keep[c - w] {
-        out.push(c - w);
+
+    fn degree(&self, c: usize) -> u8 {
+        self.degree[c]
+    }
+
+    /// In the order east, north, west, south.
+    fn neighbours(&self, c: usize, out: &mut Vec<(usize, usize)>) {
+        let (keep, w) = (self.keep, self.w);
+        out.clear();
+        let full_above = |a: usize| keep[a + w] && keep[a + w + 1];
+        // East: edge (c, c + 1) is broken when the block above it is full.
+        if keep[c + 1] && !full_above(c) {
+            out.push((c + 1, 2 * c));
+        }
+        if keep[c + w] {
+            out.push((c + w, 2 * c + 1));
+        }
+        if keep[c - 1] && !full_above(c - 1) {
+            out.push((c - 1, 2 * (c - 1)));
+        }
+        if keep[c - w] {
+            out.push((c - w, 2 * (c - w) + 1));
+        }
     }
 }
 
@@ -217,97 +261,13 @@ fn neighbours(keep: &[bool], w: usize, c: usize, out: &mut Vec<usize>) {
 /// is not two, one node on each cycle that has none, edges along the chains between them.
 pub fn trace(grid: &Grid, field: &DistanceField, keep: &[bool]) -> VoronoiGraph {
     let w = grid.width();
-    let n_cells = keep.len();
-    let mut nb = Vec::with_capacity(4);
-    let mut degree = vec![0u8; n_cells];
-    for c in 0..n_cells {
-        if keep[c] {
-            neighbours(keep, w, c, &mut nb);
-            degree[c] = nb.len() as u8;
-        }
-    }
-    let mut node_of = vec![u32::MAX; n_cells];
-    let mut node_cells = Vec::new();
-    for c in 0..n_cells {
-        if keep[c] && degree[c] != 2 {
-            node_of[c] = node_cells.len() as u32;
-            node_cells.push(c);
-        }
-    }
+    let skeleton = Skeleton::new(keep, w);
+    let net = chains::trace(&skeleton);
     let cell = grid.cell();
     let centre = |c: usize| grid.center(c % w, c / w);
     let clear = |c: usize| field.clearance_cells(c % w, c / w) * cell;
-    // Visited (cell, neighbour) steps, as the smaller cell and the direction to the larger.
-    let mut used = vec![0u8; n_cells];
-    let dir_bit = |a: usize, b: usize| -> (usize, u8) {
-        let (lo, hi) = if a < b { (a, b) } else { (b, a) };
-        (lo, if hi == lo + 1 { 1 } else { 2 })
-    };
-    let mut chains: Vec<(usize, usize, Vec<usize>)> = Vec::new();
-    let walk = |from_cell: usize,
-                first: usize,
-                node_of: &mut Vec<u32>,
-                node_cells: &mut Vec<usize>,
-                used: &mut Vec<u8>,
-                chains: &mut Vec<(usize, usize, Vec<usize>)>| {
-        let (lo, bit) = dir_bit(from_cell, first);
-        if used[lo] & bit != 0 {
-            return;
-        }
-        used[lo] |= bit;
-        let mut cells = vec![from_cell, first];
-        let (mut prev, mut cur) = (from_cell, first);
-        let mut nb = Vec::with_capacity(4);
-        while node_of[cur] == u32::MAX {
-            neighbours(keep, w, cur, &mut nb);
-            let next = if nb[0] != prev { nb[0] } else { nb[1] };
-            let (lo, bit) = dir_bit(cur, next);
-            if used[lo] & bit != 0 {
-                // Back at the start of a cycle without nodes.
-                break;
-            }
-            used[lo] |= bit;
-            cells.push(next);
-            prev = cur;
-            cur = next;
-        }
-        if node_of[cur] == u32::MAX {
-            node_of[cur] = node_cells.len() as u32;
-            node_cells.push(cur);
-        }
-        chains.push((node_of[from_cell] as usize, node_of[cur] as usize, cells));
-    };
-    let mut k = 0;
-    while k < node_cells.len() {
-        let c = node_cells[k];
-        neighbours(keep, w, c, &mut nb);
-        for &n in &nb.clone() {
-            walk(c, n, &mut node_of, &mut node_cells, &mut used, &mut chains);
-        }
-        k += 1;
-    }
-    // Cycles without any node: a node at their first cell in raster order.
-    for c in 0..n_cells {
-        if keep[c] && degree[c] == 2 && node_of[c] == u32::MAX {
-            neighbours(keep, w, c, &mut nb);
-            let (lo, bit) = dir_bit(c, nb[0]);
-            if used[lo] & bit != 0 {
-                continue;
-            }
-            node_of[c] = node_cells.len() as u32;
-            node_cells.push(c);
-            let first = nb[0];
-            walk(
-                c,
-                first,
-                &mut node_of,
-                &mut node_cells,
-                &mut used,
-                &mut chains,
-            );
-        }
-    }
-    let nodes = node_cells
+    let nodes = net
+        .node_sites
         .iter()
         .enumerate()
         .map(|(id, &c)| {
@@ -316,7 +276,7 @@ pub fn trace(grid: &Grid, field: &DistanceField, keep: &[bool]) -> VoronoiGraph 
                 id,
                 at: [p.x, p.y],
                 clearance: clear(c),
-                kind: if degree[c] == 1 {
+                kind: if skeleton.degree[c] == 1 {
                     NodeKind::DeadEnd
                 } else {
                     NodeKind::Junction
@@ -324,20 +284,13 @@ pub fn trace(grid: &Grid, field: &DistanceField, keep: &[bool]) -> VoronoiGraph 
             }
         })
         .collect();
-    let edges = chains
+    let edges = net
+        .chains
         .iter()
-        .map(|(from, to, cells)| {
-            let pts: Vec<Point> = cells.iter().map(|&c| centre(c)).collect();
-            let poly = douglas_peucker(&pts, POLYLINE_TOLERANCE * cell, usize::MAX);
-            let cl: Vec<Real> = cells.iter().map(|&c| clear(c)).collect();
-            Edge {
-                from: *from,
-                to: *to,
-                length: poly.windows(2).map(|s| (s[1] - s[0]).norm()).sum(),
-                min_clearance: cl.iter().copied().fold(Real::INFINITY, Real::min),
-                mean_clearance: cl.iter().sum::<Real>() / cl.len() as Real,
-                polyline: poly.iter().map(|p| [p.x, p.y]).collect(),
-            }
+        .map(|ch| {
+            let pts: Vec<Point> = ch.sites.iter().map(|&c| centre(c)).collect();
+            let cl: Vec<Real> = ch.sites.iter().map(|&c| clear(c)).collect();
+            edge_along(ch.from, ch.to, &simplify(&pts, cell), &cl)
         })
         .collect();
     VoronoiGraph {
