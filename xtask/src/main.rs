@@ -2,6 +2,11 @@
 //!
 //! - `cargo xtask regress [--bless]` checks every fixture against its golden.
 //! - `cargo xtask gen-scenes` rewrites `fixtures/random/` from a seeded generator.
+//! - `cargo xtask gen-worlds` rewrites `fixtures/worlds/`: each paper-like scene with its best
+//!   class blocked, for `homospline simulate`.
+//! - `cargo xtask missions [--worlds N]` runs every scout policy on N generated worlds
+//!   (default 50) and prints the mission figures, and the share of single blockages that
+//!   leave another class open with and without `--diverse`.
 //!
 //! Fixtures and their goldens:
 //! - `fixtures/scenes/NAME.yaml` -> `fixtures/golden/check/NAME.txt`: the summary that
@@ -27,14 +32,34 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result, bail};
-use homospline_geom::{Circle, Obstacle, Point, Scene};
+use homospline_geom::Scene;
 use homospline_optim::{Plan, PlanConfig, Seed};
-use homospline_testkit::{SplitMix, square_scene};
+use homospline_testkit::random_scene;
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
         Some("gen-scenes") if args.len() == 1 => gen_scenes().map(|_| true),
+        Some("gen-worlds") if args.len() == 1 => gen_worlds().map(|_| true),
+        Some("missions") => {
+            let worlds = match &args[1..] {
+                [] => 50,
+                [flag, n] if flag == "--worlds" => match n.parse::<usize>() {
+                    Ok(n) if n > 0 => n,
+                    _ => {
+                        eprintln!(
+                            "cargo xtask missions --worlds N: N must be a positive number, got {n}"
+                        );
+                        return ExitCode::from(2);
+                    }
+                },
+                other => {
+                    eprintln!("usage: cargo xtask missions [--worlds N]  (unexpected {other:?})");
+                    return ExitCode::from(2);
+                }
+            };
+            missions(worlds).map(|_| true)
+        }
         Some("regress") => {
             let bless = match &args[1..] {
                 [] => false,
@@ -47,7 +72,9 @@ fn main() -> ExitCode {
             regress(bless)
         }
         _ => {
-            eprintln!("usage: cargo xtask regress [--bless] | cargo xtask gen-scenes");
+            eprintln!(
+                "usage: cargo xtask regress [--bless] | gen-scenes | gen-worlds | missions [--worlds N]"
+            );
             return ExitCode::from(2);
         }
     };
@@ -312,47 +339,6 @@ fn plan_golden(plan: &Plan) -> String {
 
 /// A random scene: `n` circles (grouped in compound obstacles of 1 to `group` circles) in a
 /// `size x size` square, none within `keep` of the start or goal.
-fn random_scene(name: &str, seed: u64, size: f64, n: usize, group: usize) -> Scene {
-    let mut rng = SplitMix(seed);
-    let start = Point::new((size * 0.04 * 1000.0).round() / 1000.0, size * 0.5);
-    let goal = Point::new((size * 0.96 * 1000.0).round() / 1000.0, size * 0.5);
-    let keep = size * 0.03;
-    let mut obstacles = Vec::new();
-    let mut placed = 0;
-    while placed < n {
-        let k = (1 + (rng.next_unit() * group as f64) as usize).min(n - placed);
-        let c = Point::new(
-            size * (0.1 + 0.8 * rng.next_unit()),
-            size * (0.05 + 0.9 * rng.next_unit()),
-        );
-        let r = size * (0.01 + 0.03 * rng.next_unit());
-        let circles: Vec<Circle> = (0..k)
-            .map(|_| {
-                let a = rng.next_unit() * std::f64::consts::TAU;
-                let d = r * 1.2 * rng.next_unit();
-                let rr = (r * (0.5 + 0.5 * rng.next_unit()) * 1000.0).round() / 1000.0;
-                Circle::new(
-                    ((c.x + a.cos() * d) * 1000.0).round() / 1000.0,
-                    ((c.y + a.sin() * d) * 1000.0).round() / 1000.0,
-                    rr,
-                )
-            })
-            .collect();
-        if circles
-            .iter()
-            .any(|ci| ci.signed_distance(&start) < keep || ci.signed_distance(&goal) < keep)
-        {
-            continue;
-        }
-        placed += k;
-        obstacles.push(Obstacle {
-            name: format!("o{}", obstacles.len()),
-            circles,
-        });
-    }
-    square_scene(name.to_owned(), size, start, goal, obstacles)
-}
-
 /// Writes `fixtures/random/`: 10 small scenes and 5 with hundreds of circles.
 fn gen_scenes() -> Result<()> {
     let dir = root().join("fixtures/random");
@@ -386,5 +372,155 @@ fn gen_scenes() -> Result<()> {
         std::fs::write(dir.join(format!("{}.yaml", s.name)), text)?;
     }
     println!("wrote {} scenes to {}", scenes.len(), dir.display());
+    Ok(())
+}
+
+/// Writes `fixtures/worlds/`: each paper-like scene with its best class blocked in its
+/// narrowest passage, two scouts.
+fn gen_worlds() -> Result<()> {
+    let dir = root().join("fixtures/worlds");
+    std::fs::create_dir_all(&dir)?;
+    let mut n = 0;
+    for scene in homospline_testkit::fixture_scenes() {
+        let Some(world) = homospline_testkit::blocked_world(&scene, 2, false) else {
+            println!("{}: no blockable class, skipped", scene.name);
+            continue;
+        };
+        let text = format!(
+            "# Generated by `cargo xtask gen-worlds`: the scene's best class blocked in its narrowest\n# passage; do not edit by hand.\n{}",
+            world.to_yaml(&format!("../scenes/{}.yaml", scene.name))
+        );
+        std::fs::write(dir.join(format!("{}.yaml", world.name)), text)?;
+        n += 1;
+    }
+    println!("wrote {n} worlds to {}", dir.display());
+    Ok(())
+}
+
+fn mean(v: &[f64]) -> f64 {
+    if v.is_empty() {
+        f64::NAN
+    } else {
+        v.iter().sum::<f64>() / v.len() as f64
+    }
+}
+
+/// Every scout policy on `count` generated worlds, and the limited-overlap measurement.
+fn missions(count: usize) -> Result<()> {
+    use homospline_mission::{MissionConfig, Policy, simulate};
+    let mut worlds = Vec::new();
+    let mut seed = 0;
+    while worlds.len() < count && seed < 20 * count as u64 {
+        if let Some(w) = homospline_testkit::random_world(seed, 2) {
+            worlds.push(w);
+        }
+        seed += 1;
+    }
+    println!(
+        "{} generated worlds (seeds 0..{seed}; every other one with its second class blocked too), 2 scouts",
+        worlds.len()
+    );
+    println!(
+        "{:<13} {:>8} {:>10} {:>10} {:>8} {:>9} {:>10} {:>9} {:>10}",
+        "policy",
+        "reached",
+        "dist/opt",
+        "time/opt",
+        "replans",
+        "switches",
+        "abandoned",
+        "UAV dist",
+        "worse than none"
+    );
+    let mut baseline: Vec<f64> = Vec::new();
+    for policy in Policy::ALL {
+        let cfg = MissionConfig {
+            policy,
+            ..MissionConfig::default()
+        };
+        let (mut reached, mut solvable) = (0, 0);
+        let (mut dist, mut time, mut rep, mut sw, mut ab, mut uav) =
+            (vec![], vec![], vec![], vec![], vec![], vec![]);
+        let mut times = Vec::new();
+        for w in &worlds {
+            let r = simulate(w, &cfg)?;
+            if r.hindsight_length.is_some() {
+                solvable += 1;
+                reached += usize::from(r.reached);
+            }
+            if let (Some(d), Some(t)) = (r.distance_ratio(), r.time_ratio(w.team.ugv.speed)) {
+                dist.push(d);
+                time.push(t);
+            }
+            times.push(r.time_ratio(w.team.ugv.speed).unwrap_or(f64::NAN));
+            rep.push(r.replans as f64);
+            sw.push(r.switches as f64);
+            ab.push(r.abandoned_distance);
+            uav.push(r.uav_distance);
+        }
+        let worse = if policy == Policy::None {
+            baseline = times.clone();
+            "-".to_owned()
+        } else {
+            let n = times
+                .iter()
+                .zip(&baseline)
+                .filter(|(a, b)| **a > **b + 1e-9)
+                .count();
+            format!("{n}/{}", times.len())
+        };
+        println!(
+            "{:<13} {:>8} {:>10.3} {:>10.3} {:>8.2} {:>9.2} {:>10.2} {:>9.1} {:>10}",
+            policy.name(),
+            format!("{reached}/{solvable}"),
+            mean(&dist),
+            mean(&time),
+            mean(&rep),
+            mean(&sw),
+            mean(&ab),
+            mean(&uav),
+            worse
+        );
+    }
+    // Limited overlap: single random blockages on the chosen path.
+    use homospline_optim::{PlanConfig, plan};
+    use homospline_spline::{CircleModel, ClearanceModel};
+    let mut rng = homospline_testkit::SplitMix(42);
+    for diverse in [None, Some(0.5)] {
+        let (mut open, mut trials) = (0, 0);
+        for w in &worlds {
+            let cfg = PlanConfig {
+                diverse,
+                ..MissionConfig::default().plan
+            };
+            let Ok(p) = plan(&w.prior, &cfg) else {
+                continue;
+            };
+            let Some(b) = p.best else { continue };
+            let chosen = &p.classes[b - 1];
+            let model = CircleModel::new(w.prior.circles());
+            for _ in 0..10 {
+                let i = 1 + (rng.next_unit() * (chosen.path.len() - 2) as f64) as usize;
+                let at = chosen.path[i];
+                let r = model.clearance(&at).0 + 0.5;
+                let blocked = CircleModel::new(vec![homospline_geom::Circle::new(at.x, at.y, r)]);
+                trials += 1;
+                let other_open = p.classes.iter().any(|c| {
+                    c.rank != chosen.rank
+                        && c.collision_free
+                        && blocked.polyline_clearance(&c.path) > 0.0
+                });
+                open += usize::from(other_open);
+            }
+        }
+        println!(
+            "single blockage on the chosen path, {}: another class open in {open}/{trials} ({:.1} %)",
+            match diverse {
+                None => "k best classes".to_owned(),
+                Some(f) => format!("--diverse {f}"),
+            },
+            100.0 * open as f64 / trials.max(1) as f64
+        );
+    }
     Ok(())
 }

@@ -1,6 +1,7 @@
 //! What the `homospline` command prints and writes (summaries, plan JSON, tables, SVG),
 //! kept in a library so that tests and `xtask` share it. File IO stays in `main.rs`.
 
+pub mod mission;
 pub mod picture;
 pub mod report;
 

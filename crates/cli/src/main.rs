@@ -5,9 +5,10 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use homospline_cli::{EXAMPLE_SCENE, picture, report};
+use homospline_cli::{EXAMPLE_SCENE, mission, picture, report};
 use homospline_geom::{Point, Scene};
 use homospline_maps::OccupancyMap;
+use homospline_mission::{MissionConfig, MissionWorld, Policy, WorldFile};
 use homospline_optim::{
     GrowthConfig, Optimizer, PlanConfig, Seed, default_resolution, plan_with_graph,
 };
@@ -90,11 +91,59 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         svg: Option<PathBuf>,
     },
+    /// Run the team's mission in a world file: the UGV drives its plan, scouts fly, hidden
+    /// blockages are discovered and the UGV re-plans; prints the events and the figures.
+    /// Exit 0 when the goal is reached, 1 when not, 2 on bad input.
+    Simulate(SimulateArgs),
     /// Validate a scene file (YAML or JSON) and summarise it.
     Check {
         /// The scene file.
         scene: PathBuf,
     },
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum PolicyArg {
+    /// No scouts fly (the baseline).
+    None,
+    /// Scouts inspect the far half of the UGV's route.
+    Ahead,
+    /// Scouts verify the next best classes.
+    Alternatives,
+}
+
+/// Options of `simulate`.
+#[derive(Args, Debug)]
+struct SimulateArgs {
+    /// The world file (YAML or JSON): a prior scene, hidden and cleared obstacles, the team.
+    world: PathBuf,
+    /// Scouts to fly (default: every UAV of the world; more are added at the start).
+    #[arg(long)]
+    scouts: Option<usize>,
+    /// How the scouts are used.
+    #[arg(long, value_enum, default_value = "ahead")]
+    policy: PolicyArg,
+    /// Homotopy classes per plan.
+    #[arg(long, default_value_t = 5)]
+    classes: usize,
+    /// Limited overlap between the classes (see `plan --diverse`).
+    #[arg(long, value_name = "F")]
+    diverse: Option<f64>,
+    /// Time step, seconds.
+    #[arg(long, default_value_t = 0.25)]
+    dt: f64,
+    /// Hysteresis: relative cost margin a class must win by to replace a valid plan.
+    #[arg(long, default_value_t = 0.1)]
+    switch_margin: f64,
+    /// Hysteresis: seconds between voluntary class switches.
+    #[arg(long, default_value_t = 10.0)]
+    min_switch_interval: f64,
+    /// Write the mission (timeline and every trajectory) as JSON.
+    #[arg(long, value_name = "FILE")]
+    json: Option<PathBuf>,
+    /// Write an animated picture of the mission.
+    #[arg(long, value_name = "FILE")]
+    svg: Option<PathBuf>,
 }
 
 /// Options of `bench-scen`.
@@ -156,6 +205,7 @@ fn main() -> ExitCode {
         } => graph(&scene, resolution, out, json, svg),
         Command::Plan(args) => plan(args),
         Command::BenchScen(args) => bench_scen(args),
+        Command::Simulate(args) => simulate(args),
     };
     match result {
         Ok(code) => ExitCode::from(code),
@@ -170,6 +220,108 @@ fn load_scene(path: &Path) -> anyhow::Result<Scene> {
     let bytes =
         std::fs::read(path).map_err(|e| bad(format!("{}: cannot read: {e}", path.display())))?;
     Scene::from_bytes(&bytes, &path.display().to_string()).map_err(|e| bad(e.to_string()))
+}
+
+/// Reads a world file and the scene it names (relative to the world file).
+fn load_world(path: &Path) -> anyhow::Result<MissionWorld> {
+    let name = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| bad(format!("{name}: cannot read: {e}")))?;
+    let text = std::str::from_utf8(&bytes).map_err(|e| {
+        bad(format!(
+            "{name}: not a text file: invalid UTF-8 at byte {}",
+            e.valid_up_to()
+        ))
+    })?;
+    let file = WorldFile::from_str(text, &name).map_err(|e| bad(e.to_string()))?;
+    let scene_path = path.parent().unwrap_or(Path::new(".")).join(&file.scene);
+    let scene_bytes = std::fs::read(&scene_path).map_err(|e| {
+        bad(format!(
+            "{name}: scene: cannot read {}: {e}",
+            scene_path.display()
+        ))
+    })?;
+    let prior = Scene::from_bytes(&scene_bytes, &scene_path.display().to_string())
+        .map_err(|e| bad(e.to_string()))?;
+    file.with_prior(prior).map_err(|e| bad(e.to_string()))
+}
+
+fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
+    let world = load_world(&a.world)?;
+    if a.classes == 0 || a.classes > 64 {
+        return Err(bad(format!(
+            "--classes {}: must be between 1 and 64",
+            a.classes
+        )));
+    }
+    if let Some(f) = a.diverse
+        && !(f.is_finite() && (0.0..=1.0).contains(&f))
+    {
+        return Err(bad(format!("--diverse {f}: must be a fraction in [0, 1]")));
+    }
+    if !(a.dt.is_finite() && a.dt > 0.0 && a.dt <= 10.0) {
+        return Err(bad(format!("--dt {}: must be in (0, 10] seconds", a.dt)));
+    }
+    if !(a.switch_margin.is_finite() && (0.0..1.0).contains(&a.switch_margin)) {
+        return Err(bad(format!(
+            "--switch-margin {}: must be in [0, 1)",
+            a.switch_margin
+        )));
+    }
+    if !(a.min_switch_interval.is_finite() && a.min_switch_interval >= 0.0) {
+        return Err(bad(format!(
+            "--min-switch-interval {}: must be >= 0 seconds",
+            a.min_switch_interval
+        )));
+    }
+    if a.scouts.is_some_and(|n| n > 64) {
+        return Err(bad("--scouts: at most 64"));
+    }
+    let base = MissionConfig::default();
+    let cfg = MissionConfig {
+        plan: PlanConfig {
+            classes: a.classes,
+            diverse: a.diverse,
+            growth: GrowthConfig {
+                cost: base
+                    .plan
+                    .growth
+                    .cost
+                    .clone()
+                    .with_scene_points(&world.prior),
+                ..base.plan.growth.clone()
+            },
+            ..base.plan.clone()
+        },
+        policy: match a.policy {
+            PolicyArg::None => Policy::None,
+            PolicyArg::Ahead => Policy::Ahead,
+            PolicyArg::Alternatives => Policy::Alternatives,
+        },
+        scouts: a.scouts,
+        dt: a.dt,
+        switch_margin: a.switch_margin,
+        min_switch_interval: a.min_switch_interval,
+        ..base
+    };
+    let result = homospline_mission::simulate(&world, &cfg)
+        .map_err(|e| bad(format!("{}: {e}", a.world.display())))?;
+    print!("{}", mission::mission_text(&world, &result));
+    if let Some(p) = &a.json {
+        write(
+            p,
+            "mission JSON",
+            mission::mission_json(&world, &result).as_bytes(),
+        )?;
+    }
+    if let Some(p) = &a.svg {
+        write(
+            p,
+            "picture",
+            mission::mission_svg(&world, &result).as_bytes(),
+        )?;
+        println!("picture: {}", p.display());
+    }
+    Ok(if result.reached { 0 } else { 1 })
 }
 
 fn write(path: &Path, what: &str, bytes: &[u8]) -> anyhow::Result<()> {
@@ -289,6 +441,18 @@ struct PlanArgs {
     /// Rounds of the growth loop (the paper's iteration limit; default 3).
     #[arg(long)]
     rounds: Option<usize>,
+    /// A passage found blocked: the disc at X,Y of radius R becomes an obstacle (on a map:
+    /// its cells become occupied) and the plan goes around it (repeatable).
+    #[arg(long = "block", value_name = "X,Y,R", allow_hyphen_values = true)]
+    block: Vec<String>,
+    /// Leave this class out, by its signature as printed (repeatable).
+    #[arg(long = "avoid", value_name = "CLASS", allow_hyphen_values = true)]
+    avoid: Vec<String>,
+    /// Limited overlap: a class is taken only if at most this fraction of its graph path's
+    /// length is shared with every class taken before it (k shortest paths with limited
+    /// overlap); each class's overlap with the chosen one is in the JSON.
+    #[arg(long, value_name = "F")]
+    diverse: Option<f64>,
     /// Form of roughness (4): paper = integral |q''| dt (default), energy = integral
     /// |q''|^2 dt, authors = sqrt(integral |q''|^2 dt).
     #[arg(long, value_enum)]
@@ -376,6 +540,29 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
         .as_deref()
         .map(|t| parse_point("--goal", t))
         .transpose()?;
+    let mut blocks = Vec::new();
+    for b in &a.block {
+        let v: Vec<f64> = b
+            .split(',')
+            .map(|x| x.trim().parse::<f64>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| bad(format!("--block {b}: expected X,Y,R (three numbers)")))?;
+        match v[..] {
+            [x, y, r] if x.is_finite() && y.is_finite() && r.is_finite() && r > 0.0 => {
+                blocks.push((Point::new(x, y), r))
+            }
+            _ => {
+                return Err(bad(format!(
+                    "--block {b}: expected X,Y,R with finite numbers and R > 0"
+                )));
+            }
+        }
+    }
+    if let Some(f) = a.diverse
+        && !(f.is_finite() && (0.0..=1.0).contains(&f))
+    {
+        return Err(bad(format!("--diverse {f}: must be a fraction in [0, 1]")));
+    }
     let input = match input {
         Input::Scene(mut scene) => {
             if let Some(s) = start {
@@ -384,16 +571,30 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
             if let Some(g) = goal {
                 scene.goal = g;
             }
+            for (i, (c, r)) in blocks.iter().enumerate() {
+                scene.obstacles.push(homospline_geom::Obstacle {
+                    name: format!("blocked-{i}"),
+                    circles: vec![homospline_geom::Circle::new(c.x, c.y, *r)],
+                });
+            }
             scene
                 .validate(&scene.name.clone())
-                .map_err(|e| bad(format!("--start/--goal: {e}")))?;
+                .map_err(|e| bad(format!("--start/--goal/--block: {e}")))?;
             Input::Scene(scene)
         }
-        Input::Map(map) => {
+        Input::Map(mut map) => {
             if a.resolution.is_some() {
                 return Err(bad(
                     "--resolution applies to scenes; a map's grid is its cells",
                 ));
+            }
+            if !blocks.is_empty() && a.graph.is_some() {
+                return Err(bad(
+                    "--block changes the map: it cannot reuse a saved --graph",
+                ));
+            }
+            for (c, r) in &blocks {
+                map.block_disc(c, *r);
             }
             Input::Map(map)
         }
@@ -480,6 +681,8 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
         },
         threads: a.threads,
         clearance_floor: a.clearance_floor,
+        avoid: a.avoid.clone(),
+        diverse: a.diverse,
         ..base
     };
     let alpha = cfg.growth.cost.alpha;

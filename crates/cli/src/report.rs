@@ -33,6 +33,7 @@ struct ClassJson<'a> {
     collision_free: bool,
     safe: bool,
     in_class: bool,
+    overlap: f64,
     iterations: usize,
     evaluations: usize,
     time_ms: f64,
@@ -76,7 +77,7 @@ fn finite(x: f64) -> f64 {
 }
 
 /// The plan as the JSON of `docs/formats.md` (plus `pareto`, `certified_clearance`, `safe`,
-/// `in_class` and every cost term).
+/// `in_class`, `overlap` and every cost term).
 pub fn plan_json(plan: &Plan) -> String {
     let doc = PlanJson {
         scene: &plan.scene,
@@ -97,6 +98,7 @@ pub fn plan_json(plan: &Plan) -> String {
                 collision_free: c.collision_free,
                 safe: c.safe,
                 in_class: c.in_class,
+                overlap: c.overlap,
                 iterations: c.iterations,
                 evaluations: c.evaluations,
                 time_ms: c.time_ms,

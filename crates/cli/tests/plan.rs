@@ -212,3 +212,106 @@ fn every_command_has_help() {
         assert!(!out.stdout.is_empty());
     }
 }
+
+#[test]
+fn block_avoid_and_diverse_change_the_classes() {
+    // The chosen class of the built-in example runs through the pass at about (50, 30).
+    let plain = tmp("plain.json");
+    assert_ok(
+        &homospline()
+            .args(["plan", "--json", plain.to_str().unwrap()])
+            .output()
+            .unwrap(),
+    );
+    let v = read_json(&plain);
+    let best = v["classes"][0]["signature"].as_str().unwrap().to_owned();
+    assert_eq!(v["classes"][0]["overlap"], 1.0);
+    // Left out, it is not among the classes.
+    let avoided = tmp("avoided.json");
+    let out = homospline()
+        .args([
+            "plan",
+            "--avoid",
+            &best,
+            "--json",
+            avoided.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let v = read_json(&avoided);
+    assert!(
+        v["classes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(|c| c["signature"] != best.as_str())
+    );
+    // A blocked disc on its path: the chosen path keeps clear of it.
+    let path = read_json(&plain)["classes"][0]["path"]
+        .as_array()
+        .unwrap()
+        .clone();
+    let mid = &path[path.len() / 2];
+    let (x, y) = (mid[0].as_f64().unwrap(), mid[1].as_f64().unwrap());
+    let blocked = tmp("blocked.json");
+    let out = homospline()
+        .args([
+            "plan",
+            "--block",
+            &format!("{x},{y},2"),
+            "--json",
+            blocked.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let v = read_json(&blocked);
+    let b = v["best"].as_u64().unwrap() as usize;
+    for p in v["classes"][b - 1]["path"].as_array().unwrap() {
+        let (px, py) = (p[0].as_f64().unwrap(), p[1].as_f64().unwrap());
+        assert!(
+            (px - x).hypot(py - y) > 2.0,
+            "({px}, {py}) inside the blocked disc"
+        );
+    }
+    // Limited overlap: every class shares at most half its graph path with the chosen one.
+    let diverse = tmp("diverse.json");
+    let out = homospline()
+        .args([
+            "plan",
+            "fixtures/scenes/field.yaml",
+            "--diverse",
+            "0.5",
+            "--json",
+            diverse.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let v = read_json(&diverse);
+    let b = v["best"].as_u64().unwrap() as usize;
+    for (i, c) in v["classes"].as_array().unwrap().iter().enumerate() {
+        if i + 1 != b {
+            assert!(c["overlap"].as_f64().unwrap() <= 0.5 + 1e-9, "{c}");
+        }
+    }
+    // Bad values are refused with the option named.
+    for (args, msg) in [
+        (
+            vec!["plan", "--block", "1,2"],
+            "--block 1,2: expected X,Y,R",
+        ),
+        (vec!["plan", "--block", "1,2,-3"], "R > 0"),
+        (
+            vec!["plan", "--diverse", "1.5"],
+            "--diverse 1.5: must be a fraction in [0, 1]",
+        ),
+        (vec!["plan", "--block", "5,47,3"], "--start/--goal/--block"),
+    ] {
+        let out = homospline().args(&args).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert!(err.contains(msg), "{args:?}: {err}");
+    }
+}

@@ -130,6 +130,32 @@ impl OccupancyMap {
         (i < self.width && j < self.height).then(|| !self.occupied[j * self.width + i])
     }
 
+    /// Marks as occupied every cell that the closed disc overlaps (a blockage reported on
+    /// the way); returns how many cells were free before.
+    pub fn block_disc(&mut self, centre: &Point, radius: Real) -> usize {
+        let mut count = 0;
+        for j in 0..self.height {
+            for i in 0..self.width {
+                let lo = Point::new(
+                    self.origin.x + i as Real * self.cell,
+                    self.origin.y + j as Real * self.cell,
+                );
+                let dx = (lo.x - centre.x)
+                    .max(0.0)
+                    .max(centre.x - (lo.x + self.cell));
+                let dy = (lo.y - centre.y)
+                    .max(0.0)
+                    .max(centre.y - (lo.y + self.cell));
+                let k = j * self.width + i;
+                if dx * dx + dy * dy <= radius * radius && !self.occupied[k] {
+                    self.occupied[k] = true;
+                    count += 1;
+                }
+            }
+        }
+        count
+    }
+
     /// The grid: the map plus a one-cell wall ring around it.
     pub fn to_grid(&self) -> Result<Grid, GridError> {
         let (w, h) = (self.width + 2, self.height + 2);

@@ -189,8 +189,21 @@ pub fn grow(
     cfg: &GrowthConfig,
     guard: &Guard<'_>,
 ) -> Result<Grown, SplineError> {
-    let build = |pts: &[Point]| Spline::new(pts, cfg.parametrization, cfg.end).ok();
-    let mut spline = Spline::new(seed, cfg.parametrization, cfg.end)?;
+    // A start heading's slope depends on the first via-point; it is fixed for a round (from
+    // the round's first curve), so that within a round the curve is linear in its via-points
+    // and the analytic gradient holds.
+    let fixed_end = |pts: &[Point]| -> EndCondition {
+        match cfg.end {
+            EndCondition::StartHeading { .. } => Spline::new(pts, cfg.parametrization, cfg.end)
+                .map_or(cfg.end, |sp| EndCondition::ClampedStart {
+                    start: sp.velocity(0.0),
+                }),
+            e => e,
+        }
+    };
+    let mut end = fixed_end(seed);
+    let build = |pts: &[Point], end: EndCondition| Spline::new(pts, cfg.parametrization, end).ok();
+    let mut spline = Spline::new(seed, cfg.parametrization, end)?;
     let (s, t) = (seed[0], seed[seed.len() - 1]);
     let mut points = seed.to_vec();
     let mut evaluations = 0;
@@ -213,7 +226,7 @@ pub fn grow(
         let mut objective = |x: &[Real]| -> Real {
             count += 1;
             let pts = to_points(s, t, x);
-            build(&pts).map_or(Real::INFINITY, |sp| guard.cost(&sp, model, cfg))
+            build(&pts, end).map_or(Real::INFINITY, |sp| guard.cost(&sp, model, cfg))
         };
         let spacing = points
             .windows(2)
@@ -247,7 +260,7 @@ pub fn grow(
                 let mut fg = |x: &[Real]| -> (Real, Vec<Real>) {
                     count += 1;
                     let pts = to_points(s, t, x);
-                    match build(&pts) {
+                    match build(&pts, end) {
                         Some(sp) if admissible(&sp, guard, cfg.guard_samples) => {
                             let (terms, g) = gradient(&sp, model, &cfg.cost);
                             if guard.rejects(terms.min_clearance) {
@@ -271,7 +284,7 @@ pub fn grow(
             // A guarded round's result must also be certified clear (samples can miss a thin
             // overlap) and stay inside the bounds between the guard's samples; otherwise the
             // round's starting curve stands.
-            if let Some(sp) = build(&candidate)
+            if let Some(sp) = build(&candidate, end)
                 && (!guard.collision_free || is_collision_free(&sp, model))
                 && stays_in_bounds(&sp, &guard.bounds)
             {
@@ -310,7 +323,8 @@ pub fn grow(
         grown.insert(seg + 1, mid);
         // The curve through one more point of itself is nearly the same curve; keep it only
         // if it is still admissible.
-        match build(&grown) {
+        let grown_end = fixed_end(&grown);
+        match build(&grown, grown_end) {
             Some(sp2)
                 if guard.cost(&sp2, model, cfg).is_finite()
                     && (!guard.collision_free || is_collision_free(&sp2, model))
@@ -321,6 +335,7 @@ pub fn grow(
                 current = terms.min_clearance;
                 points = grown;
                 spline = sp2;
+                end = grown_end;
             }
             _ => break,
         }

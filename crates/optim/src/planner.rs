@@ -8,10 +8,10 @@
 
 use std::time::Instant;
 
-use homospline_geom::{Bounds, Point, Real, Scene};
+use homospline_geom::{Bounds, Point, Real, Scene, Vector};
 use homospline_homotopy::{Rays, SearchConfig, SearchError, Signature, k_best_classes};
 use homospline_spline::{
-    CircleModel, ClearanceModel, CostTerms, Spline, is_collision_free, min_clearance,
+    CircleModel, ClearanceModel, CostTerms, EndCondition, Spline, is_collision_free, min_clearance,
 };
 use homospline_voronoi::{BuildError, VoronoiGraph};
 use rayon::prelude::*;
@@ -60,6 +60,16 @@ pub struct PlanConfig {
     /// [`Guard::clearance_floor`]), and the chosen class must be certified at least this
     /// clear. 0 (default): only collisions are rejected.
     pub clearance_floor: Real,
+    /// The robot's heading at the start, when it is moving (a re-plan on the way): curves
+    /// leave along it, unless their class path starts backwards (the robot turns on the
+    /// spot: it is omni-directional).
+    pub start_heading: Option<Vector>,
+    /// Classes to leave out, by signature text.
+    pub avoid: Vec<String>,
+    /// Limited overlap: a class is taken only if it shares at most this fraction of its
+    /// graph path's length with every class already taken (k shortest paths with limited
+    /// overlap). `None`: the k best classes, however alike.
+    pub diverse: Option<Real>,
 }
 
 impl Default for PlanConfig {
@@ -73,6 +83,9 @@ impl Default for PlanConfig {
             threads: None,
             certify_tolerance: 1e-3,
             clearance_floor: 0.0,
+            start_heading: None,
+            avoid: Vec::new(),
+            diverse: None,
         }
     }
 }
@@ -131,10 +144,43 @@ pub struct ClassPlan {
     pub time_ms: Real,
     /// Graph cost of the class path (Voronoi seeds).
     pub graph_cost: Real,
+    /// Share of its graph path's length on edges the chosen class's graph path uses too
+    /// (0 when nothing is chosen or for the straight seed; 1 for the chosen class).
+    pub overlap: Real,
 }
 
 /// A seed: the polyline, its class (none for the straight seed), its graph cost.
 type SeedPath = (Vec<Point>, Option<Signature>, Real);
+
+/// The length of a class path on each graph edge it uses.
+type EdgeLengths = Vec<(usize, Real)>;
+
+/// Greedy limited-overlap selection: classes in cost order, each kept if what it shares with
+/// every class kept before it is at most `limit` of either's length, until `k` are kept. (The
+/// shared length of two graph paths is the length of their common edges: symmetric.)
+fn limited_overlap(paths: &[EdgeLengths], lengths: &[Real], limit: Real, k: usize) -> Vec<usize> {
+    let mut kept: Vec<usize> = Vec::new();
+    for i in 0..paths.len() {
+        if kept.len() == k {
+            break;
+        }
+        if kept
+            .iter()
+            .all(|&j| shared_length(&paths[i], &paths[j]) <= limit * lengths[i].min(lengths[j]))
+        {
+            kept.push(i);
+        }
+    }
+    kept
+}
+
+/// The length of `a` on edges that `b` uses too.
+fn shared_length(a: &EdgeLengths, b: &EdgeLengths) -> Real {
+    a.iter()
+        .filter(|(e, _)| b.iter().any(|(f, _)| f == e))
+        .map(|(_, l)| l)
+        .sum()
+}
 
 /// Time per stage, milliseconds.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -255,9 +301,18 @@ pub fn plan_world(
         .cost
         .validate()
         .map_err(|e| PlanError::Config(e.to_string()))?;
+    if let Some(f) = cfg.diverse
+        && !(f.is_finite() && (0.0..=1.0).contains(&f))
+    {
+        return Err(PlanError::Config(format!(
+            "diverse must be a fraction in [0, 1], got {f}"
+        )));
+    }
     let t0 = Instant::now();
     let rays = &world.rays;
     let mut timing = Timing::default();
+    // Each seed's graph path by edge (for overlaps), in seed order.
+    let mut class_edges: Vec<EdgeLengths> = Vec::new();
     // Seeds: (seed polyline, class signature, graph cost).
     let (seeds, graph): (Vec<SeedPath>, Option<VoronoiGraph>) = match cfg.seed {
         Seed::Straight => {
@@ -279,15 +334,46 @@ pub fn plan_world(
                 1.0 / graph.resolution
             };
             let min_clearance = cfg.search.min_clearance.max(floor);
+            // Avoided classes and the limited-overlap selection need more candidates.
+            let extra = cfg.avoid.len();
+            let k = match cfg.diverse {
+                Some(_) => (cfg.classes + extra) * DIVERSE_CANDIDATES,
+                None => cfg.classes + extra,
+            };
             let search = SearchConfig {
-                k: cfg.classes,
+                k,
                 min_clearance,
                 ..cfg.search.clone()
             };
-            let found = k_best_classes(&graph, rays, &search)?;
+            let mut found = k_best_classes(&graph, rays, &search)?.classes;
+            found.retain(|c| !cfg.avoid.contains(&c.signature.to_string()));
+            let edge_lengths: Vec<EdgeLengths> = found
+                .iter()
+                .map(|c| {
+                    c.edges
+                        .iter()
+                        .map(|&(e, _)| (e, graph.edges[e].length))
+                        .collect()
+                })
+                .collect();
+            let keep = match cfg.diverse {
+                Some(limit) => {
+                    let lengths: Vec<Real> = found.iter().map(|c| c.length).collect();
+                    limited_overlap(&edge_lengths, &lengths, limit, cfg.classes)
+                }
+                None => (0..found.len().min(cfg.classes)).collect(),
+            };
+            let mut picked = Vec::with_capacity(keep.len());
+            let mut picked_edges = Vec::with_capacity(keep.len());
+            for (i, c) in found.into_iter().enumerate() {
+                if keep.contains(&i) {
+                    picked.push(c);
+                    picked_edges.push(edge_lengths[i].clone());
+                }
+            }
+            class_edges = picked_edges;
             timing.classes = ms(tc);
-            let seeds = found
-                .classes
+            let seeds = picked
                 .into_iter()
                 .map(|c| {
                     let mut poly = c.polyline;
@@ -327,6 +413,10 @@ pub fn plan_world(
             })
             .collect()
     };
+    let seed_signatures: Vec<String> = seeds
+        .iter()
+        .map(|(_, s, _)| s.as_ref().map(|s| s.to_string()).unwrap_or_default())
+        .collect();
     let mut classes = match cfg.threads {
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n.max(1))
@@ -356,6 +446,26 @@ pub fn plan_world(
         .iter()
         .find(|c| c.collision_free && c.certified_clearance >= cfg.clearance_floor)
         .map(|c| c.rank);
+    // Overlap with the chosen class, by graph edges.
+    let edges_of = |sig: &str| {
+        seed_signatures
+            .iter()
+            .position(|s| s == sig)
+            .and_then(|i| class_edges.get(i))
+    };
+    if let Some(chosen) = best
+        .and_then(|b| edges_of(&classes[b - 1].signature))
+        .cloned()
+    {
+        for c in &mut classes {
+            if let Some(own) = edges_of(&c.signature) {
+                let total: Real = own.iter().map(|(_, l)| l).sum();
+                if total > 0.0 {
+                    c.overlap = shared_length(own, &chosen) / total;
+                }
+            }
+        }
+    }
     let pareto = classes
         .iter()
         .filter(|a| {
@@ -713,6 +823,17 @@ fn optimise_class(
     let t = Instant::now();
     let (model, rays) = (world.model, &world.rays);
     let growth = &cfg.growth;
+    // A robot on the move leaves along its heading, unless its class starts backwards.
+    let headed;
+    let growth = match cfg.start_heading {
+        Some(h) if seed_poly.len() > 1 && (seed_poly[1] - seed_poly[0]).dot(&h) > 0.0 => {
+            let mut g = growth.clone();
+            g.end = EndCondition::StartHeading { direction: h };
+            headed = g;
+            &headed
+        }
+        _ => growth,
+    };
     let guard = Guard {
         class: signature.map(|s| (rays, s)),
         bounds: world.bounds,
@@ -818,5 +939,9 @@ fn optimise_class(
         evaluations,
         time_ms: ms(t),
         graph_cost,
+        overlap: 0.0,
     }
 }
+
+/// Candidates searched per class wanted when the selection limits overlap.
+pub const DIVERSE_CANDIDATES: usize = 4;

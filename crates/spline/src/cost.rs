@@ -27,7 +27,7 @@
 use homospline_geom::{Point, Real, Scene, Vector};
 use thiserror::Error;
 
-use crate::curve::{Parametrization, Spline};
+use crate::curve::{EndCondition, Parametrization, Spline};
 use crate::field::{ClearanceModel, FieldSample};
 use crate::quad::gauss_legendre_cached;
 pub use crate::roughness::RoughnessForm;
@@ -479,15 +479,18 @@ pub fn evaluate(spline: &Spline, model: &dyn ClearanceModel, cfg: &CostConfig) -
 /// The cost and its gradient with respect to the inner via-points (`points[1..n-1]`).
 ///
 /// Analytic for uniform parameters (the spline is then linear in its points); with
-/// chord-length parameters the knots move with the points, and the gradient is taken by
-/// central differences (step `1e-6` times the scene scale).
+/// chord-length parameters the knots move with the points, and with a start heading the
+/// start slope does, so there the gradient is taken by central differences (step `1e-6`
+/// times the scene scale).
 pub fn gradient(
     spline: &Spline,
     model: &dyn ClearanceModel,
     cfg: &CostConfig,
 ) -> (CostTerms, Vec<Vector>) {
     let n = spline.points().len();
-    if spline.parametrization() == Parametrization::ChordLength {
+    if spline.parametrization() == Parametrization::ChordLength
+        || matches!(spline.end_condition(), EndCondition::StartHeading { .. })
+    {
         let terms = evaluate(spline, model, cfg);
         let scale = spline
             .points()

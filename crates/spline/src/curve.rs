@@ -29,6 +29,36 @@ pub enum EndCondition {
         /// `q'(1)`.
         end: Vector,
     },
+    /// A given first derivative at the start, `q'' = 0` at the end.
+    ClampedStart {
+        /// `q'(0)`.
+        start: Vector,
+    },
+    /// The curve leaves the start along `direction` at the speed of its first chord
+    /// (`|q'(0)| = |P1 - P0| / (t1 - t0)`), with `q'' = 0` at the end: a robot re-planning on
+    /// the move keeps its heading. The slope depends on `P1`, so the analytic gradient does
+    /// not apply (see `cost::gradient`).
+    StartHeading {
+        /// The direction to leave in (any length but zero).
+        direction: Vector,
+    },
+}
+
+impl EndCondition {
+    /// The same kind of condition with zero slopes: the ends of the cardinal basis.
+    fn with_zero_slopes(self) -> Self {
+        match self {
+            Self::Natural => Self::Natural,
+            Self::Clamped { .. } => Self::Clamped {
+                start: Vector::zeros(),
+                end: Vector::zeros(),
+            },
+            Self::ClampedStart { .. } => Self::ClampedStart {
+                start: Vector::zeros(),
+            },
+            Self::StartHeading { .. } => Self::Natural,
+        }
+    }
 }
 
 /// Why a spline cannot be built.
@@ -145,13 +175,7 @@ impl Spline {
     /// so `B_j` is the derivative of `q` with respect to `P_j`.
     pub fn basis(&self) -> Vec<Spline> {
         let n = self.points.len();
-        let end = match self.end {
-            EndCondition::Natural => EndCondition::Natural,
-            EndCondition::Clamped { .. } => EndCondition::Clamped {
-                start: Vector::zeros(),
-                end: Vector::zeros(),
-            },
-        };
+        let end = self.end.with_zero_slopes();
         (0..n)
             .map(|j| {
                 let pts: Vec<Point> = (0..n)
@@ -171,13 +195,7 @@ impl Spline {
     pub fn local_basis(&self, j: usize, window: usize) -> (usize, Spline) {
         let n = self.points.len();
         let (lo, hi) = (j.saturating_sub(window), (j + window).min(n - 1));
-        let end = match self.end {
-            EndCondition::Natural => EndCondition::Natural,
-            EndCondition::Clamped { .. } => EndCondition::Clamped {
-                start: Vector::zeros(),
-                end: Vector::zeros(),
-            },
-        };
+        let end = self.end.with_zero_slopes();
         let pts: Vec<Point> = (lo..=hi)
             .map(|i| Point::new(if i == j { 1.0 } else { 0.0 }, 0.0))
             .collect();
@@ -381,13 +399,32 @@ fn second_derivatives(t: &[Real], p: &[Point], end: EndCondition) -> Vec<Vector>
         sup[i] = h[i];
         rhs[i] = (slope[i] - slope[i - 1]) * 6.0;
     }
-    if let EndCondition::Clamped { start, end } = end {
-        diag[0] = 2.0 * h[0];
-        sup[0] = h[0];
-        rhs[0] = (slope[0] - start) * 6.0;
-        sub[n - 1] = h[n - 2];
-        diag[n - 1] = 2.0 * h[n - 2];
-        rhs[n - 1] = (end - slope[n - 2]) * 6.0;
+    match end {
+        EndCondition::Natural => {}
+        EndCondition::Clamped { start, end } => {
+            diag[0] = 2.0 * h[0];
+            sup[0] = h[0];
+            rhs[0] = (slope[0] - start) * 6.0;
+            sub[n - 1] = h[n - 2];
+            diag[n - 1] = 2.0 * h[n - 2];
+            rhs[n - 1] = (end - slope[n - 2]) * 6.0;
+        }
+        EndCondition::ClampedStart { start } => {
+            diag[0] = 2.0 * h[0];
+            sup[0] = h[0];
+            rhs[0] = (slope[0] - start) * 6.0;
+        }
+        EndCondition::StartHeading { direction } => {
+            let n0 = direction.norm();
+            let start = if n0 > 0.0 {
+                direction * (slope[0].norm() / n0)
+            } else {
+                slope[0]
+            };
+            diag[0] = 2.0 * h[0];
+            sup[0] = h[0];
+            rhs[0] = (slope[0] - start) * 6.0;
+        }
     }
     // Forward sweep.
     for i in 1..n {
@@ -457,6 +494,15 @@ mod tests {
         for (k, p) in pts.iter().enumerate() {
             assert!((c.position(c.knots()[k]) - p).norm() < 1e-12);
         }
+        let h = Spline::new(
+            &pts,
+            Parametrization::Uniform,
+            EndCondition::StartHeading { direction: a },
+        )
+        .unwrap();
+        let v0 = h.velocity(0.0);
+        assert!(v0.y.abs() < 1e-9 && v0.x > 0.0 && h.acceleration(1.0).norm() < 1e-9);
+        assert!((v0.norm() - (pts[1] - pts[0]).norm() * 3.0).abs() < 1e-9);
     }
 
     #[test]

@@ -71,17 +71,17 @@ proptest! {
     fn analytic_gradient_matches_finite_differences(
         inner in prop::collection::vec((5.0..55.0, 5.0..55.0), 1..6),
         circles in prop::collection::vec((0.0..60.0, 0.0..60.0, 1.0..5.0), 1..12),
-        clamped in any::<bool>(),
+        ends in 0..3usize,
         form in prop::sample::select(RoughnessForm::ALL.to_vec()),
     ) {
         let mut pts = vec![Point::new(2.0, 30.0)];
         pts.extend(inner.into_iter().map(|(x, y)| Point::new(x, y)));
         pts.push(Point::new(58.0, 30.0));
         let model = CircleModel::new(circles.into_iter().map(|(x, y, r)| Circle::new(x, y, r)).collect());
-        let end = if clamped {
-            EndCondition::Clamped { start: homospline_geom::Vector::new(20.0, 5.0), end: homospline_geom::Vector::new(10.0, -8.0) }
-        } else {
-            EndCondition::Natural
+        let end = match ends {
+            0 => EndCondition::Natural,
+            1 => EndCondition::Clamped { start: homospline_geom::Vector::new(20.0, 5.0), end: homospline_geom::Vector::new(10.0, -8.0) },
+            _ => EndCondition::ClampedStart { start: homospline_geom::Vector::new(30.0, -4.0) },
         };
         check(&pts, end, &model, &CostConfig { roughness: form, ..cfg() })?;
     }

@@ -1,12 +1,15 @@
-//! Test support shared by the crates' tests, the benches and `xtask`: the fixture scenes and
-//! the seeded generator of random scenes.
+//! Test support shared by the crates' tests, the benches and `xtask`: the fixture scenes, the
+//! seeded generator of random scenes and the generator of mission worlds.
 //!
 //! Tests, benches and tooling only (it reads files and panics on a broken fixture); no
 //! library crate depends on it.
 
 use std::path::PathBuf;
 
-use homospline_geom::{Bounds, Obstacle, Point, Scene};
+use homospline_geom::{Bounds, Circle, Obstacle, Point, Scene};
+use homospline_mission::{MissionConfig, MissionWorld, Team, Uav, Ugv, WorldFile};
+use homospline_optim::{Plan, plan};
+use homospline_spline::{CircleModel, ClearanceModel};
 
 /// `fixtures/scenes` of the workspace.
 pub fn scenes_dir() -> PathBuf {
@@ -67,4 +70,145 @@ pub fn square_scene(
         critical_points: vec![],
         hazards: vec![],
     }
+}
+
+/// A seeded random scene in `[0, size]^2`: `n` circles in clusters of up to `group`, start
+/// and goal at mid-height near the left and right sides and kept clear (`cargo xtask
+/// gen-scenes` and the mission worlds).
+pub fn random_scene(name: &str, seed: u64, size: f64, n: usize, group: usize) -> Scene {
+    let mut rng = SplitMix(seed);
+    let start = Point::new((size * 0.04 * 1000.0).round() / 1000.0, size * 0.5);
+    let goal = Point::new((size * 0.96 * 1000.0).round() / 1000.0, size * 0.5);
+    let keep = size * 0.03;
+    let mut obstacles = Vec::new();
+    let mut placed = 0;
+    while placed < n {
+        let k = (1 + (rng.next_unit() * group as f64) as usize).min(n - placed);
+        let c = Point::new(
+            size * (0.1 + 0.8 * rng.next_unit()),
+            size * (0.05 + 0.9 * rng.next_unit()),
+        );
+        let r = size * (0.01 + 0.03 * rng.next_unit());
+        let circles: Vec<Circle> = (0..k)
+            .map(|_| {
+                let a = rng.next_unit() * std::f64::consts::TAU;
+                let d = r * 1.2 * rng.next_unit();
+                let rr = (r * (0.5 + 0.5 * rng.next_unit()) * 1000.0).round() / 1000.0;
+                Circle::new(
+                    ((c.x + a.cos() * d) * 1000.0).round() / 1000.0,
+                    ((c.y + a.sin() * d) * 1000.0).round() / 1000.0,
+                    rr,
+                )
+            })
+            .collect();
+        if circles
+            .iter()
+            .any(|ci| ci.signed_distance(&start) < keep || ci.signed_distance(&goal) < keep)
+        {
+            continue;
+        }
+        placed += k;
+        obstacles.push(Obstacle {
+            name: format!("o{}", obstacles.len()),
+            circles,
+        });
+    }
+    square_scene(name.to_owned(), size, start, goal, obstacles)
+}
+
+/// The default team of the generated worlds: a UGV at 1 unit/s seeing 6 units, and `uavs`
+/// scouts taking off at the start, 3 units/s, seeing 8 units.
+pub fn team(scene: &Scene, uavs: usize) -> Team {
+    Team {
+        ugv: Ugv {
+            speed: 1.0,
+            sensor_range: 6.0,
+        },
+        uavs: (0..uavs)
+            .map(|_| Uav {
+                start: scene.start,
+                speed: 3.0,
+                sensor_range: 8.0,
+            })
+            .collect(),
+    }
+}
+
+/// A hidden obstacle that blocks the narrowest passage of class `rank` (1 = best) of `plan`:
+/// a disc on its class path (the Voronoi ridge) where the ridge is least clear, filling the
+/// passage, away from the start and the goal. `None` if the class has no such point.
+pub fn blockage(scene: &Scene, plan: &Plan, rank: usize, name: &str) -> Option<Obstacle> {
+    let class = plan.classes.get(rank - 1)?;
+    let model = CircleModel::new(scene.circles());
+    let away = 10.0;
+    let (at, clear) = class
+        .seed_path
+        .windows(2)
+        .flat_map(|w| (0..8).map(move |k| w[0] + (w[1] - w[0]) * (k as f64 / 8.0)))
+        .filter(|p| (p - scene.start).norm() > away && (p - scene.goal).norm() > away)
+        .map(|p| (p, model.clearance(&p).0))
+        .filter(|(_, d)| *d > 0.0)
+        .min_by(|a, b| a.1.total_cmp(&b.1))?;
+    let r = ((clear + 0.5) * 1000.0).round() / 1000.0;
+    let round = |v: f64| (v * 1000.0).round() / 1000.0;
+    Some(Obstacle {
+        name: name.to_owned(),
+        circles: vec![Circle::new(round(at.x), round(at.y), r)],
+    })
+}
+
+/// A world on `scene` with a hidden obstacle in the best class's narrowest passage (and, with
+/// `second`, one in the second class's too), `uavs` scouts; `None` when the classes or a
+/// valid blockage are missing.
+pub fn blocked_world(scene: &Scene, uavs: usize, second: bool) -> Option<MissionWorld> {
+    let cfg = MissionConfig::default();
+    let p = plan(scene, &cfg.plan).ok()?;
+    let mut hidden = vec![blockage(scene, &p, p.best?, "blockage")?];
+    if second && p.classes.len() > 1 {
+        hidden.extend(blockage(scene, &p, p.best? + 1, "blockage-2"));
+    }
+    MissionWorld::new(
+        &format!("{}-blocked", scene.name),
+        scene.clone(),
+        hidden,
+        Vec::new(),
+        team(scene, uavs),
+    )
+    .ok()
+}
+
+/// The seeded generator of mission worlds for benchmarks: a random 60 x 60 scene of 5 to 12
+/// circles with its best class blocked, and in every other world the second best too;
+/// `None` for a seed whose scene does not give such a world (too few classes).
+pub fn random_world(seed: u64, uavs: usize) -> Option<MissionWorld> {
+    let mut rng = SplitMix(seed ^ 0x5EED);
+    let n = 5 + (rng.next_unit() * 8.0) as usize;
+    let scene = random_scene(&format!("world-{seed:03}"), 7000 + seed, 60.0, n, 3);
+    blocked_world(&scene, uavs, seed % 2 == 1)
+}
+
+/// The mission worlds of `fixtures/worlds`, in file-name order, each joined with its scene.
+pub fn fixture_worlds() -> Vec<MissionWorld> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/worlds");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .expect("fixtures/worlds is readable")
+        .map(|e| e.expect("a directory entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "yaml"))
+        .collect();
+    files.sort();
+    files
+        .iter()
+        .map(|p| {
+            let text =
+                std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+            let file = WorldFile::from_str(&text, &p.display().to_string())
+                .unwrap_or_else(|e| panic!("{e}"));
+            let scene_path = p.parent().expect("a directory").join(&file.scene);
+            let bytes = std::fs::read(&scene_path)
+                .unwrap_or_else(|e| panic!("{}: {e}", scene_path.display()));
+            let scene = Scene::from_bytes(&bytes, &scene_path.display().to_string())
+                .unwrap_or_else(|e| panic!("{e}"));
+            file.with_prior(scene).unwrap_or_else(|e| panic!("{e}"))
+        })
+        .collect()
 }

@@ -1,0 +1,117 @@
+//! Criterion bench of re-planning during missions: every re-plan event of the paper-like
+//! worlds and 20 generated worlds (map update as the UGV knew it then, classes, optimisation,
+//! from the UGV's position and heading), timed one by one; prints p50 and p99.
+
+use std::time::{Duration, Instant};
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use homospline_geom::{Point, Scene, Vector};
+use homospline_mission::{EventKind, MissionConfig, MissionWorld, Policy, simulate};
+use homospline_optim::{PlanConfig, plan};
+
+/// The re-plan problems of one mission: the known map, the UGV's position and heading.
+fn replans(world: &MissionWorld, cfg: &MissionConfig) -> Vec<(Scene, Vector)> {
+    let r = simulate(world, cfg).expect("a mission");
+    let mut out = Vec::new();
+    for e in &r.events {
+        if !matches!(e.kind, EventKind::Replanned { .. }) {
+            continue;
+        }
+        let mut known = world.prior.clone();
+        for d in r.events.iter().filter(|d| d.t <= e.t) {
+            if let EventKind::Discovered {
+                obstacle, hidden, ..
+            } = &d.kind
+            {
+                if *hidden {
+                    known.obstacles.extend(
+                        world
+                            .truth
+                            .obstacles
+                            .iter()
+                            .filter(|o| &o.name == obstacle)
+                            .cloned(),
+                    );
+                } else {
+                    known.obstacles.retain(|o| &o.name != obstacle);
+                }
+            }
+        }
+        known.start = e.at;
+        let before = r.adopted.iter().rev().find(|a| a.t < e.t).expect("a plan");
+        let k = nearest(&before.path, &e.at).min(before.path.len() - 2);
+        let heading = before.path[k + 1] - before.path[k];
+        out.push((known, heading));
+    }
+    out
+}
+
+fn nearest(path: &[Point], p: &Point) -> usize {
+    (0..path.len())
+        .min_by(|&a, &b| (path[a] - p).norm().total_cmp(&(path[b] - p).norm()))
+        .unwrap_or(0)
+}
+
+fn percentile(sorted: &[f64], q: f64) -> f64 {
+    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
+}
+
+fn bench(c: &mut Criterion) {
+    let cfg = MissionConfig {
+        policy: Policy::Ahead,
+        ..MissionConfig::default()
+    };
+    let mut worlds = homospline_testkit::fixture_worlds();
+    worlds.extend(
+        (0..40)
+            .filter_map(|s| homospline_testkit::random_world(s, 2))
+            .take(20),
+    );
+    let problems: Vec<(Scene, Vector)> = worlds.iter().flat_map(|w| replans(w, &cfg)).collect();
+    eprintln!(
+        "{} re-plan events from {} worlds",
+        problems.len(),
+        worlds.len()
+    );
+    let mut g = c.benchmark_group("mission");
+    let mut times: Vec<f64> = Vec::new();
+    g.bench_function("replan", |b| {
+        b.iter_custom(|iters| {
+            let mut total = Duration::ZERO;
+            for i in 0..iters as usize {
+                let (scene, heading) = &problems[i % problems.len()];
+                let pc = PlanConfig {
+                    start_heading: Some(*heading),
+                    classes: cfg.replan_classes,
+                    ..cfg.plan.clone()
+                };
+                let t = Instant::now();
+                let p = plan(scene, &pc).expect("a plan");
+                let dt = t.elapsed();
+                std::hint::black_box(p);
+                times.push(dt.as_secs_f64() * 1e3);
+                total += dt;
+            }
+            total
+        })
+    });
+    g.finish();
+    times.sort_by(f64::total_cmp);
+    eprintln!(
+        "re-plan latency over {} timed re-plans: p50 {:.2} ms, p99 {:.2} ms, max {:.2} ms",
+        times.len(),
+        percentile(&times, 0.5),
+        percentile(&times, 0.99),
+        times.last().copied().unwrap_or(f64::NAN)
+    );
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default()
+        .sample_size(20)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(5));
+    targets = bench
+}
+criterion_main!(benches);

@@ -1,0 +1,364 @@
+//! What `homospline simulate` prints and writes: the events and figures of a mission, its
+//! JSON (timeline and every trajectory) and an animated SVG.
+
+use std::fmt::Write;
+
+use homospline_geom::{Point, Real};
+use homospline_mission::{EventKind, MissionResult, MissionWorld, Robot};
+use serde_json::{Value, json};
+
+fn who(r: Robot) -> String {
+    match r {
+        Robot::Ugv => "ugv".into(),
+        Robot::Uav(i) => format!("uav-{i}"),
+    }
+}
+
+/// One line per event.
+fn describe(kind: &EventKind) -> String {
+    match kind {
+        EventKind::Planned { classes, class } => {
+            format!("planned on the prior map: {classes} collision-free classes, driving {class}")
+        }
+        EventKind::Discovered {
+            obstacle,
+            hidden,
+            by,
+        } => {
+            if *hidden {
+                format!("{} sees obstacle '{obstacle}', not on the map", who(*by))
+            } else {
+                format!("{} sees that obstacle '{obstacle}' is gone", who(*by))
+            }
+        }
+        EventKind::ClassClosed { class } => format!("class {class} is blocked (an alternative)"),
+        EventKind::Blocked { class } => format!("the UGV's path (class {class}) is blocked"),
+        EventKind::Replanned {
+            forced,
+            classes,
+            class,
+        } => format!(
+            "re-planned ({}): {classes} collision-free classes, driving {class}",
+            if *forced { "blocked" } else { "map changed" }
+        ),
+        EventKind::Switched { from, to } => format!("switched class {from} -> {to}"),
+        EventKind::TurnedAround => {
+            "the new path starts backwards: the UGV turns on the spot".into()
+        }
+        EventKind::Reached => "goal reached".into(),
+        EventKind::Stuck { reason } => format!("stopped: {reason}"),
+    }
+}
+
+fn fmt_opt(x: Option<Real>) -> String {
+    x.map_or("-".into(), |v| format!("{v:.3}"))
+}
+
+/// The events and the figures, as `homospline simulate` prints them.
+pub fn mission_text(world: &MissionWorld, r: &MissionResult) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "world {}  policy {}  scouts {}  hidden {}  cleared {}",
+        r.world,
+        r.policy.name(),
+        r.scouts,
+        world.hidden.len(),
+        world.cleared.len()
+    );
+    for e in &r.events {
+        let _ = writeln!(
+            s,
+            "{:>8.2} s  ({:>7.2}, {:>7.2})  {}",
+            e.t,
+            e.at.x,
+            e.at.y,
+            describe(&e.kind)
+        );
+    }
+    let ms = &r.replan_ms;
+    let _ = writeln!(
+        s,
+        "reached {}  time {:.2} s  UGV distance {:.2}  hindsight optimum {}  distance / optimum {}  time / optimum {}",
+        if r.reached { "yes" } else { "NO" },
+        r.time,
+        r.ugv_distance,
+        fmt_opt(r.hindsight_length),
+        fmt_opt(r.distance_ratio()),
+        fmt_opt(r.time_ratio(world.team.ugv.speed)),
+    );
+    let _ = writeln!(
+        s,
+        "re-plans {}  switches {}  driven on abandoned paths {:.2}  UAV distance {:.2}  re-plan ms {}",
+        r.replans,
+        r.switches,
+        r.abandoned_distance,
+        r.uav_distance,
+        if ms.is_empty() {
+            "-".to_owned()
+        } else {
+            ms.iter()
+                .map(|m| format!("{m:.1}"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        }
+    );
+    s
+}
+
+fn xy(p: &Point) -> Value {
+    json!([p.x, p.y])
+}
+
+/// The mission as JSON (`docs/formats.md`, mission result).
+pub fn mission_json(world: &MissionWorld, r: &MissionResult) -> String {
+    let events: Vec<Value> = r
+        .events
+        .iter()
+        .map(|e| {
+            let mut v = match &e.kind {
+                EventKind::Planned { classes, class } => {
+                    json!({"kind": "planned", "classes": classes, "class": class})
+                }
+                EventKind::Discovered {
+                    obstacle,
+                    hidden,
+                    by,
+                } => json!({"kind": "discovered", "obstacle": obstacle, "hidden": hidden, "by": who(*by)}),
+                EventKind::ClassClosed { class } => json!({"kind": "class_closed", "class": class}),
+                EventKind::Blocked { class } => json!({"kind": "blocked", "class": class}),
+                EventKind::Replanned {
+                    forced,
+                    classes,
+                    class,
+                } => json!({"kind": "replanned", "forced": forced, "classes": classes, "class": class}),
+                EventKind::Switched { from, to } => json!({"kind": "switched", "from": from, "to": to}),
+                EventKind::TurnedAround => json!({"kind": "turned_around"}),
+                EventKind::Reached => json!({"kind": "reached"}),
+                EventKind::Stuck { reason } => json!({"kind": "stuck", "reason": reason}),
+            };
+            v["t"] = json!(e.t);
+            v["at"] = xy(&e.at);
+            v
+        })
+        .collect();
+    let track = |t: &homospline_mission::Track| {
+        json!({
+            "name": t.name,
+            "samples": t.samples.iter().map(|(t, p)| json!([t, p.x, p.y])).collect::<Vec<_>>(),
+        })
+    };
+    let doc = json!({
+        "world": r.world,
+        "policy": r.policy.name(),
+        "scouts": r.scouts,
+        "reached": r.reached,
+        "time": r.time,
+        "ugv_distance": r.ugv_distance,
+        "hindsight_length": r.hindsight_length,
+        "distance_ratio": r.distance_ratio(),
+        "time_ratio": r.time_ratio(world.team.ugv.speed),
+        "replans": r.replans,
+        "switches": r.switches,
+        "abandoned_distance": r.abandoned_distance,
+        "uav_distance": r.uav_distance,
+        "replan_ms": r.replan_ms,
+        "events": events,
+        "ugv": track(&r.ugv),
+        "uavs": r.uavs.iter().map(track).collect::<Vec<_>>(),
+        "adopted": r.adopted.iter().map(|a| json!({
+            "t": a.t,
+            "class": a.class,
+            "path": a.path.iter().map(xy).collect::<Vec<_>>(),
+        })).collect::<Vec<_>>(),
+    });
+    serde_json::to_string_pretty(&doc).unwrap_or_default() + "\n"
+}
+
+/// Seconds of animation for the whole mission.
+const ANIMATION_SECONDS: Real = 20.0;
+
+/// At most this many key frames per moving robot.
+const KEY_FRAMES: usize = 400;
+
+/// An animated picture of the mission: the prior map (grey), obstacles not on it (red, faint
+/// until discovered), mapped obstacles that are gone (fading when discovered), every adopted
+/// path (dashed), the UGV's (blue) and the scouts' (orange) tracks, re-plan points, and the
+/// robots moving along their tracks (the mission plays in 20 s and repeats).
+pub fn mission_svg(world: &MissionWorld, r: &MissionResult) -> String {
+    let b = &world.prior.bounds;
+    let (w, h) = (b.max.x - b.min.x, b.max.y - b.min.y);
+    let scale = 800.0 / w.max(h);
+    let (pw, ph) = (w * scale, h * scale);
+    let x = |v: Real| (v - b.min.x) * scale;
+    let y = |v: Real| (b.max.y - v) * scale;
+    let k = ANIMATION_SECONDS / r.time.max(1e-9);
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{:.0}" height="{:.0}" viewBox="0 0 {pw:.1} {:.1}">"#,
+        pw,
+        ph + 40.0,
+        ph + 40.0
+    );
+    let _ = writeln!(
+        s,
+        r##"<rect x="0" y="0" width="{pw:.1}" height="{ph:.1}" fill="#fafafa" stroke="#333"/>"##
+    );
+    let when = |name: &str| {
+        r.events.iter().find_map(|e| match &e.kind {
+            EventKind::Discovered { obstacle, .. } if obstacle == name => Some(e.t),
+            _ => None,
+        })
+    };
+    let rr = world.prior.robot_radius;
+    s.push_str("<g id=\"map\">\n");
+    for o in &world.prior.obstacles {
+        let gone = world.cleared.contains(&o.name);
+        for c in &o.circles {
+            let _ = write!(
+                s,
+                r##"<circle cx="{:.2}" cy="{:.2}" r="{:.2}" fill="#666" fill-opacity="0.85">"##,
+                x(c.center.x),
+                y(c.center.y),
+                (c.radius + rr) * scale
+            );
+            if gone && let Some(t) = when(&o.name) {
+                let _ = write!(
+                    s,
+                    r#"<animate attributeName="fill-opacity" from="0.85" to="0.12" begin="{:.2}s" dur="0.5s" fill="freeze"/>"#,
+                    t * k
+                );
+            }
+            s.push_str("</circle>\n");
+        }
+    }
+    s.push_str("</g>\n<g id=\"hidden\">\n");
+    for o in world
+        .truth
+        .obstacles
+        .iter()
+        .filter(|o| world.hidden.contains(&o.name))
+    {
+        for c in &o.circles {
+            let _ = write!(
+                s,
+                r##"<circle cx="{:.2}" cy="{:.2}" r="{:.2}" fill="#d62728" fill-opacity="0.12" stroke="#d62728" stroke-dasharray="4 3">"##,
+                x(c.center.x),
+                y(c.center.y),
+                (c.radius + rr) * scale
+            );
+            if let Some(t) = when(&o.name) {
+                let _ = write!(
+                    s,
+                    r#"<animate attributeName="fill-opacity" from="0.12" to="0.85" begin="{:.2}s" dur="0.5s" fill="freeze"/>"#,
+                    t * k
+                );
+            }
+            s.push_str("</circle>\n");
+        }
+    }
+    let poly = |pts: &mut dyn Iterator<Item = Point>| {
+        pts.map(|p| format!("{:.2},{:.2}", x(p.x), y(p.y)))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    s.push_str("</g>\n<g id=\"plans\">\n");
+    for a in &r.adopted {
+        let _ = writeln!(
+            s,
+            r##"<polyline points="{}" fill="none" stroke="#1f77b4" stroke-opacity="0.45" stroke-width="1.2" stroke-dasharray="5 4"/>"##,
+            poly(&mut a.path.iter().copied())
+        );
+    }
+    s.push_str("</g>\n<g id=\"tracks\">\n");
+    for t in &r.uavs {
+        let _ = writeln!(
+            s,
+            r##"<polyline points="{}" fill="none" stroke="#ff7f0e" stroke-width="1.3" stroke-opacity="0.8"/>"##,
+            poly(&mut t.samples.iter().map(|(_, p)| *p))
+        );
+    }
+    let _ = writeln!(
+        s,
+        r##"<polyline points="{}" fill="none" stroke="#1f4e9c" stroke-width="2.4"/>"##,
+        poly(&mut r.ugv.samples.iter().map(|(_, p)| *p))
+    );
+    s.push_str("</g>\n<g id=\"events\">\n");
+    for e in &r.events {
+        if matches!(e.kind, EventKind::Replanned { .. }) {
+            let (cx, cy) = (x(e.at.x), y(e.at.y));
+            let _ = writeln!(
+                s,
+                r##"<path d="M{:.1},{:.1} l8,8 m0,-8 l-8,8" stroke="#000" stroke-width="2"/>"##,
+                cx - 4.0,
+                cy - 4.0
+            );
+        }
+    }
+    for (p, label) in [(world.prior.start, "S"), (world.prior.goal, "T")] {
+        let _ = writeln!(
+            s,
+            r##"<circle cx="{:.2}" cy="{:.2}" r="5" fill="#2ca02c"/><text x="{:.2}" y="{:.2}" font-size="14" font-family="sans-serif">{label}</text>"##,
+            x(p.x),
+            y(p.y),
+            x(p.x) + 7.0,
+            y(p.y) - 7.0
+        );
+    }
+    s.push_str("</g>\n");
+    // Robots moving along their tracks.
+    let mover = |s: &mut String, samples: &[(Real, Point)], colour: &str, radius: Real| {
+        if samples.is_empty() {
+            return;
+        }
+        let step = samples.len().div_ceil(KEY_FRAMES).max(1);
+        let mut keys: Vec<(Real, Point)> = samples.iter().step_by(step).copied().collect();
+        if keys.last() != samples.last() {
+            keys.extend(samples.last().copied());
+        }
+        let total = r.time.max(1e-9);
+        if keys.first().is_some_and(|k| k.0 > 0.0) {
+            keys.insert(0, (0.0, keys[0].1));
+        }
+        if keys.last().is_some_and(|k| k.0 < total) {
+            let last = keys[keys.len() - 1].1;
+            keys.push((total, last));
+        }
+        let values = keys
+            .iter()
+            .map(|(_, p)| format!("{:.2},{:.2}", x(p.x), y(p.y)))
+            .collect::<Vec<_>>()
+            .join(";");
+        let times = keys
+            .iter()
+            .map(|(t, _)| format!("{:.5}", (t / total).clamp(0.0, 1.0)))
+            .collect::<Vec<_>>()
+            .join(";");
+        let _ = writeln!(
+            s,
+            r##"<circle r="{radius}" fill="{colour}" stroke="#000"><animateMotion dur="{ANIMATION_SECONDS}s" repeatCount="indefinite" calcMode="linear" values="{values}" keyTimes="{times}"/></circle>"##
+        );
+    };
+    s.push_str("<g id=\"robots\">\n");
+    for t in &r.uavs {
+        mover(&mut s, &t.samples, "#ff7f0e", 5.0);
+    }
+    mover(&mut s, &r.ugv.samples, "#1f4e9c", 7.0);
+    s.push_str("</g>\n");
+    let _ = writeln!(
+        s,
+        r##"<text x="6" y="{:.1}" font-size="13" font-family="sans-serif">{} · policy {} · {} scouts · {} · UGV {:.1} (optimum {}) · re-plans {} · switches {}  (grey: map; red: not on the map; blue: UGV; orange: scouts; dashed: plans; x: re-plans)</text>"##,
+        ph + 25.0,
+        r.world,
+        r.policy.name(),
+        r.scouts,
+        if r.reached { "reached" } else { "NOT reached" },
+        r.ugv_distance,
+        fmt_opt(r.hindsight_length),
+        r.replans,
+        r.switches
+    );
+    s.push_str("</svg>\n");
+    s
+}

@@ -1,0 +1,972 @@
+//! The mission simulation: the k best classes on the prior map offline, then time steps in
+//! which the UGV drives its plan, the scouts fly their routes, discoveries update the map,
+//! and the UGV re-plans from where it is, keeping its heading, when its path is blocked.
+
+use std::time::Instant;
+
+use homospline_geom::{Point, Real, Scene, Vector};
+use homospline_homotopy::Rays;
+use homospline_optim::{GrowthConfig, Optimizer, Plan, PlanConfig, plan};
+use homospline_spline::{CircleModel, ClearanceModel, EndCondition, Spline, evaluate};
+use thiserror::Error;
+
+use crate::world::{MissionWorld, Uav};
+
+/// How the scouts are used.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Policy {
+    /// No scouts fly: the UGV finds blockages itself (the baseline).
+    #[default]
+    None,
+    /// Scouts inspect the far half of the UGV's route while it drives the near half.
+    Ahead,
+    /// Scouts verify the next best classes, one each; scouts left over fly `ahead`.
+    Alternatives,
+}
+
+impl Policy {
+    /// Every policy.
+    pub const ALL: [Policy; 3] = [Policy::None, Policy::Ahead, Policy::Alternatives];
+
+    /// `none`, `ahead` or `alternatives`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Policy::None => "none",
+            Policy::Ahead => "ahead",
+            Policy::Alternatives => "alternatives",
+        }
+    }
+}
+
+/// Settings of [`simulate`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct MissionConfig {
+    /// The planner, offline and for every re-plan. Defaults to 5 classes and L-BFGS (re-plans
+    /// are on the clock).
+    pub plan: PlanConfig,
+    /// Scout policy.
+    pub policy: Policy,
+    /// Scouts to fly (`None`: every UAV of the world). More than the world lists are added
+    /// at the UGV's start with speed 3 and sensor range 10.
+    pub scouts: Option<usize>,
+    /// Time step, seconds.
+    pub dt: Real,
+    /// Hysteresis: a valid plan is given up for another class only if that class costs at
+    /// least this fraction less; and after a blockage, the current class is kept if it costs
+    /// at most this fraction more than the best.
+    pub switch_margin: Real,
+    /// Hysteresis: seconds between two voluntary switches.
+    pub min_switch_interval: Real,
+    /// Give up after this many seconds (`None`: 20 times the straight-line time plus 60 s).
+    pub max_time: Option<Real>,
+    /// Classes optimised at a re-plan on the move (the offline plan takes `plan.classes`):
+    /// the UGV's next class and the alternatives the scouts may verify. Fewer classes, a
+    /// shorter stop.
+    pub replan_classes: usize,
+}
+
+impl Default for MissionConfig {
+    fn default() -> Self {
+        Self {
+            plan: PlanConfig {
+                growth: GrowthConfig {
+                    optimizer: Optimizer::Lbfgs,
+                    ..GrowthConfig::default()
+                },
+                ..PlanConfig::default()
+            },
+            policy: Policy::None,
+            scouts: None,
+            dt: 0.25,
+            switch_margin: 0.1,
+            min_switch_interval: 10.0,
+            max_time: None,
+            replan_classes: 3,
+        }
+    }
+}
+
+/// Why a mission could not be simulated at all.
+#[derive(Debug, Error)]
+pub enum MissionError {
+    /// A setting is out of range.
+    #[error("{0}")]
+    Config(String),
+}
+
+/// Who saw something.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Robot {
+    /// The ground robot.
+    Ugv,
+    /// Scout `i`.
+    Uav(usize),
+}
+
+/// What happened.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EventKind {
+    /// The offline plan on the prior map.
+    Planned {
+        /// Collision-free classes found.
+        classes: usize,
+        /// The class chosen.
+        class: String,
+    },
+    /// An obstacle not on the map (`hidden`), or the absence of one that is, was seen.
+    Discovered {
+        /// Its name.
+        obstacle: String,
+        /// `true`: a new obstacle; `false`: a mapped obstacle found gone.
+        hidden: bool,
+        /// Who saw it.
+        by: Robot,
+    },
+    /// A class other than the UGV's was found blocked.
+    ClassClosed {
+        /// The class.
+        class: String,
+    },
+    /// The UGV's path was found blocked.
+    Blocked {
+        /// Its class.
+        class: String,
+    },
+    /// A re-plan from the UGV's position.
+    Replanned {
+        /// Blocked path (`true`) or a discovery that may open a better class.
+        forced: bool,
+        /// Collision-free classes found.
+        classes: usize,
+        /// The class driven next.
+        class: String,
+    },
+    /// The UGV changed class.
+    Switched {
+        /// From.
+        from: String,
+        /// To.
+        to: String,
+    },
+    /// The new path starts backwards: the UGV turns on the spot.
+    TurnedAround,
+    /// The goal is reached.
+    Reached,
+    /// The mission stopped without reaching the goal.
+    Stuck {
+        /// Why.
+        reason: String,
+    },
+}
+
+/// An event at a time and place (the UGV's position).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Event {
+    /// Seconds from the start.
+    pub t: Real,
+    /// The UGV's position.
+    pub at: Point,
+    /// What.
+    pub kind: EventKind,
+}
+
+/// A robot's positions over time.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Track {
+    /// `ugv` or `uav-I`.
+    pub name: String,
+    /// `(t, position)`, one per time step while moving, and the last one.
+    pub samples: Vec<(Real, Point)>,
+}
+
+/// A path the UGV adopted.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Adopted {
+    /// When.
+    pub t: Real,
+    /// Its class (signature on the prior map's rays).
+    pub class: String,
+    /// The sampled curve.
+    pub path: Vec<Point>,
+}
+
+/// The outcome of a mission.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MissionResult {
+    /// World name.
+    pub world: String,
+    /// Policy used.
+    pub policy: Policy,
+    /// Scouts flown.
+    pub scouts: usize,
+    /// The goal was reached.
+    pub reached: bool,
+    /// Seconds until the goal (or until the mission stopped).
+    pub time: Real,
+    /// Distance the UGV drove.
+    pub ugv_distance: Real,
+    /// Length of the best plan on the true world from the start (`None` if it has none).
+    pub hindsight_length: Option<Real>,
+    /// Re-plans after the offline plan.
+    pub replans: usize,
+    /// Class changes.
+    pub switches: usize,
+    /// Distance driven on paths later abandoned (blocked or switched away from), counted
+    /// from when each was adopted.
+    pub abandoned_distance: Real,
+    /// Distance flown by all scouts.
+    pub uav_distance: Real,
+    /// Everything that happened, in time order.
+    pub events: Vec<Event>,
+    /// The UGV's track.
+    pub ugv: Track,
+    /// Each scout's track.
+    pub uavs: Vec<Track>,
+    /// Every path the UGV adopted.
+    pub adopted: Vec<Adopted>,
+    /// Wall time of each re-plan (map update, classes, optimisation), milliseconds: not part
+    /// of the deterministic outcome.
+    pub replan_ms: Vec<Real>,
+}
+
+impl MissionResult {
+    /// UGV distance over the hindsight optimum's length.
+    pub fn distance_ratio(&self) -> Option<Real> {
+        self.hindsight_length
+            .filter(|&l| l > 0.0 && self.reached)
+            .map(|l| self.ugv_distance / l)
+    }
+
+    /// Mission time over the hindsight optimum's driving time.
+    pub fn time_ratio(&self, ugv_speed: Real) -> Option<Real> {
+        self.hindsight_length
+            .filter(|&l| l > 0.0 && self.reached)
+            .map(|l| self.time / (l / ugv_speed))
+    }
+}
+
+/// A path being driven or flown, with cumulative arc length.
+#[derive(Clone, Debug)]
+struct Polyline {
+    pts: Vec<Point>,
+    cum: Vec<Real>,
+}
+
+impl Polyline {
+    fn new(pts: Vec<Point>) -> Self {
+        let mut cum = Vec::with_capacity(pts.len());
+        let mut acc = 0.0;
+        for (i, p) in pts.iter().enumerate() {
+            if i > 0 {
+                acc += (p - pts[i - 1]).norm();
+            }
+            cum.push(acc);
+        }
+        Self { pts, cum }
+    }
+
+    fn length(&self) -> Real {
+        self.cum.last().copied().unwrap_or(0.0)
+    }
+
+    /// The point at arc length `s` and the index of the segment it is on.
+    fn at(&self, s: Real) -> (Point, usize) {
+        let n = self.pts.len();
+        if n == 1 || s <= 0.0 {
+            return (self.pts[0], 0);
+        }
+        if s >= self.length() {
+            return (self.pts[n - 1], n - 2);
+        }
+        let i = self.cum.partition_point(|&c| c <= s).clamp(1, n - 1);
+        let seg = self.cum[i] - self.cum[i - 1];
+        let f = if seg > 0.0 {
+            (s - self.cum[i - 1]) / seg
+        } else {
+            0.0
+        };
+        (self.pts[i - 1] + (self.pts[i] - self.pts[i - 1]) * f, i - 1)
+    }
+
+    /// The direction of travel at arc length `s`.
+    fn heading(&self, s: Real) -> Vector {
+        let (_, i) = self.at(s);
+        let d = self.pts[(i + 1).min(self.pts.len() - 1)] - self.pts[i];
+        if d.norm() > 0.0 {
+            d / d.norm()
+        } else {
+            Vector::zeros()
+        }
+    }
+
+    /// The part from arc length `a` to `b`.
+    fn slice(&self, a: Real, b: Real) -> Vec<Point> {
+        let (pa, ia) = self.at(a);
+        let (pb, ib) = self.at(b);
+        let mut out = vec![pa];
+        out.extend(self.pts[ia + 1..=ib].iter().copied());
+        out.push(pb);
+        out.dedup();
+        out
+    }
+}
+
+/// A class path the UGV may drive.
+#[derive(Clone, Debug)]
+struct Route {
+    class: String,
+    line: Polyline,
+    via: Vec<Point>,
+    cost: Real,
+}
+
+/// A scout in flight.
+struct Scout {
+    uav: Uav,
+    pos: Point,
+    /// Waypoints still to reach.
+    route: Vec<Point>,
+    flown: Real,
+    track: Track,
+    /// Jobs since the last (re-)plan: the classes verified (policy `alternatives`), or ""
+    /// for a part of the UGV's route.
+    jobs: Vec<String>,
+}
+
+impl Scout {
+    fn step(&mut self, dt: Real, t: Real) {
+        let mut budget = self.uav.speed * dt;
+        let moved = !self.route.is_empty();
+        while budget > 0.0 && !self.route.is_empty() {
+            let d = self.route[0] - self.pos;
+            let n = d.norm();
+            if n <= budget {
+                self.pos = self.route.remove(0);
+                budget -= n;
+                self.flown += n;
+            } else {
+                self.pos += d * (budget / n);
+                self.flown += budget;
+                budget = 0.0;
+            }
+        }
+        if moved {
+            self.track.samples.push((t, self.pos));
+        }
+    }
+}
+
+/// Seen from `p` within `range`: any circle of the obstacle comes that close.
+fn within(p: &Point, range: Real, o: &homospline_geom::Obstacle) -> bool {
+    o.circles
+        .iter()
+        .any(|c| (p - c.center).norm() - c.radius <= range)
+}
+
+/// Everything the mission needs while it runs.
+struct Run<'a> {
+    cfg: &'a MissionConfig,
+    rays: Rays,
+    known: Scene,
+    known_hidden: Vec<String>,
+    known_cleared: Vec<String>,
+    events: Vec<Event>,
+    replan_ms: Vec<Real>,
+}
+
+impl Run<'_> {
+    fn event(&mut self, t: Real, at: Point, kind: EventKind) {
+        self.events.push(Event { t, at, kind });
+    }
+
+    /// The collision-free classes of a plan from `from` on the known map, best first.
+    fn routes_from(&mut self, from: Point, heading: Option<Vector>) -> Vec<Route> {
+        let mut scene = self.known.clone();
+        scene.start = from;
+        if scene.validate("mission").is_err() {
+            return Vec::new();
+        }
+        let cfg = PlanConfig {
+            start_heading: heading,
+            classes: match heading {
+                Some(_) => self.cfg.replan_classes.clamp(1, self.cfg.plan.classes),
+                None => self.cfg.plan.classes,
+            },
+            ..self.cfg.plan.clone()
+        };
+        let t0 = Instant::now();
+        let p: Option<Plan> = plan(&scene, &cfg).ok();
+        self.replan_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+        p.map(|p| {
+            p.classes
+                .into_iter()
+                .filter(|c| c.collision_free)
+                .map(|c| Route {
+                    class: self.rays.signature(&c.path).to_string(),
+                    line: Polyline::new(c.path),
+                    via: c.via_points,
+                    cost: c.cost.total,
+                })
+                .collect()
+        })
+        .unwrap_or_default()
+    }
+
+    fn model(&self) -> CircleModel {
+        CircleModel::new(self.known.circles())
+    }
+
+    /// The cost of driving the rest of `route` from arc length `s` on the known map: the
+    /// spline through the UGV's position and the via-points still ahead.
+    fn remaining_cost(&self, route: &Route, s: Real, heading: Vector) -> Real {
+        let (pos, _) = route.line.at(s);
+        let goal = *route.via.last().unwrap_or(&pos);
+        let ahead_of = |p: &Point| {
+            // A via-point is ahead if the path reaches its nearest sample after `s`.
+            let k = (0..route.line.pts.len())
+                .min_by(|&a, &b| {
+                    (route.line.pts[a] - p)
+                        .norm_squared()
+                        .total_cmp(&(route.line.pts[b] - p).norm_squared())
+                })
+                .unwrap_or(0);
+            route.line.cum[k] > s
+        };
+        let mut pts = vec![pos];
+        pts.extend(
+            route.via[1..route.via.len().saturating_sub(1)]
+                .iter()
+                .filter(|p| ahead_of(p)),
+        );
+        pts.push(goal);
+        pts.dedup();
+        let end = EndCondition::StartHeading { direction: heading };
+        match Spline::new(&pts, self.cfg.plan.growth.parametrization, end) {
+            Ok(sp) => evaluate(&sp, &self.model(), &self.cfg.plan.growth.cost).total,
+            Err(_) => Real::INFINITY,
+        }
+    }
+}
+
+/// Simulates the mission in `world` with `cfg`. Deterministic: the same world and settings
+/// give the same events and tracks (only `replan_ms` varies).
+pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResult, MissionError> {
+    if cfg.replan_classes == 0 {
+        return Err(MissionError::Config(
+            "re-plans need at least 1 class".into(),
+        ));
+    }
+    if !(cfg.dt.is_finite() && cfg.dt > 0.0) {
+        return Err(MissionError::Config(format!(
+            "dt must be > 0, got {}",
+            cfg.dt
+        )));
+    }
+    if !(cfg.switch_margin.is_finite() && cfg.switch_margin >= 0.0) {
+        return Err(MissionError::Config(format!(
+            "switch margin must be >= 0, got {}",
+            cfg.switch_margin
+        )));
+    }
+    if !(cfg.min_switch_interval.is_finite() && cfg.min_switch_interval >= 0.0) {
+        return Err(MissionError::Config(format!(
+            "minimum time between switches must be >= 0, got {}",
+            cfg.min_switch_interval
+        )));
+    }
+    let prior = &world.prior;
+    let ugv = world.team.ugv.clone();
+    let n_scouts = match cfg.policy {
+        Policy::None => 0,
+        _ => cfg.scouts.unwrap_or(world.team.uavs.len()),
+    };
+    let mut scouts: Vec<Scout> = (0..n_scouts)
+        .map(|i| {
+            let uav = world.team.uavs.get(i).cloned().unwrap_or(Uav {
+                start: prior.start,
+                speed: 3.0,
+                sensor_range: 10.0,
+            });
+            Scout {
+                pos: uav.start,
+                uav,
+                route: Vec::new(),
+                flown: 0.0,
+                track: Track {
+                    name: format!("uav-{i}"),
+                    samples: vec![(0.0, world.team.uavs.get(i).map_or(prior.start, |u| u.start))],
+                },
+                jobs: Vec::new(),
+            }
+        })
+        .collect();
+    let max_time = cfg
+        .max_time
+        .unwrap_or_else(|| 20.0 * (prior.goal - prior.start).norm() / ugv.speed + 60.0);
+    let mut run = Run {
+        cfg,
+        rays: Rays::for_scene(prior),
+        known: prior.clone(),
+        known_hidden: Vec::new(),
+        known_cleared: Vec::new(),
+        events: Vec::new(),
+        replan_ms: Vec::new(),
+    };
+    // Hindsight: the best plan on the true world.
+    let hindsight_length = plan(&world.truth, &cfg.plan)
+        .ok()
+        .and_then(|p| p.best.map(|b| p.classes[b - 1].length));
+    let mut t = 0.0;
+    let mut ugv_track = Track {
+        name: "ugv".into(),
+        samples: vec![(0.0, prior.start)],
+    };
+    let mut adopted = Vec::new();
+    let (mut replans, mut switches) = (0, 0);
+    let (mut driven, mut abandoned) = (0.0, 0.0);
+    let mut last_switch = Real::NEG_INFINITY;
+    // Offline: the classes on the prior map.
+    let offline = run.routes_from(prior.start, None);
+    run.replan_ms.clear();
+    let finish = |run: Run<'_>,
+                  reached: bool,
+                  t: Real,
+                  driven: Real,
+                  ugv_track: Track,
+                  scouts: Vec<Scout>,
+                  adopted: Vec<Adopted>,
+                  (replans, switches, abandoned): (usize, usize, Real)| {
+        MissionResult {
+            world: world.name.clone(),
+            policy: cfg.policy,
+            scouts: scouts.len(),
+            reached,
+            time: t,
+            ugv_distance: driven,
+            hindsight_length,
+            replans,
+            switches,
+            abandoned_distance: abandoned,
+            uav_distance: scouts.iter().fold(0.0, |acc, s| acc + s.flown),
+            events: run.events,
+            ugv: ugv_track,
+            uavs: scouts.into_iter().map(|s| s.track).collect(),
+            adopted,
+            replan_ms: run.replan_ms,
+        }
+    };
+    let Some(first) = offline.first().cloned() else {
+        run.event(
+            0.0,
+            prior.start,
+            EventKind::Stuck {
+                reason: "no collision-free class on the prior map".into(),
+            },
+        );
+        return Ok(finish(
+            run,
+            false,
+            0.0,
+            0.0,
+            ugv_track,
+            scouts,
+            adopted,
+            (0, 0, 0.0),
+        ));
+    };
+    run.event(
+        0.0,
+        prior.start,
+        EventKind::Planned {
+            classes: offline.len(),
+            class: first.class.clone(),
+        },
+    );
+    let mut route = first;
+    let mut alternatives: Vec<Route> = offline[1..].to_vec();
+    let mut s = 0.0; // arc length along `route`
+    let mut adopted_at = 0.0; // distance driven when `route` was adopted
+    adopted.push(Adopted {
+        t: 0.0,
+        class: route.class.clone(),
+        path: route.line.pts.clone(),
+    });
+    assign(
+        &mut scouts,
+        cfg.policy,
+        &route,
+        s,
+        &alternatives,
+        ugv.sensor_range,
+    );
+    let mut reached = false;
+    while t < max_time {
+        t += cfg.dt;
+        // Move.
+        let step = ugv.speed * cfg.dt;
+        let left = route.line.length() - s;
+        let moved = step.min(left);
+        s += moved;
+        driven += moved;
+        let (pos, _) = route.line.at(s);
+        ugv_track.samples.push((t, pos));
+        for sc in &mut scouts {
+            sc.step(cfg.dt, t);
+        }
+        if left <= step {
+            reached = true;
+            run.event(t, pos, EventKind::Reached);
+            break;
+        }
+        // Sense.
+        let mut found_hidden = false;
+        let mut found_cleared = false;
+        let observers: Vec<(Robot, Point, Real)> =
+            std::iter::once((Robot::Ugv, pos, ugv.sensor_range))
+                .chain(
+                    scouts
+                        .iter()
+                        .enumerate()
+                        .map(|(i, sc)| (Robot::Uav(i), sc.pos, sc.uav.sensor_range)),
+                )
+                .collect();
+        for (by, p, range) in observers {
+            for o in &world.truth.obstacles {
+                if world.hidden.contains(&o.name)
+                    && !run.known_hidden.contains(&o.name)
+                    && within(&p, range, o)
+                {
+                    run.known_hidden.push(o.name.clone());
+                    run.known.obstacles.push(o.clone());
+                    run.event(
+                        t,
+                        pos,
+                        EventKind::Discovered {
+                            obstacle: o.name.clone(),
+                            hidden: true,
+                            by,
+                        },
+                    );
+                    found_hidden = true;
+                }
+            }
+            for o in &prior.obstacles {
+                if world.cleared.contains(&o.name)
+                    && !run.known_cleared.contains(&o.name)
+                    && within(&p, range, o)
+                {
+                    run.known_cleared.push(o.name.clone());
+                    run.known.obstacles.retain(|k| k.name != o.name);
+                    run.event(
+                        t,
+                        pos,
+                        EventKind::Discovered {
+                            obstacle: o.name.clone(),
+                            hidden: false,
+                            by,
+                        },
+                    );
+                    found_cleared = true;
+                }
+            }
+        }
+        if !found_hidden && !found_cleared {
+            // A scout done with its route takes the next job.
+            if scouts.iter().any(|sc| sc.route.is_empty()) {
+                assign_idle(
+                    &mut scouts,
+                    cfg.policy,
+                    &route,
+                    s,
+                    &alternatives,
+                    ugv.sensor_range,
+                );
+            }
+            continue;
+        }
+        if found_cleared {
+            // Classes are named by the obstacles of the map that are still there.
+            let mut named = prior.clone();
+            named
+                .obstacles
+                .retain(|o| !run.known_cleared.contains(&o.name));
+            run.rays = Rays::for_scene(&named);
+            route.class = run.rays.signature(&route.line.pts).to_string();
+            for a in &mut alternatives {
+                a.class = run.rays.signature(&a.line.pts).to_string();
+            }
+        }
+        let model = run.model();
+        let clear = |pts: &[Point]| pts.len() < 2 || model.polyline_clearance(pts) > 0.0;
+        // Alternatives found blocked are closed.
+        let mut closed = Vec::new();
+        alternatives.retain(|a| {
+            let ok = clear(&a.line.pts);
+            if !ok {
+                closed.push(a.class.clone());
+            }
+            ok
+        });
+        for c in closed {
+            run.event(t, pos, EventKind::ClassClosed { class: c });
+        }
+        let heading = route.line.heading(s);
+        let remaining = route.line.slice(s, route.line.length());
+        let blocked = !clear(&remaining);
+        let mut replanned = false;
+        if blocked {
+            run.event(
+                t,
+                pos,
+                EventKind::Blocked {
+                    class: route.class.clone(),
+                },
+            );
+            replans += 1;
+            let routes = run.routes_from(pos, Some(heading));
+            let Some(best) = routes.first() else {
+                run.event(
+                    t,
+                    pos,
+                    EventKind::Stuck {
+                        reason: "no collision-free class on the known map".into(),
+                    },
+                );
+                break;
+            };
+            // Bonus for the current class: kept if within the margin of the best.
+            let pick = routes
+                .iter()
+                .position(|r| {
+                    r.class == route.class && !should_switch(r.cost, best.cost, Real::INFINITY, cfg)
+                })
+                .unwrap_or(0);
+            let next = routes[pick].clone();
+            run.event(
+                t,
+                pos,
+                EventKind::Replanned {
+                    forced: true,
+                    classes: routes.len(),
+                    class: next.class.clone(),
+                },
+            );
+            if next.class != route.class {
+                switches += 1;
+                last_switch = t;
+                run.event(
+                    t,
+                    pos,
+                    EventKind::Switched {
+                        from: route.class.clone(),
+                        to: next.class.clone(),
+                    },
+                );
+            }
+            if next.line.pts.len() > 1 && (next.line.pts[1] - next.line.pts[0]).dot(&heading) < 0.0
+            {
+                run.event(t, pos, EventKind::TurnedAround);
+            }
+            abandoned += driven - adopted_at;
+            alternatives = routes
+                .iter()
+                .enumerate()
+                .filter(|&(i, _)| i != pick)
+                .map(|(_, r)| r.clone())
+                .collect();
+            route = next;
+            replanned = true;
+        } else {
+            // The map changed but the path is still clear: a better class may have opened
+            // (a mapped obstacle gone) or the current one may have become worse (a new
+            // obstacle near it). Switch only through the hysteresis.
+            replans += 1;
+            let routes = run.routes_from(pos, Some(heading));
+            if let Some(best) = routes.first() {
+                // The current class as re-planned, else the rest of the current path.
+                let current = routes
+                    .iter()
+                    .find(|r| r.class == route.class)
+                    .map_or_else(|| run.remaining_cost(&route, s, heading), |r| r.cost);
+                let better = best.class != route.class
+                    && should_switch(current, best.cost, t - last_switch, cfg);
+                run.event(
+                    t,
+                    pos,
+                    EventKind::Replanned {
+                        forced: false,
+                        classes: routes.len(),
+                        class: if better {
+                            best.class.clone()
+                        } else {
+                            route.class.clone()
+                        },
+                    },
+                );
+                if better {
+                    switches += 1;
+                    last_switch = t;
+                    run.event(
+                        t,
+                        pos,
+                        EventKind::Switched {
+                            from: route.class.clone(),
+                            to: best.class.clone(),
+                        },
+                    );
+                    abandoned += driven - adopted_at;
+                    alternatives = routes[1..].to_vec();
+                    route = best.clone();
+                    replanned = true;
+                } else {
+                    alternatives = routes
+                        .into_iter()
+                        .filter(|r| r.class != route.class)
+                        .collect();
+                }
+            }
+        }
+        if replanned {
+            s = 0.0;
+            adopted_at = driven;
+            adopted.push(Adopted {
+                t,
+                class: route.class.clone(),
+                path: route.line.pts.clone(),
+            });
+        }
+        assign(
+            &mut scouts,
+            cfg.policy,
+            &route,
+            s,
+            &alternatives,
+            ugv.sensor_range,
+        );
+    }
+    if !reached
+        && !run
+            .events
+            .iter()
+            .any(|e| matches!(e.kind, EventKind::Stuck { .. }))
+    {
+        let (pos, _) = route.line.at(s);
+        run.event(
+            t,
+            pos,
+            EventKind::Stuck {
+                reason: format!("time limit {max_time:.0} s"),
+            },
+        );
+    }
+    for sc in &mut scouts {
+        let last = sc.track.samples.last().copied();
+        if last.is_none_or(|(lt, _)| lt < t) {
+            sc.track.samples.push((t, sc.pos));
+        }
+    }
+    Ok(finish(
+        run,
+        reached,
+        t,
+        driven,
+        ugv_track,
+        scouts,
+        adopted,
+        (replans, switches, abandoned),
+    ))
+}
+
+/// The hysteresis: whether a plan of cost `current` that is still valid is given up for
+/// another class of cost `candidate`, `since_last_switch` seconds after the last switch. Only
+/// if the candidate is cheaper by the relative margin and the last switch is old enough.
+pub fn should_switch(
+    current: Real,
+    candidate: Real,
+    since_last_switch: Real,
+    cfg: &MissionConfig,
+) -> bool {
+    candidate < (1.0 - cfg.switch_margin) * current && since_last_switch >= cfg.min_switch_interval
+}
+
+/// The part of the route a scout `ahead` inspects: scout `j` of `n` takes the `j`-th of `n`
+/// equal parts of the far half of what is left.
+fn ahead_route(from: Point, route: &Route, s: Real, j: usize, n: usize) -> Vec<Point> {
+    let left = route.line.length() - s;
+    let a = s + left * (0.5 + 0.5 * j as Real / n as Real);
+    let b = s + left * (0.5 + 0.5 * (j + 1) as Real / n as Real);
+    let mut out = vec![from];
+    out.extend(route.line.slice(a, b));
+    out
+}
+
+/// An alternative's route for a scout: to where it leaves the UGV's route (farther than the
+/// UGV's sensor range from it), then along it to the goal.
+fn alternative_route(from: Point, alt: &Route, route: &Route, s: Real, range: Real) -> Vec<Point> {
+    let rest = route.line.slice(s, route.line.length());
+    let far = |p: &Point| {
+        rest.windows(2)
+            .map(|w| homospline_geom::math::distance_point_segment(p, &w[0], &w[1]))
+            .fold(Real::INFINITY, Real::min)
+            > range
+    };
+    let k = alt.line.pts.iter().position(far).unwrap_or(0);
+    let mut out = vec![from];
+    out.extend(alt.line.pts[k..].iter().copied());
+    out
+}
+
+/// Routes for every scout after a (re-)plan.
+fn assign(
+    scouts: &mut [Scout],
+    policy: Policy,
+    route: &Route,
+    s: Real,
+    alts: &[Route],
+    range: Real,
+) {
+    for sc in scouts.iter_mut() {
+        sc.route.clear();
+        sc.jobs.clear();
+    }
+    assign_idle(scouts, policy, route, s, alts, range);
+}
+
+/// Routes for the scouts that have none: an alternative no scout has taken since the last
+/// (re-)plan (policy `alternatives`), else, for a scout with no job yet, a part of the far
+/// half of the UGV's route; a scout whose job is done and has nothing left holds.
+fn assign_idle(
+    scouts: &mut [Scout],
+    policy: Policy,
+    route: &Route,
+    s: Real,
+    alts: &[Route],
+    range: Real,
+) {
+    if policy == Policy::None {
+        return;
+    }
+    let n = scouts.len();
+    let mut taken: Vec<String> = scouts
+        .iter()
+        .flat_map(|sc| sc.jobs.iter().cloned())
+        .collect();
+    for (j, sc) in scouts.iter_mut().enumerate() {
+        if !sc.route.is_empty() {
+            continue;
+        }
+        let from = sc.pos;
+        if policy == Policy::Alternatives
+            && let Some(alt) = alts
+                .iter()
+                .find(|a| !taken.contains(&a.class) && a.class != route.class)
+        {
+            sc.route = alternative_route(from, alt, route, s, range);
+            sc.jobs.push(alt.class.clone());
+            taken.push(alt.class.clone());
+        } else if sc.jobs.is_empty() {
+            sc.route = ahead_route(from, route, s, j, n);
+            sc.jobs.push(String::new());
+        }
+    }
+}
