@@ -485,9 +485,10 @@ fn missions(count: usize) -> Result<()> {
     // Limited overlap: single random blockages on the chosen path.
     use homospline_optim::{PlanConfig, plan};
     use homospline_spline::{CircleModel, ClearanceModel};
-    let mut rng = homospline_testkit::SplitMix(42);
-    for diverse in [None, Some(0.5)] {
-        let (mut open, mut trials) = (0, 0);
+    for diverse in [None, Some(0.8), Some(0.5)] {
+        // The same blockage positions (as fractions of the chosen path) for every variant.
+        let mut rng = homospline_testkit::SplitMix(42);
+        let (mut open, mut trials, mut classes, mut plans) = (0, 0, 0, 0);
         for w in &worlds {
             let cfg = PlanConfig {
                 diverse,
@@ -498,6 +499,8 @@ fn missions(count: usize) -> Result<()> {
             };
             let Some(b) = p.best else { continue };
             let chosen = &p.classes[b - 1];
+            plans += 1;
+            classes += p.classes.iter().filter(|c| c.collision_free).count();
             let model = CircleModel::new(w.prior.circles());
             for _ in 0..10 {
                 let i = 1 + (rng.next_unit() * (chosen.path.len() - 2) as f64) as usize;
@@ -514,12 +517,13 @@ fn missions(count: usize) -> Result<()> {
             }
         }
         println!(
-            "single blockage on the chosen path, {}: another class open in {open}/{trials} ({:.1} %)",
+            "single blockage on the chosen path, {}: another class open in {open}/{trials} ({:.1} %), {:.2} collision-free classes per plan",
             match diverse {
                 None => "k best classes".to_owned(),
                 Some(f) => format!("--diverse {f}"),
             },
-            100.0 * open as f64 / trials.max(1) as f64
+            100.0 * open as f64 / trials.max(1) as f64,
+            classes as f64 / plans.max(1) as f64
         );
     }
     Ok(())
