@@ -20,6 +20,8 @@ const EXIT_NO_PLAN: u8 = 1;
 
 /// Exit code for bad input or usage.
 const EXIT_BAD_INPUT: u8 = 2;
+/// Exit code of a run that failed for another reason (an output that cannot be written).
+const EXIT_FAILURE: u8 = 3;
 
 /// Homotopy-seeded spline path planning for ground robots.
 #[derive(Parser, Debug)]
@@ -76,20 +78,38 @@ enum Command {
     /// Build the Voronoi graph of a scene (start and goal attached) or of a whole map (the
     /// complete graph, for `plan MAP --graph`) and save it.
     Graph {
-        /// Scene file, MovingAI `.map` or ROS map YAML.
-        scene: PathBuf,
+        /// Scene files, MovingAI `.map` files or ROS map YAMLs (several, or a directory of
+        /// `.map` files, only with `--out-dir`).
+        #[arg(required = true)]
+        scene: Vec<PathBuf>,
         /// Grid cells per map unit (default: 256 cells along the longer side).
         #[arg(long)]
         resolution: Option<f64>,
         /// Save the graph as MessagePack, to reuse with `plan --graph`.
         #[arg(long, value_name = "FILE.msgpack")]
         out: Option<PathBuf>,
+        /// Save each input's graph here as `STEM.msgpack` (many maps, e.g. on a cluster).
+        #[arg(long, value_name = "DIR")]
+        out_dir: Option<PathBuf>,
+        /// With `--out-dir`: build only slice K of N interleaved slices of the inputs
+        /// (default: from a Slurm job array's environment, as `bench-scen`).
+        #[arg(long, value_name = "K/N")]
+        shard: Option<String>,
         /// Write the graph as JSON (formats.md).
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
         /// Write a picture of the graph.
         #[arg(long, value_name = "FILE")]
         svg: Option<PathBuf>,
+    },
+    /// Combine the CSVs of `bench-scen` shards into the summary one run gives.
+    BenchMerge {
+        /// The shards' CSV files.
+        #[arg(required = true)]
+        csv: Vec<PathBuf>,
+        /// Write the merged rows here, sorted by file and scenario.
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
     },
     /// Run the team's mission in a world file: the UGV drives its plan, scouts fly, hidden
     /// blockages are discovered and the UGV re-plans; prints the events and the figures.
@@ -149,14 +169,21 @@ struct SimulateArgs {
 /// Options of `bench-scen`.
 #[derive(Args, Debug)]
 struct BenchArgs {
-    /// The `.scen` file.
-    scen: PathBuf,
-    /// Plan only the first N scenarios (a `.scen` is sorted by length: the shortest only).
+    /// `.scen` files, or directories of them (their map sits beside each).
+    #[arg(required = true)]
+    scen: Vec<PathBuf>,
+    /// Plan only the first N scenarios of each file (a `.scen` is sorted by length: the
+    /// shortest only).
     #[arg(long)]
     limit: Option<usize>,
-    /// Plan N scenarios spread evenly over the whole file (every bucket).
+    /// Plan N scenarios of each file, spread evenly over the whole file (every bucket).
     #[arg(long)]
     sample: Option<usize>,
+    /// Plan only slice K of N interleaved slices of all the scenarios picked (default: from a
+    /// Slurm job array's SLURM_ARRAY_TASK_ID, SLURM_ARRAY_TASK_MIN and SLURM_ARRAY_TASK_COUNT
+    /// when they are set). `bench-merge` combines the slices' CSVs.
+    #[arg(long, value_name = "K/N")]
+    shard: Option<String>,
     /// A plan that takes longer than this many milliseconds counts as a timeout (it is not
     /// interrupted).
     #[arg(long, value_name = "MS")]
@@ -200,18 +227,35 @@ fn main() -> ExitCode {
             scene,
             resolution,
             out,
+            out_dir,
+            shard,
             json,
             svg,
-        } => graph(&scene, resolution, out, json, svg),
+        } => match out_dir {
+            Some(dir) => graph_dir(&scene, resolution, &dir, shard.as_deref(), (out, json, svg)),
+            None if scene.len() == 1 && shard.is_none() => {
+                graph(&scene[0], resolution, out, json, svg)
+            }
+            None => Err(bad(
+                "several inputs (or --shard) need --out-dir: each graph is saved as DIR/STEM.msgpack",
+            )),
+        },
         Command::Plan(args) => plan(args),
         Command::BenchScen(args) => bench_scen(args),
         Command::Simulate(args) => simulate(args),
+        Command::BenchMerge { csv, out } => bench_merge(&csv, out.as_deref()),
     };
     match result {
         Ok(code) => ExitCode::from(code),
         Err(e) => {
             eprintln!("error: {e:#}");
-            ExitCode::from(EXIT_BAD_INPUT)
+            // The user's input is to blame (2); anything else, such as an output that cannot
+            // be written, is the run's failure (3).
+            ExitCode::from(if e.downcast_ref::<BadInput>().is_some() {
+                EXIT_BAD_INPUT
+            } else {
+                EXIT_FAILURE
+            })
         }
     }
 }
@@ -393,6 +437,65 @@ fn graph(
             Input::Map(map) => picture::Background::Map(map),
         };
         write(&p, "picture", picture::graph_svg(&bg, &g).as_bytes())?;
+    }
+    Ok(0)
+}
+
+/// `graph --out-dir`: every input's graph (or this shard's slice of them) saved as
+/// `DIR/STEM.msgpack`.
+fn graph_dir(
+    inputs: &[PathBuf],
+    resolution: Option<f64>,
+    dir: &Path,
+    shard: Option<&str>,
+    single: (Option<PathBuf>, Option<PathBuf>, Option<PathBuf>),
+) -> anyhow::Result<u8> {
+    use homospline_maps::bench::Shard;
+    if single.0.is_some() || single.1.is_some() || single.2.is_some() {
+        return Err(bad(
+            "--out-dir writes one file per input: drop --out, --json and --svg",
+        ));
+    }
+    let shard = match shard {
+        Some(t) => Shard::parse(t).map_err(|e| bad(format!("--shard {e}")))?,
+        None => match Shard::from_slurm(|k| std::env::var(k).ok()) {
+            Some(r) => r.map_err(|e| bad(format!("Slurm job array: {e}")))?,
+            None => Shard::ALL,
+        },
+    };
+    let mut files = Vec::new();
+    for p in inputs {
+        if p.is_dir() {
+            let mut v: Vec<PathBuf> = std::fs::read_dir(p)
+                .map_err(|e| bad(format!("{}: cannot read the directory: {e}", p.display())))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|f| f.extension().is_some_and(|e| e == "map"))
+                .collect();
+            v.sort();
+            files.extend(v);
+        } else {
+            files.push(p.clone());
+        }
+    }
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("{}: cannot create the directory", dir.display()))?;
+    let mut stems = std::collections::BTreeSet::new();
+    for (i, f) in files.iter().enumerate() {
+        let stem = f
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or("graph")
+            .to_owned();
+        if !stems.insert(stem.clone()) {
+            return Err(bad(format!(
+                "two inputs would both be saved as {stem}.msgpack"
+            )));
+        }
+        if !shard.takes(i) {
+            continue;
+        }
+        let out = dir.join(format!("{stem}.msgpack"));
+        graph(f, resolution, Some(out), None, None)?;
     }
     Ok(0)
 }
@@ -760,50 +863,52 @@ fn load_graph(p: &Path, scene: &Scene) -> anyhow::Result<VoronoiGraph> {
 }
 
 /// Indices of `n` scenarios spread evenly over `total` (first and last included).
-fn sample_indices(total: usize, n: usize) -> Vec<usize> {
-    if n >= total {
-        return (0..total).collect();
+/// The `.scen` files named: files as given, directories expanded (sorted).
+fn scen_files(paths: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
+    let mut out = Vec::new();
+    for p in paths {
+        if p.is_dir() {
+            let mut v: Vec<PathBuf> = std::fs::read_dir(p)
+                .map_err(|e| bad(format!("{}: cannot read the directory: {e}", p.display())))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|f| f.extension().is_some_and(|e| e == "scen"))
+                .collect();
+            v.sort();
+            if v.is_empty() {
+                return Err(bad(format!(
+                    "{}: no .scen file in the directory",
+                    p.display()
+                )));
+            }
+            out.extend(v);
+        } else {
+            out.push(p.clone());
+        }
     }
-    if n == 1 {
-        return vec![total - 1];
-    }
-    let mut v: Vec<usize> = (0..n)
-        .map(|k| ((k as f64) * (total - 1) as f64 / (n - 1) as f64).round() as usize)
-        .collect();
-    v.dedup();
-    v
+    Ok(out)
 }
 
-/// What one scenario of `bench-scen` gave.
-enum Outcome {
-    /// A collision-free plan: length and clearance of the chosen class.
-    Planned { length: f64, clearance: f64 },
-    /// Planned, but past the time limit.
-    Timeout { length: f64 },
-    /// Classes were optimised; none is collision-free.
-    NoPlan { classes: usize },
-    /// The planner refused the query.
-    Error(String),
+/// The map file a scenario of `scen_file` names: beside the scenario file.
+fn map_beside(scen_file: &Path, map: &str) -> PathBuf {
+    let name = Path::new(map)
+        .file_name()
+        .map(PathBuf::from)
+        .unwrap_or_default();
+    scen_file.parent().unwrap_or(Path::new(".")).join(name)
 }
 
-fn median(v: &[f64]) -> f64 {
-    let mut v: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
-    v.sort_by(f64::total_cmp);
-    if v.is_empty() {
-        f64::NAN
-    } else {
-        v[v.len() / 2]
+fn csv_text(rows: &[homospline_maps::bench::Row]) -> String {
+    let mut text = String::from(homospline_maps::bench::CSV_HEADER);
+    text.push('\n');
+    for r in rows {
+        text.push_str(&r.to_csv());
+        text.push('\n');
     }
+    text
 }
 
 fn bench_scen(a: BenchArgs) -> anyhow::Result<u8> {
-    use std::fmt::Write as _;
-    let scen = &a.scen;
-    let name = scen.display().to_string();
-    let text =
-        std::fs::read_to_string(scen).map_err(|e| bad(format!("{name}: cannot read: {e}")))?;
-    let scenarios =
-        homospline_maps::movingai::read_scen(&text, &name).map_err(|e| bad(e.to_string()))?;
+    use homospline_maps::bench::{self, Shard};
     if a.classes == 0 || a.classes > 64 {
         return Err(bad(format!(
             "--classes {}: must be between 1 and 64",
@@ -823,28 +928,51 @@ fn bench_scen(a: BenchArgs) -> anyhow::Result<u8> {
             "--time-limit {t}: must be a positive number of ms"
         )));
     }
-    let picked: Vec<usize> = match (a.limit, a.sample) {
-        (Some(n), _) => (0..n.min(scenarios.len())).collect(),
-        (_, Some(n)) => sample_indices(scenarios.len(), n),
-        _ => (0..scenarios.len()).collect(),
+    let shard = match &a.shard {
+        Some(t) => Shard::parse(t).map_err(|e| bad(format!("--shard {e}")))?,
+        None => match Shard::from_slurm(|k| std::env::var(k).ok()) {
+            Some(r) => r.map_err(|e| bad(format!("Slurm job array: {e}")))?,
+            None => Shard::ALL,
+        },
     };
-    // Every map the scenarios name, read and prepared once (one map per file in practice).
-    let mut maps: std::collections::BTreeMap<String, homospline_maps::PreparedMap> =
+    // Every scenario picked, file by file, then this shard's slice of the whole list.
+    let files = scen_files(&a.scen)?;
+    let mut items: Vec<(usize, usize)> = Vec::new();
+    let mut scenarios = Vec::new();
+    for (f, path) in files.iter().enumerate() {
+        let name = path.display().to_string();
+        let text =
+            std::fs::read_to_string(path).map_err(|e| bad(format!("{name}: cannot read: {e}")))?;
+        let scen =
+            homospline_maps::movingai::read_scen(&text, &name).map_err(|e| bad(e.to_string()))?;
+        let picked: Vec<usize> = match (a.limit, a.sample) {
+            (Some(n), _) => (0..n.min(scen.len())).collect(),
+            (_, Some(n)) => bench::sample_indices(scen.len(), n),
+            _ => (0..scen.len()).collect(),
+        };
+        items.extend(picked.into_iter().map(|k| (f, k)));
+        scenarios.push(scen);
+    }
+    let total = items.len();
+    let items: Vec<(usize, usize)> = items
+        .into_iter()
+        .enumerate()
+        .filter(|(i, _)| shard.takes(*i))
+        .map(|(_, x)| x)
+        .collect();
+    // Every map the scenarios name, read and prepared once.
+    let mut maps: std::collections::BTreeMap<PathBuf, homospline_maps::PreparedMap> =
         std::collections::BTreeMap::new();
     let mut prep_ms = 0.0;
-    for &k in &picked {
-        let m = &scenarios[k].map;
-        if maps.contains_key(m) {
+    for &(f, k) in &items {
+        let map_path = map_beside(&files[f], &scenarios[f][k].map);
+        if maps.contains_key(&map_path) {
             continue;
         }
-        let map_file = Path::new(m)
-            .file_name()
-            .map(PathBuf::from)
-            .unwrap_or_default();
-        let map_path = scen.parent().unwrap_or(Path::new(".")).join(&map_file);
         let map_text = std::fs::read_to_string(&map_path).map_err(|e| {
             bad(format!(
-                "{name}: its map {}: cannot read: {e}",
+                "{}: its map {}: cannot read: {e}",
+                files[f].display(),
                 map_path.display()
             ))
         })?;
@@ -853,181 +981,97 @@ fn bench_scen(a: BenchArgs) -> anyhow::Result<u8> {
         let t = std::time::Instant::now();
         let prepared = homospline_maps::PreparedMap::new(&map).map_err(|e| bad(e.to_string()))?;
         prep_ms += t.elapsed().as_secs_f64() * 1e3;
-        maps.insert(m.clone(), prepared);
+        maps.insert(map_path, prepared);
     }
     let cfg = PlanConfig {
         classes: a.classes,
         ..homospline_maps::map_config()
     };
-    let bar = indicatif::ProgressBar::new(picked.len() as u64);
+    let bar = indicatif::ProgressBar::new(items.len() as u64);
     bar.set_style(
         indicatif::ProgressStyle::with_template(
             "{bar:40} {pos}/{len} scenarios {elapsed_precise} eta {eta}",
         )
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    let mut rows = String::from(
-        "index,bucket,start_x,start_y,goal_x,goal_y,optimal,length,ratio,clearance,classes,success,time_ms,outcome\n",
-    );
-    // (bucket, success, time, ratio) per scenario.
-    let mut seen: Vec<(u32, bool, f64, f64)> = Vec::new();
-    let mut failures: Vec<String> = Vec::new();
-    let (mut ok, mut timeouts) = (0usize, 0usize);
-    for &k in &picked {
-        let s = &scenarios[k];
-        let prepared = &maps[&s.map];
-        let t = std::time::Instant::now();
-        let outcome = prepared.plan(s.start, s.goal, &cfg);
-        let ms = t.elapsed().as_secs_f64() * 1e3;
-        let outcome = match outcome {
-            Ok(p) => match p.best {
-                Some(b) => {
-                    let c = &p.classes[b - 1];
-                    if a.time_limit.is_some_and(|lim| ms > lim) {
-                        Outcome::Timeout { length: c.length }
-                    } else {
-                        Outcome::Planned {
-                            length: c.length,
-                            clearance: c.min_clearance,
-                        }
-                    }
-                }
-                None => Outcome::NoPlan {
-                    classes: p.classes.len(),
-                },
-            },
-            Err(e) => Outcome::Error(e.to_string()),
-        };
-        let (length, clearance, classes, what) = match &outcome {
-            Outcome::Planned { length, clearance } => (*length, *clearance, 0, "ok".to_owned()),
-            Outcome::Timeout { length } => (*length, f64::NAN, 0, "timeout".to_owned()),
-            Outcome::NoPlan { classes } => (
-                f64::NAN,
-                f64::NAN,
-                *classes,
-                format!("no collision-free class among {classes}"),
-            ),
-            Outcome::Error(e) => (f64::NAN, f64::NAN, 0, format!("error: {e}")),
-        };
-        let success = matches!(outcome, Outcome::Planned { .. });
-        let ratio = if s.optimal_length > 0.0 {
-            length / s.optimal_length
-        } else {
-            f64::NAN
-        };
-        match &outcome {
-            Outcome::Planned { .. } => ok += 1,
-            Outcome::Timeout { .. } => timeouts += 1,
-            _ => failures.push(format!(
-                "  line {} (bucket {}, optimal {:.1}): {what}",
-                s.line, s.bucket, s.optimal_length
-            )),
-        }
-        if matches!(outcome, Outcome::Timeout { .. }) {
-            failures.push(format!(
-                "  line {} (bucket {}, optimal {:.1}): timeout ({ms:.0} ms)",
-                s.line, s.bucket, s.optimal_length
-            ));
-        }
-        seen.push((
-            s.bucket,
-            success,
-            ms,
-            if success { ratio } else { f64::NAN },
-        ));
-        let _ = writeln!(
-            rows,
-            "{k},{},{},{},{},{},{},{length:.4},{ratio:.4},{clearance:.4},{classes},{success},{ms:.3},{}",
-            s.bucket,
-            s.start.x,
-            s.start.y,
-            s.goal.x,
-            s.goal.y,
-            s.optimal_length,
-            what.replace(',', ";")
-        );
+    let mut rows = Vec::with_capacity(items.len());
+    for &(f, k) in &items {
+        let s = &scenarios[f][k];
+        let prepared = &maps[&map_beside(&files[f], &s.map)];
+        let file = files[f].display().to_string();
+        rows.push(bench::run(prepared, &file, k, s, &cfg, a.time_limit));
         bar.inc(1);
     }
     bar.finish_and_clear();
-    let n = picked.len();
-    let times: Vec<f64> = seen.iter().map(|r| r.2).collect();
-    let ratios: Vec<f64> = seen.iter().map(|r| r.3).filter(|r| r.is_finite()).collect();
     let map_names: Vec<String> = maps
         .values()
         .map(|m| format!("{} ({} x {})", m.name, m.map().width, m.map().height))
         .collect();
     println!(
-        "{}: {} of {} scenarios{} on {}; map prepared once in {:.1} ms",
-        name,
-        n,
-        scenarios.len(),
+        "{}: {} of {total} scenarios picked{}{}, on {}; maps prepared once in {:.1} ms",
+        files
+            .iter()
+            .map(|f| f.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", "),
+        rows.len(),
         match (a.limit, a.sample) {
-            (Some(_), _) => " (the first: the shortest paths only)",
+            (Some(_), _) => " (the first of each file: the shortest paths only)",
             (_, Some(_)) => " (sampled evenly over every bucket)",
             _ => "",
+        },
+        if shard.n > 1 {
+            format!(", shard {}/{}", shard.k, shard.n)
+        } else {
+            String::new()
         },
         map_names.join(", "),
         prep_ms
     );
-    println!(
-        "success      {ok}/{n} ({:.1} %){}",
-        100.0 * ok as f64 / n.max(1) as f64,
-        if a.time_limit.is_some() {
-            format!(", timeouts {timeouts}")
-        } else {
-            String::new()
+    print!("{}", bench::summary(&rows));
+    if let Some(p) = &a.csv {
+        write(p, "CSV", csv_text(&rows).as_bytes())?;
+    }
+    Ok(0)
+}
+
+fn bench_merge(csvs: &[PathBuf], out: Option<&Path>) -> anyhow::Result<u8> {
+    use homospline_maps::bench::{self, CSV_HEADER, Row};
+    let mut rows: Vec<Row> = Vec::new();
+    for p in csvs {
+        let name = p.display().to_string();
+        let text =
+            std::fs::read_to_string(p).map_err(|e| bad(format!("{name}: cannot read: {e}")))?;
+        let mut lines = text.lines();
+        match lines.next() {
+            Some(h) if h.trim() == CSV_HEADER => {}
+            _ => {
+                return Err(bad(format!(
+                    "{name}:1: not a bench-scen CSV (expected the header {CSV_HEADER})"
+                )));
+            }
         }
-    );
-    println!(
-        "time / plan  mean {:.2} ms, median {:.2} ms, max {:.2} ms",
-        times.iter().sum::<f64>() / n.max(1) as f64,
-        median(&times),
-        times.iter().copied().fold(0.0, f64::max)
-    );
-    println!(
-        "length / octile optimum  median {:.4}, min {:.4}, max {:.4} (a smooth any-angle path can be shorter than the octile one)",
-        median(&ratios),
-        ratios.iter().copied().fold(f64::INFINITY, f64::min),
-        ratios.iter().copied().fold(0.0, f64::max)
-    );
-    // Per bucket, in at most ten bands of buckets.
-    let (lo, hi) = seen
-        .iter()
-        .fold((u32::MAX, 0), |(l, h), r| (l.min(r.0), h.max(r.0)));
-    if lo <= hi {
-        let bands = ((hi - lo + 1) as usize).min(10);
-        let width = (hi - lo + 1).div_ceil(bands as u32);
-        println!("buckets   optimal length  plans  success  median ms  median ratio");
-        for b in 0..bands as u32 {
-            let (b0, b1) = (lo + b * width, (lo + (b + 1) * width - 1).min(hi));
-            let in_band: Vec<&(u32, bool, f64, f64)> =
-                seen.iter().filter(|r| r.0 >= b0 && r.0 <= b1).collect();
-            if in_band.is_empty() {
+        for (i, l) in lines.enumerate() {
+            if l.trim().is_empty() {
                 continue;
             }
-            let t: Vec<f64> = in_band.iter().map(|r| r.2).collect();
-            let r: Vec<f64> = in_band.iter().map(|r| r.3).collect();
-            println!(
-                "{:>3}-{:<4}  {:>5}-{:<8} {:>5}  {:>7}  {:>9.1}  {:>12.4}",
-                b0,
-                b1,
-                4 * b0,
-                4 * (b1 + 1),
-                in_band.len(),
-                in_band.iter().filter(|r| r.1).count(),
-                median(&t),
-                median(&r)
-            );
+            rows.push(Row::from_csv(l, &name, i + 2).map_err(|e| bad(e.to_string()))?);
         }
     }
-    if !failures.is_empty() {
-        println!("not planned:");
-        for f in &failures {
-            println!("{f}");
-        }
+    rows.sort_by(|a, b| a.file.cmp(&b.file).then(a.index.cmp(&b.index)));
+    if let Some(w) = rows
+        .windows(2)
+        .find(|w| w[0].file == w[1].file && w[0].index == w[1].index)
+    {
+        return Err(bad(format!(
+            "scenario {} of {} is in more than one CSV: overlapping shards?",
+            w[0].index, w[0].file
+        )));
     }
-    if let Some(p) = &a.csv {
-        write(p, "CSV", rows.as_bytes())?;
+    println!("{} scenarios from {} CSV files", rows.len(), csvs.len());
+    print!("{}", bench::summary(&rows));
+    if let Some(p) = out {
+        write(p, "CSV", csv_text(&rows).as_bytes())?;
     }
     Ok(0)
 }

@@ -74,7 +74,7 @@ fn bench_scen_reports_success_time_and_length_ratio() {
     assert_ok(&out);
     let text = String::from_utf8(out.stdout).unwrap();
     for needle in [
-        "3 of 461 scenarios (the first: the shortest paths only) on random-32-32-10",
+        "3 of 3 scenarios picked (the first of each file: the shortest paths only), on random-32-32-10",
         "success",
         "time / plan",
         "length / octile optimum",
@@ -83,7 +83,7 @@ fn bench_scen_reports_success_time_and_length_ratio() {
     }
     let rows = std::fs::read_to_string(&csv).unwrap();
     assert_eq!(rows.lines().count(), 4);
-    assert!(rows.starts_with("index,bucket,start_x"));
+    assert!(rows.starts_with("file,index,line,bucket,start_x"));
 }
 
 #[test]
@@ -116,7 +116,7 @@ fn bench_scen_samples_every_bucket_and_summarises_per_bucket() {
     let index: Vec<&str> = rows
         .lines()
         .skip(1)
-        .map(|l| l.split(',').next().unwrap())
+        .map(|l| l.split(',').nth(1).unwrap())
         .collect();
     let total = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
@@ -255,4 +255,154 @@ fn bad_map_input_exits_2_with_the_file_named() {
         let err = String::from_utf8(out.stderr).unwrap();
         assert!(err.contains(needle), "{args:?}: {err}");
     }
+}
+
+/// Runs `bench-scen` with `extra` arguments and returns its CSV without the times.
+fn bench_rows(extra: &[&str], name: &str) -> Vec<String> {
+    let csv = tmp(name);
+    let out = homospline()
+        .args([
+            "bench-scen",
+            "fixtures/maps/movingai/maze-32-32-2-random-1.scen",
+            "fixtures/maps/movingai/room-32-32-4-random-1.scen",
+            "--sample",
+            "5",
+            "--classes",
+            "2",
+            "--csv",
+            csv.to_str().unwrap(),
+        ])
+        .args(extra)
+        .env_remove("SLURM_ARRAY_TASK_ID")
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    std::fs::read_to_string(&csv)
+        .unwrap()
+        .lines()
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            // Everything but time_ms (column 15).
+            [&f[..14], &f[15..]].concat().join(",")
+        })
+        .collect()
+}
+
+#[test]
+fn the_union_of_the_shards_is_the_whole_run_and_merges_into_its_summary() {
+    let whole = bench_rows(&[], "whole.csv");
+    assert_eq!(whole.len(), 11);
+    let mut union: Vec<String> = Vec::new();
+    let mut csvs = Vec::new();
+    for k in 1..=3 {
+        let name = format!("shard{k}.csv");
+        let rows = bench_rows(&["--shard", &format!("{k}/3")], &name);
+        assert!(rows.len() >= 4 && rows.len() <= 5, "{rows:?}");
+        union.extend(rows.into_iter().skip(1));
+        csvs.push(tmp(&name));
+    }
+    let mut expected: Vec<String> = whole[1..].to_vec();
+    union.sort();
+    expected.sort();
+    assert_eq!(union, expected);
+    // Merged, the shards give the whole run's summary (times aside) and its rows.
+    let merged = tmp("merged.csv");
+    let out = homospline()
+        .arg("bench-merge")
+        .args(&csvs)
+        .args(["--out", merged.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("10 scenarios from 3 CSV files"), "{text}");
+    assert!(text.contains("success      10/10"), "{text}");
+    let strip = |p: &std::path::Path| -> Vec<String> {
+        std::fs::read_to_string(p)
+            .unwrap()
+            .lines()
+            .map(|l| {
+                let f: Vec<&str> = l.split(',').collect();
+                [&f[..14], &f[15..]].concat().join(",")
+            })
+            .collect()
+    };
+    let mut merged_rows = strip(&merged);
+    let mut whole_sorted = whole.clone();
+    merged_rows[1..].sort();
+    whole_sorted[1..].sort();
+    assert_eq!(merged_rows, whole_sorted);
+    // The same shard twice is refused.
+    let out = homospline()
+        .args(["bench-merge"])
+        .args([&csvs[0], &csvs[0]])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        String::from_utf8(out.stderr)
+            .unwrap()
+            .contains("overlapping shards")
+    );
+    // A Slurm array task picks its shard from the environment (task 2 of 1..3 is 2/3).
+    let csv = tmp("slurm.csv");
+    let out = homospline()
+        .args([
+            "bench-scen",
+            "fixtures/maps/movingai/maze-32-32-2-random-1.scen",
+            "fixtures/maps/movingai/room-32-32-4-random-1.scen",
+            "--sample",
+            "5",
+            "--classes",
+            "2",
+            "--csv",
+            csv.to_str().unwrap(),
+        ])
+        .env("SLURM_ARRAY_TASK_ID", "2")
+        .env("SLURM_ARRAY_TASK_MIN", "1")
+        .env("SLURM_ARRAY_TASK_COUNT", "3")
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    assert!(String::from_utf8(out.stdout).unwrap().contains("shard 2/3"));
+}
+
+#[test]
+fn graphs_of_many_maps_go_to_a_directory_and_a_failed_write_is_not_bad_input() {
+    let dir = tmp("graphs");
+    let out = homospline()
+        .args([
+            "graph",
+            "fixtures/maps/movingai/maze-32-32-2.map",
+            "fixtures/maps/movingai/room-32-32-4.map",
+            "--out-dir",
+        ])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    for stem in ["maze-32-32-2", "room-32-32-4"] {
+        assert!(dir.join(format!("{stem}.msgpack")).is_file(), "{stem}");
+    }
+    // Two inputs without --out-dir: usage.
+    let out = homospline()
+        .args([
+            "graph",
+            "fixtures/maps/movingai/maze-32-32-2.map",
+            "fixtures/maps/movingai/room-32-32-4.map",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    // An output that cannot be written: exit 3, not 2.
+    let out = homospline()
+        .args(["plan", "--json", "/nonexistent-dir/plan.json"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(3));
+    assert!(
+        String::from_utf8(out.stderr)
+            .unwrap()
+            .contains("cannot write the plan JSON")
+    );
 }

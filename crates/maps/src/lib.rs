@@ -10,6 +10,7 @@
 //! touching the map's border (those merge with the wall); each is represented by the centre
 //! of its first cell in raster order, which is inside it.
 
+pub mod bench;
 pub mod model;
 pub mod movingai;
 pub mod ros;
