@@ -1,7 +1,11 @@
-//! What the `homospline` command prints and writes (summaries, plan JSON, tables, SVG),
-//! kept in a library so that tests and `xtask` share it. File IO stays in `main.rs`.
+//! What the `homospline` command prints and writes (summaries, plan JSON, tables, SVG), and
+//! what every front end shares (the plan options, the bench sweep), kept in a library so that
+//! the command line, the Python package, tests and `xtask` share it. File IO stays in
+//! `main.rs`, except for `bench`, which reads the sweep's files.
 
+pub mod bench;
 pub mod mission;
+pub mod options;
 pub mod picture;
 pub mod report;
 

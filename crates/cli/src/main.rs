@@ -5,13 +5,12 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use homospline_cli::options::{PlanOptions, plan_config};
 use homospline_cli::{EXAMPLE_SCENE, mission, picture, report};
 use homospline_geom::{Point, Scene};
-use homospline_maps::OccupancyMap;
-use homospline_mission::{MissionConfig, MissionWorld, Policy, WorldFile};
-use homospline_optim::{
-    GrowthConfig, Optimizer, PlanConfig, Seed, default_resolution, plan_with_graph,
-};
+use homospline_maps::input::Input;
+use homospline_mission::{MissionConfig, MissionWorld, Policy};
+use homospline_optim::{GrowthConfig, PlanConfig, default_resolution, plan_with_graph};
 use homospline_spline::{CostConfig, RoughnessForm};
 use homospline_voronoi::VoronoiGraph;
 
@@ -266,27 +265,9 @@ fn load_scene(path: &Path) -> anyhow::Result<Scene> {
     Scene::from_bytes(&bytes, &path.display().to_string()).map_err(|e| bad(e.to_string()))
 }
 
-/// Reads a world file and the scene it names (relative to the world file).
+/// Reads a world file and the scene it names.
 fn load_world(path: &Path) -> anyhow::Result<MissionWorld> {
-    let name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| bad(format!("{name}: cannot read: {e}")))?;
-    let text = std::str::from_utf8(&bytes).map_err(|e| {
-        bad(format!(
-            "{name}: not a text file: invalid UTF-8 at byte {}",
-            e.valid_up_to()
-        ))
-    })?;
-    let file = WorldFile::from_str(text, &name).map_err(|e| bad(e.to_string()))?;
-    let scene_path = path.parent().unwrap_or(Path::new(".")).join(&file.scene);
-    let scene_bytes = std::fs::read(&scene_path).map_err(|e| {
-        bad(format!(
-            "{name}: scene: cannot read {}: {e}",
-            scene_path.display()
-        ))
-    })?;
-    let prior = Scene::from_bytes(&scene_bytes, &scene_path.display().to_string())
-        .map_err(|e| bad(e.to_string()))?;
-    file.with_prior(prior).map_err(|e| bad(e.to_string()))
+    homospline_mission::world::load(path, |p| std::fs::read(p)).map_err(bad)
 }
 
 fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
@@ -572,12 +553,6 @@ struct PlanArgs {
     svg: Option<PathBuf>,
 }
 
-/// What `plan` plans on.
-enum Input {
-    Scene(Scene),
-    Map(OccupancyMap),
-}
-
 fn parse_point(opt: &str, text: &str) -> anyhow::Result<Point> {
     let (x, y) = text
         .split_once(',')
@@ -593,36 +568,7 @@ fn parse_point(opt: &str, text: &str) -> anyhow::Result<Point> {
 
 /// Reads a scene, a MovingAI map or a ROS map YAML (with its image), by content and name.
 fn load_input(path: &Path) -> anyhow::Result<Input> {
-    let name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| bad(format!("{name}: cannot read: {e}")))?;
-    let is_map = path.extension().is_some_and(|e| e == "map");
-    let text = std::str::from_utf8(&bytes).ok();
-    let is_ros = !is_map
-        && path.extension().is_some_and(|e| e == "yaml" || e == "yml")
-        && text.is_some_and(|t| t.lines().any(|l| l.trim_start().starts_with("image:")));
-    if is_map {
-        let text = text.ok_or_else(|| bad(format!("{name}: not a text file")))?;
-        return Ok(Input::Map(
-            homospline_maps::movingai::read_map(text, &name).map_err(|e| bad(e.to_string()))?,
-        ));
-    }
-    if is_ros {
-        let yaml = homospline_maps::ros::read_yaml(text.unwrap_or_default(), &name)
-            .map_err(|e| bad(e.to_string()))?;
-        let image = path.parent().unwrap_or(Path::new(".")).join(&yaml.image);
-        let img = std::fs::read(&image).map_err(|e| {
-            bad(format!(
-                "{name}: image {}: cannot read: {e}",
-                image.display()
-            ))
-        })?;
-        let map = homospline_maps::ros::read_map(&yaml, &name, &img, &image.display().to_string())
-            .map_err(|e| bad(e.to_string()))?;
-        return Ok(Input::Map(map));
-    }
-    Scene::from_bytes(&bytes, &name)
-        .map(Input::Scene)
-        .map_err(|e| bad(e.to_string()))
+    homospline_maps::input::load(path, |p| std::fs::read(p)).map_err(bad)
 }
 
 fn plan(a: PlanArgs) -> anyhow::Result<u8> {
@@ -702,19 +648,7 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
             Input::Map(map)
         }
     };
-    let scene_points = match &input {
-        Input::Scene(s) => Some(s),
-        Input::Map(_) => None,
-    };
-    let mut cost = CostConfig::preset(&a.preset).ok_or_else(|| {
-        bad(format!(
-            "--preset: unknown preset '{}' (paper-voronoi, paper-original)",
-            a.preset
-        ))
-    })?;
-    if let Some(s) = scene_points {
-        cost = cost.with_scene_points(s);
-    }
+    let mut weights = Vec::new();
     for w in &a.weights {
         let (name, value) = w
             .split_once('=')
@@ -723,71 +657,39 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
             .trim()
             .parse()
             .map_err(|_| bad(format!("--weight {w}: '{value}' is not a number")))?;
-        cost.set(name.trim(), v)
-            .map_err(|e| bad(format!("--weight {w}: {e}")))?;
+        weights.push((name.trim().to_owned(), v));
     }
-    if a.classes == 0 || a.classes > 64 {
-        return Err(bad(format!(
-            "--classes {}: must be between 1 and 64",
-            a.classes
-        )));
-    }
-    if let Some(r) = a.resolution
-        && !(r.is_finite() && r > 0.0)
-    {
-        return Err(bad(format!("--resolution {r}: must be positive")));
-    }
-    if a.threads == Some(0) {
-        return Err(bad("--threads 0: must be at least 1"));
-    }
-    let base = if matches!(input, Input::Map(_)) {
-        homospline_maps::map_config()
-    } else {
-        PlanConfig::default()
-    };
-    if let Some(form) = a.roughness {
-        cost.roughness = form.into();
-    }
-    if !(a.clearance_floor.is_finite() && a.clearance_floor >= 0.0) {
-        return Err(bad(format!(
-            "--clearance-floor {}: must be a finite number >= 0",
-            a.clearance_floor
-        )));
-    }
-    let rounds = a.rounds.unwrap_or(base.growth.max_rounds);
-    if !(1..=100).contains(&rounds) {
-        return Err(bad(format!("--rounds {rounds}: must be between 1 and 100")));
-    }
-    let max_via = a.max_via.unwrap_or(base.growth.max_via_points);
-    if !(1..=200).contains(&max_via) {
-        return Err(bad(format!(
-            "--max-via {max_via}: must be between 1 and 200"
-        )));
-    }
-    let cfg = PlanConfig {
+    let options = PlanOptions {
         seed: match a.seed {
-            SeedArg::Voronoi => Seed::Voronoi,
-            SeedArg::Straight => Seed::Straight,
+            SeedArg::Voronoi => "voronoi".into(),
+            SeedArg::Straight => "straight".into(),
         },
         classes: a.classes,
+        preset: a.preset.clone(),
+        weights,
+        optimizer: a.optimizer.map(|o| {
+            match o {
+                OptimizerArg::NelderMead => "nelder-mead",
+                OptimizerArg::Lbfgs => "lbfgs",
+            }
+            .to_owned()
+        }),
+        roughness: a
+            .roughness
+            .map(|r| RoughnessForm::from(r).name().to_owned()),
         resolution: a.resolution,
-        growth: GrowthConfig {
-            cost,
-            optimizer: match a.optimizer {
-                Some(OptimizerArg::NelderMead) => Optimizer::NelderMead,
-                Some(OptimizerArg::Lbfgs) => Optimizer::Lbfgs,
-                None => base.growth.optimizer,
-            },
-            max_via_points: max_via,
-            max_rounds: rounds,
-            ..base.growth.clone()
-        },
         threads: a.threads,
+        max_via: a.max_via,
+        rounds: a.rounds,
         clearance_floor: a.clearance_floor,
         avoid: a.avoid.clone(),
         diverse: a.diverse,
-        ..base
     };
+    let scene_of = match &input {
+        Input::Scene(s) => Some(s),
+        Input::Map(_) => None,
+    };
+    let cfg = plan_config(&options, scene_of).map_err(bad)?;
     let alpha = cfg.growth.cost.alpha;
     let (result, picture) = match &input {
         Input::Scene(scene) => {
@@ -863,71 +765,9 @@ fn load_graph(p: &Path, scene: &Scene) -> anyhow::Result<VoronoiGraph> {
 }
 
 /// Indices of `n` scenarios spread evenly over `total` (first and last included).
-/// The `.scen` files named: files as given, directories expanded (sorted).
-fn scen_files(paths: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
-    let mut out = Vec::new();
-    for p in paths {
-        if p.is_dir() {
-            let mut v: Vec<PathBuf> = std::fs::read_dir(p)
-                .map_err(|e| bad(format!("{}: cannot read the directory: {e}", p.display())))?
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|f| f.extension().is_some_and(|e| e == "scen"))
-                .collect();
-            v.sort();
-            if v.is_empty() {
-                return Err(bad(format!(
-                    "{}: no .scen file in the directory",
-                    p.display()
-                )));
-            }
-            out.extend(v);
-        } else {
-            out.push(p.clone());
-        }
-    }
-    Ok(out)
-}
-
-/// The map file a scenario of `scen_file` names: beside the scenario file.
-fn map_beside(scen_file: &Path, map: &str) -> PathBuf {
-    let name = Path::new(map)
-        .file_name()
-        .map(PathBuf::from)
-        .unwrap_or_default();
-    scen_file.parent().unwrap_or(Path::new(".")).join(name)
-}
-
-fn csv_text(rows: &[homospline_maps::bench::Row]) -> String {
-    let mut text = String::from(homospline_maps::bench::CSV_HEADER);
-    text.push('\n');
-    for r in rows {
-        text.push_str(&r.to_csv());
-        text.push('\n');
-    }
-    text
-}
-
 fn bench_scen(a: BenchArgs) -> anyhow::Result<u8> {
+    use homospline_cli::bench::{BenchJob, csv_text, run_files};
     use homospline_maps::bench::{self, Shard};
-    if a.classes == 0 || a.classes > 64 {
-        return Err(bad(format!(
-            "--classes {}: must be between 1 and 64",
-            a.classes
-        )));
-    }
-    if a.limit.is_some() && a.sample.is_some() {
-        return Err(bad("--limit and --sample exclude each other"));
-    }
-    if a.sample == Some(0) || a.limit == Some(0) {
-        return Err(bad("--sample and --limit must be at least 1"));
-    }
-    if let Some(t) = a.time_limit
-        && !(t.is_finite() && t > 0.0)
-    {
-        return Err(bad(format!(
-            "--time-limit {t}: must be a positive number of ms"
-        )));
-    }
     let shard = match &a.shard {
         Some(t) => Shard::parse(t).map_err(|e| bad(format!("--shard {e}")))?,
         None => match Shard::from_slurm(|k| std::env::var(k).ok()) {
@@ -935,86 +775,36 @@ fn bench_scen(a: BenchArgs) -> anyhow::Result<u8> {
             None => Shard::ALL,
         },
     };
-    // Every scenario picked, file by file, then this shard's slice of the whole list.
-    let files = scen_files(&a.scen)?;
-    let mut items: Vec<(usize, usize)> = Vec::new();
-    let mut scenarios = Vec::new();
-    for (f, path) in files.iter().enumerate() {
-        let name = path.display().to_string();
-        let text =
-            std::fs::read_to_string(path).map_err(|e| bad(format!("{name}: cannot read: {e}")))?;
-        let scen =
-            homospline_maps::movingai::read_scen(&text, &name).map_err(|e| bad(e.to_string()))?;
-        let picked: Vec<usize> = match (a.limit, a.sample) {
-            (Some(n), _) => (0..n.min(scen.len())).collect(),
-            (_, Some(n)) => bench::sample_indices(scen.len(), n),
-            _ => (0..scen.len()).collect(),
-        };
-        items.extend(picked.into_iter().map(|k| (f, k)));
-        scenarios.push(scen);
-    }
-    let total = items.len();
-    let items: Vec<(usize, usize)> = items
-        .into_iter()
-        .enumerate()
-        .filter(|(i, _)| shard.takes(*i))
-        .map(|(_, x)| x)
-        .collect();
-    // Every map the scenarios name, read and prepared once.
-    let mut maps: std::collections::BTreeMap<PathBuf, homospline_maps::PreparedMap> =
-        std::collections::BTreeMap::new();
-    let mut prep_ms = 0.0;
-    for &(f, k) in &items {
-        let map_path = map_beside(&files[f], &scenarios[f][k].map);
-        if maps.contains_key(&map_path) {
-            continue;
-        }
-        let map_text = std::fs::read_to_string(&map_path).map_err(|e| {
-            bad(format!(
-                "{}: its map {}: cannot read: {e}",
-                files[f].display(),
-                map_path.display()
-            ))
-        })?;
-        let map = homospline_maps::movingai::read_map(&map_text, &map_path.display().to_string())
-            .map_err(|e| bad(e.to_string()))?;
-        let t = std::time::Instant::now();
-        let prepared = homospline_maps::PreparedMap::new(&map).map_err(|e| bad(e.to_string()))?;
-        prep_ms += t.elapsed().as_secs_f64() * 1e3;
-        maps.insert(map_path, prepared);
-    }
-    let cfg = PlanConfig {
+    let job = BenchJob {
+        files: a.scen.clone(),
+        sample: a.sample,
+        limit: a.limit,
+        shard,
         classes: a.classes,
-        ..homospline_maps::map_config()
+        time_limit: a.time_limit,
     };
-    let bar = indicatif::ProgressBar::new(items.len() as u64);
+    let bar = indicatif::ProgressBar::new(0);
     bar.set_style(
         indicatif::ProgressStyle::with_template(
             "{bar:40} {pos}/{len} scenarios {elapsed_precise} eta {eta}",
         )
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    let mut rows = Vec::with_capacity(items.len());
-    for &(f, k) in &items {
-        let s = &scenarios[f][k];
-        let prepared = &maps[&map_beside(&files[f], &s.map)];
-        let file = files[f].display().to_string();
-        rows.push(bench::run(prepared, &file, k, s, &cfg, a.time_limit));
-        bar.inc(1);
-    }
+    let (rows, info) = run_files(&job, |done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    })
+    .map_err(bad)?;
     bar.finish_and_clear();
-    let map_names: Vec<String> = maps
-        .values()
-        .map(|m| format!("{} ({} x {})", m.name, m.map().width, m.map().height))
-        .collect();
     println!(
-        "{}: {} of {total} scenarios picked{}{}, on {}; maps prepared once in {:.1} ms",
-        files
+        "{}: {} of {} scenarios picked{}{}, on {}; maps prepared once in {:.1} ms",
+        info.files
             .iter()
             .map(|f| f.display().to_string())
             .collect::<Vec<_>>()
             .join(", "),
         rows.len(),
+        info.picked,
         match (a.limit, a.sample) {
             (Some(_), _) => " (the first of each file: the shortest paths only)",
             (_, Some(_)) => " (sampled evenly over every bucket)",
@@ -1025,8 +815,8 @@ fn bench_scen(a: BenchArgs) -> anyhow::Result<u8> {
         } else {
             String::new()
         },
-        map_names.join(", "),
-        prep_ms
+        info.maps.join(", "),
+        info.prepare_ms
     );
     print!("{}", bench::summary(&rows));
     if let Some(p) = &a.csv {
@@ -1036,42 +826,18 @@ fn bench_scen(a: BenchArgs) -> anyhow::Result<u8> {
 }
 
 fn bench_merge(csvs: &[PathBuf], out: Option<&Path>) -> anyhow::Result<u8> {
-    use homospline_maps::bench::{self, CSV_HEADER, Row};
-    let mut rows: Vec<Row> = Vec::new();
+    let mut texts = Vec::new();
     for p in csvs {
         let name = p.display().to_string();
         let text =
             std::fs::read_to_string(p).map_err(|e| bad(format!("{name}: cannot read: {e}")))?;
-        let mut lines = text.lines();
-        match lines.next() {
-            Some(h) if h.trim() == CSV_HEADER => {}
-            _ => {
-                return Err(bad(format!(
-                    "{name}:1: not a bench-scen CSV (expected the header {CSV_HEADER})"
-                )));
-            }
-        }
-        for (i, l) in lines.enumerate() {
-            if l.trim().is_empty() {
-                continue;
-            }
-            rows.push(Row::from_csv(l, &name, i + 2).map_err(|e| bad(e.to_string()))?);
-        }
+        texts.push((name, text));
     }
-    rows.sort_by(|a, b| a.file.cmp(&b.file).then(a.index.cmp(&b.index)));
-    if let Some(w) = rows
-        .windows(2)
-        .find(|w| w[0].file == w[1].file && w[0].index == w[1].index)
-    {
-        return Err(bad(format!(
-            "scenario {} of {} is in more than one CSV: overlapping shards?",
-            w[0].index, w[0].file
-        )));
-    }
+    let rows = homospline_cli::bench::rows_of_named(&texts).map_err(bad)?;
     println!("{} scenarios from {} CSV files", rows.len(), csvs.len());
-    print!("{}", bench::summary(&rows));
+    print!("{}", homospline_maps::bench::summary(&rows));
     if let Some(p) = out {
-        write(p, "CSV", csv_text(&rows).as_bytes())?;
+        write(p, "CSV", homospline_cli::bench::csv_text(&rows).as_bytes())?;
     }
     Ok(0)
 }

@@ -11,6 +11,7 @@
 //! of its first cell in raster order, which is inside it.
 
 pub mod bench;
+pub mod input;
 pub mod model;
 pub mod movingai;
 pub mod ros;

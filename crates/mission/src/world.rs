@@ -512,3 +512,29 @@ impl MissionWorld {
         serde_saphyr::to_string(&out).unwrap_or_default()
     }
 }
+
+/// Reads a world file and the scene it names (relative to the world file); the caller reads
+/// the files (`read`). The error is the message a front end shows.
+pub fn load(
+    path: &std::path::Path,
+    read: impl Fn(&std::path::Path) -> std::io::Result<Vec<u8>>,
+) -> Result<MissionWorld, String> {
+    let name = path.display().to_string();
+    let bytes = read(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
+    let text = std::str::from_utf8(&bytes).map_err(|e| {
+        format!(
+            "{name}: not a text file: invalid UTF-8 at byte {}",
+            e.valid_up_to()
+        )
+    })?;
+    let file = WorldFile::from_str(text, &name).map_err(|e| e.to_string())?;
+    let scene_path = path
+        .parent()
+        .unwrap_or(std::path::Path::new("."))
+        .join(&file.scene);
+    let scene_bytes = read(&scene_path)
+        .map_err(|e| format!("{name}: scene: cannot read {}: {e}", scene_path.display()))?;
+    let prior = Scene::from_bytes(&scene_bytes, &scene_path.display().to_string())
+        .map_err(|e| e.to_string())?;
+    file.with_prior(prior).map_err(|e| e.to_string())
+}

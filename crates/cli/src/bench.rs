@@ -1,0 +1,216 @@
+//! `bench-scen` and `bench-merge` for every front end (the command line and the Python
+//! package): `.scen` files and directories expanded, scenarios picked and sharded, maps read
+//! and prepared once, rows planned; CSV text to and from rows. This module reads files.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use homospline_maps::bench::{self, CSV_HEADER, Row, Shard};
+use homospline_maps::{PreparedMap, movingai};
+use homospline_optim::PlanConfig;
+
+/// A sweep, or one shard of it.
+#[derive(Clone, Debug)]
+pub struct BenchJob {
+    /// `.scen` files, or directories of them.
+    pub files: Vec<PathBuf>,
+    /// Scenarios per file spread evenly over every bucket.
+    pub sample: Option<usize>,
+    /// The first scenarios of each file.
+    pub limit: Option<usize>,
+    /// This run's slice.
+    pub shard: Shard,
+    /// Classes per plan.
+    pub classes: usize,
+    /// Plans slower than this (ms) count as timeouts.
+    pub time_limit: Option<f64>,
+}
+
+/// What a run did besides its rows.
+#[derive(Clone, Debug, Default)]
+pub struct BenchInfo {
+    /// The `.scen` files, directories expanded.
+    pub files: Vec<PathBuf>,
+    /// Scenarios picked over all files (before sharding).
+    pub picked: usize,
+    /// Each map prepared, with its size.
+    pub maps: Vec<String>,
+    /// Time spent preparing maps, ms.
+    pub prepare_ms: f64,
+}
+
+/// The `.scen` files named: files as given, directories expanded (sorted).
+pub fn scen_files(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
+    let mut out = Vec::new();
+    for p in paths {
+        if p.is_dir() {
+            let mut v: Vec<PathBuf> = std::fs::read_dir(p)
+                .map_err(|e| format!("{}: cannot read the directory: {e}", p.display()))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|f| f.extension().is_some_and(|e| e == "scen"))
+                .collect();
+            v.sort();
+            if v.is_empty() {
+                return Err(format!("{}: no .scen file in the directory", p.display()));
+            }
+            out.extend(v);
+        } else {
+            out.push(p.clone());
+        }
+    }
+    Ok(out)
+}
+
+/// The map file a scenario of `scen_file` names: beside the scenario file.
+fn map_beside(scen_file: &Path, map: &str) -> PathBuf {
+    let name = Path::new(map)
+        .file_name()
+        .map(PathBuf::from)
+        .unwrap_or_default();
+    scen_file.parent().unwrap_or(Path::new(".")).join(name)
+}
+
+/// Checks the job and plans its shard: one row per scenario, in order.
+pub fn run_files(
+    job: &BenchJob,
+    mut progress: impl FnMut(usize, usize),
+) -> Result<(Vec<Row>, BenchInfo), String> {
+    if job.classes == 0 || job.classes > 64 {
+        return Err(format!(
+            "--classes {}: must be between 1 and 64",
+            job.classes
+        ));
+    }
+    if job.limit.is_some() && job.sample.is_some() {
+        return Err("--limit and --sample exclude each other".into());
+    }
+    if job.sample == Some(0) || job.limit == Some(0) {
+        return Err("--sample and --limit must be at least 1".into());
+    }
+    if let Some(t) = job.time_limit
+        && !(t.is_finite() && t > 0.0)
+    {
+        return Err(format!("--time-limit {t}: must be a positive number of ms"));
+    }
+    let files = scen_files(&job.files)?;
+    let mut items: Vec<(usize, usize)> = Vec::new();
+    let mut scenarios = Vec::new();
+    for (f, path) in files.iter().enumerate() {
+        let name = path.display().to_string();
+        let text =
+            std::fs::read_to_string(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
+        let scen = movingai::read_scen(&text, &name).map_err(|e| e.to_string())?;
+        let picked: Vec<usize> = match (job.limit, job.sample) {
+            (Some(n), _) => (0..n.min(scen.len())).collect(),
+            (_, Some(n)) => bench::sample_indices(scen.len(), n),
+            _ => (0..scen.len()).collect(),
+        };
+        items.extend(picked.into_iter().map(|k| (f, k)));
+        scenarios.push(scen);
+    }
+    let picked = items.len();
+    let items: Vec<(usize, usize)> = items
+        .into_iter()
+        .enumerate()
+        .filter(|(i, _)| job.shard.takes(*i))
+        .map(|(_, x)| x)
+        .collect();
+    let mut maps: BTreeMap<PathBuf, PreparedMap> = BTreeMap::new();
+    let mut prepare_ms = 0.0;
+    for &(f, k) in &items {
+        let map_path = map_beside(&files[f], &scenarios[f][k].map);
+        if maps.contains_key(&map_path) {
+            continue;
+        }
+        let text = std::fs::read_to_string(&map_path).map_err(|e| {
+            format!(
+                "{}: its map {}: cannot read: {e}",
+                files[f].display(),
+                map_path.display()
+            )
+        })?;
+        let map = movingai::read_map(&text, &map_path.display().to_string())
+            .map_err(|e| e.to_string())?;
+        let t = std::time::Instant::now();
+        let prepared = PreparedMap::new(&map).map_err(|e| e.to_string())?;
+        prepare_ms += t.elapsed().as_secs_f64() * 1e3;
+        maps.insert(map_path, prepared);
+    }
+    let cfg = PlanConfig {
+        classes: job.classes,
+        ..homospline_maps::map_config()
+    };
+    let mut rows = Vec::with_capacity(items.len());
+    for (done, &(f, k)) in items.iter().enumerate() {
+        let s = &scenarios[f][k];
+        let prepared = &maps[&map_beside(&files[f], &s.map)];
+        let file = files[f].display().to_string();
+        rows.push(bench::run(prepared, &file, k, s, &cfg, job.time_limit));
+        progress(done + 1, items.len());
+    }
+    let info = BenchInfo {
+        maps: maps
+            .values()
+            .map(|m| format!("{} ({} x {})", m.name, m.map().width, m.map().height))
+            .collect(),
+        files,
+        picked,
+        prepare_ms,
+    };
+    Ok((rows, info))
+}
+
+/// Rows as CSV text: the header, then one line per row.
+pub fn csv_text(rows: &[Row]) -> String {
+    let mut text = String::from(CSV_HEADER);
+    text.push('\n');
+    for r in rows {
+        text.push_str(&r.to_csv());
+        text.push('\n');
+    }
+    text
+}
+
+/// The rows of several CSV texts (shards of one sweep), sorted by file and scenario; a
+/// scenario in two of them is refused. `names` name the texts in errors.
+pub fn rows_of_named(texts: &[(String, String)]) -> Result<Vec<Row>, String> {
+    let mut rows = Vec::new();
+    for (name, text) in texts {
+        let mut lines = text.lines();
+        match lines.next() {
+            Some(h) if h.trim() == CSV_HEADER => {}
+            _ => {
+                return Err(format!(
+                    "{name}:1: not a bench-scen CSV (expected the header {CSV_HEADER})"
+                ));
+            }
+        }
+        for (i, l) in lines.enumerate() {
+            if l.trim().is_empty() {
+                continue;
+            }
+            rows.push(Row::from_csv(l, name, i + 2).map_err(|e| e.to_string())?);
+        }
+    }
+    rows.sort_by(|a, b| a.file.cmp(&b.file).then(a.index.cmp(&b.index)));
+    if let Some(w) = rows
+        .windows(2)
+        .find(|w| w[0].file == w[1].file && w[0].index == w[1].index)
+    {
+        return Err(format!(
+            "scenario {} of {} is in more than one CSV: overlapping shards?",
+            w[0].index, w[0].file
+        ));
+    }
+    Ok(rows)
+}
+
+/// [`rows_of_named`] for unnamed texts (`csv 1`, `csv 2`, ...).
+pub fn rows_of(texts: &[String]) -> Result<Vec<Row>, String> {
+    let named: Vec<(String, String)> = texts
+        .iter()
+        .enumerate()
+        .map(|(i, t)| (format!("csv {}", i + 1), t.clone()))
+        .collect();
+    rows_of_named(&named)
+}

@@ -1,0 +1,149 @@
+//! The planner's options as every front end takes them (the command line, the Python
+//! package): names and values checked once, with the messages the user sees.
+
+use homospline_geom::Scene;
+use homospline_optim::{GrowthConfig, Optimizer, PlanConfig, Seed};
+use homospline_spline::{CostConfig, RoughnessForm};
+
+/// What a front end asks of a plan; `None` keeps the default of the scene or the map.
+#[derive(Clone, Debug)]
+pub struct PlanOptions {
+    /// `voronoi` or `straight`.
+    pub seed: String,
+    /// Classes to optimise, 1 to 64.
+    pub classes: usize,
+    /// `paper-voronoi` or `paper-original`.
+    pub preset: String,
+    /// Weights and parameters by name, in order.
+    pub weights: Vec<(String, f64)>,
+    /// `nelder-mead` or `lbfgs`.
+    pub optimizer: Option<String>,
+    /// `paper`, `energy` or `authors`.
+    pub roughness: Option<String>,
+    /// Grid cells per map unit (scenes only).
+    pub resolution: Option<f64>,
+    /// Worker threads.
+    pub threads: Option<usize>,
+    /// Most via-points.
+    pub max_via: Option<usize>,
+    /// Growth rounds.
+    pub rounds: Option<usize>,
+    /// Hard clearance margin.
+    pub clearance_floor: f64,
+    /// Classes to leave out.
+    pub avoid: Vec<String>,
+    /// Limited overlap.
+    pub diverse: Option<f64>,
+}
+
+impl Default for PlanOptions {
+    fn default() -> Self {
+        Self {
+            seed: "voronoi".into(),
+            classes: 5,
+            preset: "paper-voronoi".into(),
+            weights: Vec::new(),
+            optimizer: None,
+            roughness: None,
+            resolution: None,
+            threads: None,
+            max_via: None,
+            rounds: None,
+            clearance_floor: 0.0,
+            avoid: Vec::new(),
+            diverse: None,
+        }
+    }
+}
+
+/// The planner's configuration for `scene` (its danger and critical points and hazards
+/// join the cost), or for a map when `scene` is `None` (the map defaults). The error names
+/// the option as the command line spells it.
+pub fn plan_config(o: &PlanOptions, scene: Option<&Scene>) -> Result<PlanConfig, String> {
+    let mut cost = CostConfig::preset(&o.preset).ok_or_else(|| {
+        format!(
+            "--preset: unknown preset '{}' (paper-voronoi, paper-original)",
+            o.preset
+        )
+    })?;
+    if let Some(s) = scene {
+        cost = cost.with_scene_points(s);
+    }
+    for (name, v) in &o.weights {
+        cost.set(name.trim(), *v)
+            .map_err(|e| format!("--weight {name}={v}: {e}"))?;
+    }
+    if o.classes == 0 || o.classes > 64 {
+        return Err(format!("--classes {}: must be between 1 and 64", o.classes));
+    }
+    if let Some(r) = o.resolution {
+        if scene.is_none() {
+            return Err("--resolution applies to scenes; a map's grid is its cells".into());
+        }
+        if !(r.is_finite() && r > 0.0) {
+            return Err(format!("--resolution {r}: must be positive"));
+        }
+    }
+    if o.threads == Some(0) {
+        return Err("--threads 0: must be at least 1".into());
+    }
+    let base = match scene {
+        Some(_) => PlanConfig::default(),
+        None => homospline_maps::map_config(),
+    };
+    if let Some(form) = &o.roughness {
+        cost.roughness = RoughnessForm::from_name(form)
+            .ok_or_else(|| format!("--roughness {form}: expected paper, energy or authors"))?;
+    }
+    if !(o.clearance_floor.is_finite() && o.clearance_floor >= 0.0) {
+        return Err(format!(
+            "--clearance-floor {}: must be a finite number >= 0",
+            o.clearance_floor
+        ));
+    }
+    if let Some(f) = o.diverse
+        && !(f.is_finite() && (0.0..=1.0).contains(&f))
+    {
+        return Err(format!("--diverse {f}: must be a fraction in [0, 1]"));
+    }
+    let rounds = o.rounds.unwrap_or(base.growth.max_rounds);
+    if !(1..=100).contains(&rounds) {
+        return Err(format!("--rounds {rounds}: must be between 1 and 100"));
+    }
+    let max_via = o.max_via.unwrap_or(base.growth.max_via_points);
+    if !(1..=200).contains(&max_via) {
+        return Err(format!("--max-via {max_via}: must be between 1 and 200"));
+    }
+    let seed = match o.seed.as_str() {
+        "voronoi" => Seed::Voronoi,
+        "straight" => Seed::Straight,
+        other => return Err(format!("--seed {other}: expected voronoi or straight")),
+    };
+    let optimizer = match o.optimizer.as_deref() {
+        None => base.growth.optimizer,
+        Some("nelder-mead") => Optimizer::NelderMead,
+        Some("lbfgs") => Optimizer::Lbfgs,
+        Some(other) => {
+            return Err(format!(
+                "--optimizer {other}: expected nelder-mead or lbfgs"
+            ));
+        }
+    };
+    Ok(PlanConfig {
+        seed,
+        classes: o.classes,
+        resolution: o.resolution,
+        growth: GrowthConfig {
+            cost,
+            optimizer,
+            max_via_points: max_via,
+            max_rounds: rounds,
+            ..base.growth.clone()
+        },
+        threads: o.threads,
+        clearance_floor: o.clearance_floor,
+        avoid: o.avoid.clone(),
+        diverse: o.diverse,
+        ..base
+    })
+}

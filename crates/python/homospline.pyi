@@ -1,0 +1,136 @@
+"""homospline: homotopy-seeded spline path planning for ground robots with aerial scouts.
+
+Plans are computed in Rust with the GIL released. Errors carry the command line's messages
+(file, line, field): ValueError for bad input, TypeError for arguments of the wrong type,
+OSError for files that cannot be read or written.
+"""
+
+from os import PathLike
+from typing import Any, Optional, Sequence, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+_Path = Union[str, PathLike[str]]
+
+class Scene:
+    """A scene: bounds, start, goal and obstacles made of circles (docs/formats.md)."""
+
+    @staticmethod
+    def from_file(path: _Path) -> "Scene":
+        """Reads a scene file (YAML or JSON)."""
+    @staticmethod
+    def from_dict(d: dict[str, Any]) -> "Scene":
+        """A scene from a dict with the fields of a scene file."""
+    @staticmethod
+    def example() -> "Scene":
+        """The built-in example (the paper's Fig. 5)."""
+    @property
+    def name(self) -> str: ...
+    @property
+    def start(self) -> tuple[float, float]: ...
+    @property
+    def goal(self) -> tuple[float, float]: ...
+    def to_dict(self) -> dict[str, Any]:
+        """The scene file's fields."""
+
+class Graph:
+    """A Voronoi graph, built once and reused by `plan(scene, graph=...)`."""
+
+    @staticmethod
+    def load(path: _Path) -> "Graph": ...
+    def save(self, path: _Path) -> None: ...
+    @property
+    def nodes(self) -> int: ...
+    @property
+    def edges(self) -> int: ...
+    def to_dict(self) -> dict[str, Any]:
+        """The graph JSON of docs/formats.md."""
+
+class ClassPlan:
+    """One optimised homotopy class."""
+
+    @property
+    def rank(self) -> int: ...
+    @property
+    def signature(self) -> str: ...
+    @property
+    def path(self) -> npt.NDArray[np.float64]:
+        """The sampled curve, shape (n, 2)."""
+    @property
+    def via_points(self) -> npt.NDArray[np.float64]:
+        """Start, via-points, goal, shape (k, 2)."""
+    @property
+    def length(self) -> float: ...
+    @property
+    def min_clearance(self) -> float: ...
+    @property
+    def certified_clearance(self) -> float: ...
+    @property
+    def collision_free(self) -> bool: ...
+    @property
+    def safe(self) -> bool: ...
+    @property
+    def cost(self) -> float: ...
+
+class Plan:
+    """Every class, ranked, and the chosen one."""
+
+    @property
+    def best(self) -> Optional[int]:
+        """Rank of the chosen class; None when no class is collision-free."""
+    @property
+    def classes(self) -> list[ClassPlan]: ...
+    @property
+    def chosen(self) -> Optional[ClassPlan]: ...
+    @property
+    def path(self) -> Optional[npt.NDArray[np.float64]]:
+        """The chosen path, shape (n, 2), or None."""
+    def to_dict(self) -> dict[str, Any]:
+        """The plan result of docs/formats.md (what `homospline plan --json` writes)."""
+
+def plan(
+    scene: Scene,
+    classes: int = 5,
+    preset: str = "paper-voronoi",
+    weights: Optional[dict[str, float]] = None,
+    optimizer: Optional[str] = None,
+    seed: str = "voronoi",
+    roughness: Optional[str] = None,
+    clearance_floor: float = 0.0,
+    graph: Optional[Graph] = None,
+) -> Plan:
+    """Plans a scene (the `plan` command)."""
+
+def plan_map(
+    occupancy: npt.NDArray[np.bool_],
+    start: tuple[float, float],
+    goal: tuple[float, float],
+    resolution: float = 1.0,
+    origin: tuple[float, float] = (0.0, 0.0),
+    y_down: bool = False,
+    classes: int = 5,
+) -> Plan:
+    """Plans on a 2-D bool occupancy array (True = occupied; rows are y, columns x; y up
+    from `origin` as in ROS, or rows down the page with `y_down=True`)."""
+
+def build_graph(scene: Scene, resolution: Optional[float] = None) -> Graph:
+    """The Voronoi graph of a scene, start and goal attached."""
+
+def simulate(world: _Path, policy: str = "ahead", scouts: Optional[int] = None) -> dict[str, Any]:
+    """Runs the mission of a world file; returns the mission JSON of docs/formats.md."""
+
+def bench_scen(
+    files: Sequence[_Path],
+    sample: Optional[int] = None,
+    limit: Optional[int] = None,
+    shard: tuple[int, int] = (1, 1),
+    classes: int = 5,
+    time_limit: Optional[float] = None,
+) -> str:
+    """Plans MovingAI scenarios (`homospline bench-scen`); returns the CSV text."""
+
+def bench_summary(csvs: Sequence[str]) -> str:
+    """The summary of the rows of one or more bench_scen CSVs (`homospline bench-merge`)."""

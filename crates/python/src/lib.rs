@@ -1,0 +1,514 @@
+//! The Python package `homospline` (PyO3): scenes, plans, occupancy maps as NumPy arrays,
+//! Voronoi graphs and missions. Errors are Python exceptions carrying the command line's
+//! messages (file, line, field); planning releases the GIL.
+
+use std::path::PathBuf;
+
+use homospline_cli::options::{PlanOptions, plan_config};
+use homospline_cli::{mission, report};
+use homospline_geom::{Point, Scene};
+use homospline_maps::OccupancyMap;
+use homospline_mission::{MissionConfig, Policy};
+use homospline_optim::{ClassPlan, Plan};
+use homospline_voronoi::VoronoiGraph;
+use numpy::{PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::exceptions::{PyOSError, PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+fn bad(msg: impl Into<String>) -> PyErr {
+    PyValueError::new_err(msg.into())
+}
+
+fn read(path: &std::path::Path) -> PyResult<Vec<u8>> {
+    std::fs::read(path)
+        .map_err(|e| PyOSError::new_err(format!("{}: cannot read: {e}", path.display())))
+}
+
+fn json_loads<'py>(py: Python<'py>, text: &str) -> PyResult<Bound<'py, PyAny>> {
+    py.import("json")?.call_method1("loads", (text,))
+}
+
+fn points<'py>(py: Python<'py>, pts: &[Point]) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let rows: Vec<Vec<f64>> = pts.iter().map(|p| vec![p.x, p.y]).collect();
+    if rows.is_empty() {
+        return Ok(PyArray2::zeros(py, [0, 2], false));
+    }
+    PyArray2::from_vec2(py, &rows).map_err(|e| PyValueError::new_err(e.to_string()))
+}
+
+/// A scene: bounds, start, goal and obstacles made of circles (`docs/formats.md`).
+#[pyclass(name = "Scene", module = "homospline", frozen)]
+struct PyScene {
+    inner: Scene,
+}
+
+#[pymethods]
+impl PyScene {
+    /// Reads a scene file (YAML or JSON).
+    #[staticmethod]
+    fn from_file(path: PathBuf) -> PyResult<Self> {
+        let bytes = read(&path)?;
+        Scene::from_bytes(&bytes, &path.display().to_string())
+            .map(|inner| Self { inner })
+            .map_err(|e| bad(e.to_string()))
+    }
+
+    /// A scene from a dict with the fields of a scene file.
+    #[staticmethod]
+    fn from_dict(py: Python<'_>, d: &Bound<'_, PyAny>) -> PyResult<Self> {
+        if !d.is_instance_of::<PyDict>() {
+            return Err(PyTypeError::new_err(format!(
+                "<dict>: expected a dict with the fields of a scene file, got {}",
+                d.get_type().name()?
+            )));
+        }
+        let text: String = py.import("json")?.call_method1("dumps", (d,))?.extract()?;
+        Scene::from_str(&text, "<dict>")
+            .map(|inner| Self { inner })
+            .map_err(|e| bad(e.to_string()))
+    }
+
+    /// The built-in example (the paper's Fig. 5: two cups with a narrow pass).
+    #[staticmethod]
+    fn example() -> PyResult<Self> {
+        Scene::from_str(
+            homospline_cli::EXAMPLE_SCENE,
+            "narrow-pass.yaml (built-in example)",
+        )
+        .map(|inner| Self { inner })
+        .map_err(|e| bad(e.to_string()))
+    }
+
+    /// Name.
+    #[getter]
+    fn name(&self) -> String {
+        self.inner.name.clone()
+    }
+
+    /// Start `(x, y)`.
+    #[getter]
+    fn start(&self) -> (f64, f64) {
+        (self.inner.start.x, self.inner.start.y)
+    }
+
+    /// Goal `(x, y)`.
+    #[getter]
+    fn goal(&self) -> (f64, f64) {
+        (self.inner.goal.x, self.inner.goal.y)
+    }
+
+    /// The scene as a dict (the scene file's fields).
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        json_loads(py, &self.inner.to_json())
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Scene({:?}, {} obstacles, start ({}, {}), goal ({}, {}))",
+            self.inner.name,
+            self.inner.obstacles.len(),
+            self.inner.start.x,
+            self.inner.start.y,
+            self.inner.goal.x,
+            self.inner.goal.y
+        )
+    }
+}
+
+/// A Voronoi graph, built once (offline) and reused by `plan(scene, graph=...)`.
+#[pyclass(name = "Graph", module = "homospline", frozen)]
+struct PyGraph {
+    inner: VoronoiGraph,
+}
+
+#[pymethods]
+impl PyGraph {
+    /// Reads a graph saved by `save` or `homospline graph --out`.
+    #[staticmethod]
+    fn load(path: PathBuf) -> PyResult<Self> {
+        let bytes = read(&path)?;
+        VoronoiGraph::from_msgpack(&bytes)
+            .map(|inner| Self { inner })
+            .map_err(|e| bad(format!("{}: {e}", path.display())))
+    }
+
+    /// Saves the graph (MessagePack, versioned).
+    fn save(&self, path: PathBuf) -> PyResult<()> {
+        std::fs::write(&path, self.inner.to_msgpack()).map_err(|e| {
+            PyOSError::new_err(format!("{}: cannot write the graph: {e}", path.display()))
+        })
+    }
+
+    /// Nodes.
+    #[getter]
+    fn nodes(&self) -> usize {
+        self.inner.nodes.len()
+    }
+
+    /// Edges.
+    #[getter]
+    fn edges(&self) -> usize {
+        self.inner.edges.len()
+    }
+
+    /// The graph as the JSON of `docs/formats.md`, as a dict.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        json_loads(py, &self.inner.to_json())
+    }
+}
+
+/// The Voronoi graph of a scene, start and goal attached.
+#[pyfunction]
+#[pyo3(signature = (scene, resolution=None))]
+fn build_graph(py: Python<'_>, scene: &PyScene, resolution: Option<f64>) -> PyResult<PyGraph> {
+    let res = resolution.unwrap_or_else(|| homospline_optim::default_resolution(&scene.inner));
+    if !(res.is_finite() && res > 0.0) {
+        return Err(bad(format!("resolution {res}: must be positive")));
+    }
+    let s = &scene.inner;
+    py.detach(|| homospline_voronoi::build(s, res))
+        .map(|(_, _, inner)| PyGraph { inner })
+        .map_err(|e| bad(format!("{}: {e}", s.name)))
+}
+
+/// One optimised homotopy class.
+#[pyclass(name = "ClassPlan", module = "homospline", frozen)]
+struct PyClassPlan {
+    inner: ClassPlan,
+}
+
+#[pymethods]
+impl PyClassPlan {
+    /// 1 = best.
+    #[getter]
+    fn rank(&self) -> usize {
+        self.inner.rank
+    }
+    /// Homotopy signature.
+    #[getter]
+    fn signature(&self) -> String {
+        self.inner.signature.clone()
+    }
+    /// The curve, sampled: an `(n, 2)` float64 array.
+    #[getter]
+    fn path<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        points(py, &self.inner.path)
+    }
+    /// Start, optimised via-points, goal: `(k, 2)` float64.
+    #[getter]
+    fn via_points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        points(py, &self.inner.via_points)
+    }
+    /// Length.
+    #[getter]
+    fn length(&self) -> f64 {
+        self.inner.length
+    }
+    /// Minimum clearance of the sampled path.
+    #[getter]
+    fn min_clearance(&self) -> f64 {
+        self.inner.min_clearance
+    }
+    /// Certified lower bound of the curve's clearance.
+    #[getter]
+    fn certified_clearance(&self) -> f64 {
+        self.inner.certified_clearance
+    }
+    /// Collision-free.
+    #[getter]
+    fn collision_free(&self) -> bool {
+        self.inner.collision_free
+    }
+    /// Certified clearance at least `dm`.
+    #[getter]
+    fn safe(&self) -> bool {
+        self.inner.safe
+    }
+    /// Total cost.
+    #[getter]
+    fn cost(&self) -> f64 {
+        self.inner.cost.total
+    }
+    fn __repr__(&self) -> String {
+        format!(
+            "ClassPlan(rank {}, {:?}, length {:.2}, clearance {:.3}, collision_free {})",
+            self.inner.rank,
+            self.inner.signature,
+            self.inner.length,
+            self.inner.min_clearance,
+            if self.inner.collision_free {
+                "True"
+            } else {
+                "False"
+            }
+        )
+    }
+}
+
+/// A plan: every class, ranked, and the chosen one.
+#[pyclass(name = "Plan", module = "homospline", frozen)]
+struct PyPlan {
+    inner: Plan,
+}
+
+#[pymethods]
+impl PyPlan {
+    /// Rank of the chosen class, or `None` when no class is collision-free.
+    #[getter]
+    fn best(&self) -> Option<usize> {
+        self.inner.best
+    }
+    /// The classes in rank order.
+    #[getter]
+    fn classes(&self) -> Vec<PyClassPlan> {
+        self.inner
+            .classes
+            .iter()
+            .map(|c| PyClassPlan { inner: c.clone() })
+            .collect()
+    }
+    /// The chosen class, or `None`.
+    #[getter]
+    fn chosen(&self) -> Option<PyClassPlan> {
+        self.inner.best.map(|b| PyClassPlan {
+            inner: self.inner.classes[b - 1].clone(),
+        })
+    }
+    /// The chosen path as an `(n, 2)` float64 array, or `None`.
+    #[getter]
+    fn path<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
+        self.inner
+            .best
+            .map(|b| points(py, &self.inner.classes[b - 1].path))
+            .transpose()
+    }
+    /// The plan result of `docs/formats.md` (what `homospline plan --json` writes), as a dict.
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        json_loads(py, &report::plan_json(&self.inner))
+    }
+    fn __repr__(&self) -> String {
+        format!(
+            "Plan({:?}, {} classes, best {}, {:.1} ms)",
+            self.inner.scene,
+            self.inner.classes.len(),
+            self.inner.best.map_or("None".to_owned(), |b| b.to_string()),
+            self.inner.timing.total
+        )
+    }
+}
+
+/// Weights as `(name, value)` pairs from a dict.
+fn weights_of(weights: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, f64)>> {
+    let mut out = Vec::new();
+    if let Some(d) = weights {
+        for (k, v) in d.iter() {
+            let name: String = k.extract()?;
+            let value: f64 = v
+                .extract()
+                .map_err(|_| bad(format!("--weight {name}: not a number")))?;
+            out.push((name, value));
+        }
+    }
+    Ok(out)
+}
+
+/// Plans a scene: the k best homotopy classes, each optimised and checked (the `plan`
+/// command). `weights` maps names (`safety`, `dm`, ...) to values.
+#[pyfunction]
+#[pyo3(signature = (scene, classes=5, preset="paper-voronoi", weights=None, optimizer=None, seed="voronoi", roughness=None, clearance_floor=0.0, graph=None))]
+#[allow(clippy::too_many_arguments)]
+fn plan(
+    py: Python<'_>,
+    scene: &PyScene,
+    classes: usize,
+    preset: &str,
+    weights: Option<&Bound<'_, PyDict>>,
+    optimizer: Option<String>,
+    seed: &str,
+    roughness: Option<String>,
+    clearance_floor: f64,
+    graph: Option<&PyGraph>,
+) -> PyResult<PyPlan> {
+    let options = PlanOptions {
+        seed: seed.to_owned(),
+        classes,
+        preset: preset.to_owned(),
+        weights: weights_of(weights)?,
+        optimizer,
+        roughness,
+        clearance_floor,
+        ..PlanOptions::default()
+    };
+    let cfg = plan_config(&options, Some(&scene.inner)).map_err(bad)?;
+    let s = &scene.inner;
+    let saved = graph.map(|g| g.inner.clone());
+    py.detach(|| homospline_optim::plan_with_graph(s, saved, &cfg))
+        .map(|inner| PyPlan { inner })
+        .map_err(|e| bad(format!("{}: {e}", s.name)))
+}
+
+/// The occupancy of a NumPy array, checked: 2-D, bool, not empty.
+fn occupancy_of(a: &Bound<'_, PyAny>) -> PyResult<(usize, usize, Vec<bool>)> {
+    let Ok(dtype) = a.getattr("dtype") else {
+        return Err(PyTypeError::new_err(format!(
+            "occupancy: expected a NumPy array of bool (True = occupied), got {}",
+            a.get_type().name()?
+        )));
+    };
+    let ndim: usize = a.getattr("ndim")?.extract()?;
+    if ndim != 2 {
+        return Err(bad(format!(
+            "occupancy: expected a 2-D array (rows, columns), got {ndim} dimension(s)"
+        )));
+    }
+    let kind: String = dtype.getattr("name")?.extract()?;
+    if kind != "bool" {
+        return Err(PyTypeError::new_err(format!(
+            "occupancy: expected dtype bool (True = occupied), got {kind}; convert with `grid > threshold` or `.astype(bool)`"
+        )));
+    }
+    let arr: PyReadonlyArray2<'_, bool> = a.extract()?;
+    let [rows, cols] = [arr.shape()[0], arr.shape()[1]];
+    if rows == 0 || cols == 0 {
+        return Err(bad(format!(
+            "occupancy: the array is empty ({rows} x {cols})"
+        )));
+    }
+    let view = arr.as_array();
+    let cells: Vec<bool> = view.iter().copied().collect();
+    Ok((rows, cols, cells))
+}
+
+/// Plans on an occupancy grid given as a 2-D NumPy bool array (`True` = occupied), the shape a
+/// ROS OccupancyGrid or an image gives: row `j`, column `i` is the cell
+/// `[origin + i * resolution, origin + (i + 1) * resolution]` in x and likewise in y, with
+/// y up from `origin` (ROS) or, with `y_down=True`, rows down the page (images, MovingAI).
+#[pyfunction]
+#[pyo3(signature = (occupancy, start, goal, resolution=1.0, origin=(0.0, 0.0), y_down=false, classes=5))]
+#[allow(clippy::too_many_arguments)]
+fn plan_map(
+    py: Python<'_>,
+    occupancy: &Bound<'_, PyAny>,
+    start: (f64, f64),
+    goal: (f64, f64),
+    resolution: f64,
+    origin: (f64, f64),
+    y_down: bool,
+    classes: usize,
+) -> PyResult<PyPlan> {
+    let (rows, cols, cells) = occupancy_of(occupancy)?;
+    if !(resolution.is_finite() && resolution > 0.0) {
+        return Err(bad(format!(
+            "resolution {resolution}: must be a positive cell size"
+        )));
+    }
+    let map = OccupancyMap {
+        name: "array".into(),
+        width: cols,
+        height: rows,
+        cell: resolution,
+        origin: Point::new(origin.0, origin.1),
+        occupied: cells,
+        y_down,
+    };
+    let cfg = plan_config(
+        &PlanOptions {
+            classes,
+            ..PlanOptions::default()
+        },
+        None,
+    )
+    .map_err(bad)?;
+    let (s, g) = (Point::new(start.0, start.1), Point::new(goal.0, goal.1));
+    py.detach(|| homospline_maps::plan_map(&map, s, g, &cfg))
+        .map(|(inner, _)| PyPlan { inner })
+        .map_err(|e| bad(e.to_string()))
+}
+
+/// Runs the mission of a world file (`homospline simulate`) and returns its JSON as a dict.
+#[pyfunction]
+#[pyo3(signature = (world, policy="ahead", scouts=None))]
+fn simulate<'py>(
+    py: Python<'py>,
+    world: PathBuf,
+    policy: &str,
+    scouts: Option<usize>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let w = homospline_mission::world::load(&world, |p| std::fs::read(p)).map_err(bad)?;
+    let policy = match policy {
+        "none" => Policy::None,
+        "ahead" => Policy::Ahead,
+        "alternatives" => Policy::Alternatives,
+        other => {
+            return Err(bad(format!(
+                "--policy {other}: expected none, ahead or alternatives"
+            )));
+        }
+    };
+    let cfg = MissionConfig {
+        policy,
+        scouts,
+        ..MissionConfig::default()
+    };
+    let r = py
+        .detach(|| homospline_mission::simulate(&w, &cfg))
+        .map_err(|e| bad(e.to_string()))?;
+    json_loads(py, &mission::mission_json(&w, &r))
+}
+
+/// Plans MovingAI scenarios (`homospline bench-scen`): every `.scen` file (or directory of
+/// them) in `files`, `sample` scenarios of each spread over every bucket (or the first
+/// `limit`, or all), and only slice `shard = (k, n)` of them. Returns the CSV text of
+/// `docs/formats.md`; `bench_summary` merges the CSVs of several shards.
+#[pyfunction]
+#[pyo3(signature = (files, sample=None, limit=None, shard=(1, 1), classes=5, time_limit=None))]
+fn bench_scen(
+    py: Python<'_>,
+    files: Vec<PathBuf>,
+    sample: Option<usize>,
+    limit: Option<usize>,
+    shard: (usize, usize),
+    classes: usize,
+    time_limit: Option<f64>,
+) -> PyResult<String> {
+    let shard = homospline_maps::bench::Shard::parse(&format!("{}/{}", shard.0, shard.1))
+        .map_err(|e| bad(format!("shard {e}")))?;
+    let job = homospline_cli::bench::BenchJob {
+        files,
+        sample,
+        limit,
+        shard,
+        classes,
+        time_limit,
+    };
+    let (rows, _) = py
+        .detach(|| homospline_cli::bench::run_files(&job, |_, _| {}))
+        .map_err(bad)?;
+    Ok(homospline_cli::bench::csv_text(&rows))
+}
+
+/// The summary of the rows of one or more `bench_scen` CSVs (shards of one sweep), as
+/// `homospline bench-merge` prints it.
+#[pyfunction]
+fn bench_summary(csvs: Vec<String>) -> PyResult<String> {
+    let rows = homospline_cli::bench::rows_of(&csvs).map_err(bad)?;
+    Ok(homospline_maps::bench::summary(&rows))
+}
+
+/// The Python module.
+#[pymodule]
+fn homospline(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyScene>()?;
+    m.add_class::<PyGraph>()?;
+    m.add_class::<PyPlan>()?;
+    m.add_class::<PyClassPlan>()?;
+    m.add_function(wrap_pyfunction!(plan, m)?)?;
+    m.add_function(wrap_pyfunction!(plan_map, m)?)?;
+    m.add_function(wrap_pyfunction!(build_graph, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(bench_scen, m)?)?;
+    m.add_function(wrap_pyfunction!(bench_summary, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

@@ -1,0 +1,153 @@
+"""The Python package against the command line: same plans for the same inputs, errors as
+exceptions with the same messages, NumPy shapes and dtypes, bad arrays refused."""
+
+import json
+import os
+import pathlib
+import subprocess
+
+import numpy as np
+import pytest
+
+import homospline
+
+ROOT = pathlib.Path(__file__).resolve().parents[3]
+
+
+def cli():
+    """The homospline binary: $HOMOSPLINE_BIN, else target/release or target/debug."""
+    env = os.environ.get("HOMOSPLINE_BIN")
+    for p in [env] if env else [ROOT / "target/release/homospline", ROOT / "target/debug/homospline"]:
+        if p and pathlib.Path(p).is_file():
+            return str(p)
+    raise AssertionError("no homospline binary: build it (cargo build) or set HOMOSPLINE_BIN")
+
+
+def cli_json(args, tmp_path):
+    out = tmp_path / "plan.json"
+    subprocess.run([cli(), *args, "--json", str(out)], cwd=ROOT, check=True, capture_output=True)
+    return json.loads(out.read_text())
+
+
+def timeless(d):
+    """A plan dict without its wall-clock fields."""
+    d = json.loads(json.dumps(d))
+    d.pop("timing_ms", None)
+    for c in d["classes"]:
+        c.pop("time_ms", None)
+    return d
+
+
+@pytest.mark.parametrize("scene", ["convex", "narrow-pass", "field"])
+def test_plan_equals_the_cli_plan(scene, tmp_path):
+    path = ROOT / "fixtures/scenes" / f"{scene}.yaml"
+    ours = homospline.plan(homospline.Scene.from_file(path)).to_dict()
+    theirs = cli_json(["plan", str(path)], tmp_path)
+    assert timeless(ours) == timeless(theirs)
+
+
+def movingai_array(path):
+    rows = path.read_text().splitlines()[4:]
+    return np.array([[c not in ".G" for c in r] for r in rows if r], dtype=bool)
+
+
+def test_plan_map_equals_the_cli_plan_on_the_same_map(tmp_path):
+    path = ROOT / "fixtures/maps/movingai/maze-32-32-2.map"
+    grid = movingai_array(path)
+    assert grid.shape == (32, 32)
+    ours = homospline.plan_map(grid, (19.5, 2.5), (4.5, 27.5), y_down=True).to_dict()
+    theirs = cli_json(["plan", str(path), "--start", "19.5,2.5", "--goal", "4.5,27.5"], tmp_path)
+    ours.pop("scene"), theirs.pop("scene")
+    assert timeless(ours) == timeless(theirs)
+
+
+def test_results_are_numpy_arrays_of_points():
+    p = homospline.plan(homospline.Scene.example(), classes=3)
+    assert p.best == 1
+    for c in p.classes:
+        assert c.path.dtype == np.float64 and c.path.ndim == 2 and c.path.shape[1] == 2
+        assert c.via_points.shape[1] == 2 and c.via_points.shape[0] >= 2
+    assert np.allclose(p.path[0], homospline.Scene.example().start)
+    assert np.allclose(p.path[-1], homospline.Scene.example().goal)
+    assert p.chosen.collision_free
+
+
+def test_a_ros_style_grid_plans_with_y_up_and_a_resolution():
+    grid = np.zeros((40, 60), dtype=bool)
+    grid[10:30, 25:35] = True  # a block in the middle
+    p = homospline.plan_map(grid, (0.45, 1.05), (5.45, 1.05), resolution=0.1, origin=(-0.5, -1.0))
+    assert p.best is not None
+    xs, ys = p.path[:, 0], p.path[:, 1]
+    # Around the block ([2.0, 3.0] x [0.0, 2.0] in the world frame), never through it.
+    inside = (xs > 2.0) & (xs < 3.0) & (ys > 0.0) & (ys < 2.0)
+    assert not inside.any()
+
+
+@pytest.mark.parametrize(
+    "array, error, message",
+    [
+        (np.zeros((4, 4), dtype=np.int64), TypeError, "expected dtype bool"),
+        (np.zeros(10, dtype=bool), ValueError, "expected a 2-D array"),
+        (np.zeros((0, 3), dtype=bool), ValueError, "the array is empty"),
+        ([[True, False]], TypeError, "expected a NumPy array of bool"),
+    ],
+)
+def test_bad_arrays_are_refused_clearly(array, error, message):
+    with pytest.raises(error, match=message):
+        homospline.plan_map(array, (0.5, 0.5), (1.5, 1.5))
+
+
+def test_errors_are_exceptions_with_the_cli_messages():
+    for name in ["nan-coordinate", "goal-inside-obstacle", "missing-goal"]:
+        expected = (ROOT / "fixtures/invalid" / f"{name}.expected").read_text().strip()
+        with pytest.raises(ValueError) as e:
+            _from_rel(name)
+        assert str(e.value) == expected
+    with pytest.raises(OSError, match="cannot read"):
+        homospline.Scene.from_file(ROOT / "no-such-scene.yaml")
+    with pytest.raises(ValueError, match="--classes 0: must be between 1 and 64"):
+        homospline.plan(homospline.Scene.example(), classes=0)
+    with pytest.raises(ValueError, match="unknown weight or parameter 'safty'"):
+        homospline.plan(homospline.Scene.example(), weights={"safty": 1.0})
+    with pytest.raises(ValueError, match="radius must be > 0"):
+        homospline.Scene.from_dict(
+            {"bounds": {"min": [0, 0], "max": [10, 10]}, "start": [1, 1], "goal": [9, 9],
+             "obstacles": [{"circles": [[5, 5, -1]]}]}
+        )
+
+
+def _from_rel(name):
+    """Reads an invalid fixture by the path the goldens name it with."""
+    cwd = os.getcwd()
+    os.chdir(ROOT)
+    try:
+        return homospline.Scene.from_file(f"fixtures/invalid/{name}.yaml")
+    finally:
+        os.chdir(cwd)
+
+
+def test_a_saved_graph_gives_the_same_plan(tmp_path):
+    scene = homospline.Scene.from_file(ROOT / "fixtures/scenes/two-homotopies.yaml")
+    g = homospline.build_graph(scene)
+    assert g.nodes > 0 and g.edges > 0
+    g.save(tmp_path / "g.msgpack")
+    again = homospline.Graph.load(tmp_path / "g.msgpack")
+    assert timeless(homospline.plan(scene, graph=again).to_dict()) == timeless(homospline.plan(scene).to_dict())
+
+
+def test_a_mission_reaches_its_goal():
+    r = homospline.simulate(ROOT / "fixtures/worlds/narrow-pass-blocked.yaml", policy="ahead")
+    assert r["reached"] and r["replans"] >= 1
+    assert any(e["kind"] == "discovered" for e in r["events"])
+
+
+def test_shards_merge_into_the_whole_sweep():
+    files = [str(ROOT / "fixtures/maps/movingai/maze-32-32-2-random-1.scen")]
+    whole = homospline.bench_scen(files, sample=4, classes=2)
+    parts = [homospline.bench_scen(files, sample=4, classes=2, shard=(k, 2)) for k in (1, 2)]
+    strip = lambda text: sorted(",".join(r.split(",")[:14] + r.split(",")[15:]) for r in text.splitlines()[1:])
+    assert strip(whole) == sorted(strip(parts[0]) + strip(parts[1]))
+    summary = homospline.bench_summary(parts)
+    assert "success      4/4" in summary
+    with pytest.raises(ValueError, match="overlapping shards"):
+        homospline.bench_summary([parts[0], parts[0]])
