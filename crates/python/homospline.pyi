@@ -1,8 +1,9 @@
 """homospline: homotopy-seeded spline path planning for ground robots with aerial scouts.
 
 Plans are computed in Rust with the GIL released. Errors carry the command line's messages
-(file, line, field): ValueError for bad input, TypeError for arguments of the wrong type,
-OSError for files that cannot be read or written.
+(file, line, field): ValueError for bad input (and, from `simulate` and `bench_scen`, for
+files they cannot read, named in the message), TypeError for arguments of the wrong type,
+OSError when `Scene.from_file`, `Graph.load` or `Graph.save` cannot read or write a file.
 """
 
 from os import PathLike

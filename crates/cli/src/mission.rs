@@ -175,6 +175,13 @@ pub fn mission_json(world: &MissionWorld, r: &MissionResult) -> String {
     serde_json::to_string_pretty(&doc).unwrap_or_default() + "\n"
 }
 
+/// Text safe inside an SVG element.
+fn xml_escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
 /// Seconds of animation for the whole mission.
 const ANIMATION_SECONDS: Real = 20.0;
 
@@ -350,7 +357,7 @@ pub fn mission_svg(world: &MissionWorld, r: &MissionResult) -> String {
         s,
         r##"<text x="6" y="{:.1}" font-size="13" font-family="sans-serif">{} · policy {} · {} scouts · {} · UGV {:.1} (optimum {}) · re-plans {} · switches {}  (grey: map; red: not on the map; blue: UGV; orange: scouts; dashed: plans; x: re-plans)</text>"##,
         ph + 25.0,
-        r.world,
+        xml_escape(&r.world),
         r.policy.name(),
         r.scouts,
         if r.reached { "reached" } else { "NOT reached" },

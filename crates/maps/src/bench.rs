@@ -100,7 +100,7 @@ impl Row {
             _ => (f64::NAN, 0),
         };
         format!(
-            "{},{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{classes},{},{:.3},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{classes},{},{:.3},{}",
             self.file.replace(',', ";"),
             self.index,
             self.line,
@@ -168,7 +168,10 @@ impl Row {
             file: f[0].to_owned(),
             index: int(1, "index")?,
             line: int(2, "line")?,
-            bucket: int(3, "bucket")? as u32,
+            bucket: f[3]
+                .trim()
+                .parse::<u32>()
+                .map_err(|_| err(format!("bucket: '{}' is not a bucket number", f[3])))?,
             start: Point::new(num(4, "start_x")?, num(5, "start_y")?),
             goal: Point::new(num(6, "goal_x")?, num(7, "goal_y")?),
             optimal: num(8, "optimal")?,
@@ -359,21 +362,22 @@ pub fn summary(rows: &[Row]) -> String {
         ratios.iter().copied().fold(0.0, f64::max)
     );
     // Per bucket, in at most ten bands of buckets.
-    let (lo, hi) = rows.iter().fold((u32::MAX, 0), |(l, h), r| {
-        (l.min(r.bucket), h.max(r.bucket))
+    // In u64: buckets span all of u32.
+    let (lo, hi) = rows.iter().fold((u64::MAX, 0u64), |(l, h), r| {
+        (l.min(u64::from(r.bucket)), h.max(u64::from(r.bucket)))
     });
     if lo <= hi {
-        let bands = ((hi - lo + 1) as usize).min(10);
-        let width = (hi - lo + 1).div_ceil(bands as u32);
+        let bands = (hi - lo + 1).min(10);
+        let width = (hi - lo + 1).div_ceil(bands);
         let _ = writeln!(
             s,
             "buckets   optimal length  plans  success  median ms  median ratio"
         );
-        for b in 0..bands as u32 {
+        for b in 0..bands {
             let (b0, b1) = (lo + b * width, (lo + (b + 1) * width - 1).min(hi));
             let in_band: Vec<&&Row> = rows
                 .iter()
-                .filter(|r| r.bucket >= b0 && r.bucket <= b1)
+                .filter(|r| (b0..=b1).contains(&u64::from(r.bucket)))
                 .collect();
             if in_band.is_empty() {
                 continue;

@@ -94,6 +94,15 @@ pub enum MissionError {
     Config(String),
 }
 
+/// Smallest time step, seconds.
+pub const MIN_DT: Real = 1e-3;
+
+/// Most time steps a mission may take (tracks hold one sample a step).
+pub const MAX_STEPS: Real = 1e6;
+
+/// Most scouts.
+pub const MAX_SCOUTS: usize = 64;
+
 /// Who saw something.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Robot {
@@ -433,11 +442,11 @@ impl Run<'_> {
             route.line.cum[k] > s
         };
         let mut pts = vec![pos];
-        pts.extend(
-            route.via[1..route.via.len().saturating_sub(1)]
-                .iter()
-                .filter(|p| ahead_of(p)),
-        );
+        let inner = route
+            .via
+            .get(1..route.via.len().saturating_sub(1))
+            .unwrap_or(&[]);
+        pts.extend(inner.iter().filter(|p| ahead_of(p)));
         pts.push(goal);
         pts.dedup();
         let end = EndCondition::StartHeading { direction: heading };
@@ -451,15 +460,20 @@ impl Run<'_> {
 /// Simulates the mission in `world` with `cfg`. Deterministic: the same world and settings
 /// give the same events and tracks (only `replan_ms` varies).
 pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResult, MissionError> {
-    if cfg.replan_classes == 0 {
+    if cfg.replan_classes == 0 || cfg.plan.classes == 0 {
         return Err(MissionError::Config(
-            "re-plans need at least 1 class".into(),
+            "--classes: plans need at least 1 class".into(),
         ));
     }
-    if !(cfg.dt.is_finite() && cfg.dt > 0.0) {
+    if !(cfg.dt.is_finite() && (MIN_DT..=10.0).contains(&cfg.dt)) {
         return Err(MissionError::Config(format!(
-            "dt must be > 0, got {}",
+            "--dt {}: must be between {MIN_DT} and 10 seconds",
             cfg.dt
+        )));
+    }
+    if cfg.scouts.is_some_and(|n| n > MAX_SCOUTS) {
+        return Err(MissionError::Config(format!(
+            "--scouts: at most {MAX_SCOUTS}"
         )));
     }
     if !(cfg.switch_margin.is_finite() && cfg.switch_margin >= 0.0) {
@@ -503,6 +517,25 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
     let max_time = cfg
         .max_time
         .unwrap_or_else(|| 20.0 * (prior.goal - prior.start).norm() / ugv.speed + 60.0);
+    if !(max_time.is_finite() && max_time > 0.0) || max_time / cfg.dt > MAX_STEPS {
+        return Err(MissionError::Config(format!(
+            "the mission would take {:.0} time steps (time limit {max_time:.0} s over --dt {}); at most {MAX_STEPS:.0}: raise --dt or the UGV's speed",
+            max_time / cfg.dt,
+            cfg.dt
+        )));
+    }
+    // The scene's danger points, critical points and hazards join the cost of every plan.
+    let plan_cfg = PlanConfig {
+        growth: GrowthConfig {
+            cost: cfg.plan.growth.cost.clone().with_scene_points(prior),
+            ..cfg.plan.growth.clone()
+        },
+        ..cfg.plan.clone()
+    };
+    let cfg = &MissionConfig {
+        plan: plan_cfg,
+        ..cfg.clone()
+    };
     let mut run = Run {
         cfg,
         rays: Rays::for_scene(prior),
@@ -732,13 +765,14 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
                         reason: "no collision-free class on the known map".into(),
                     },
                 );
+                abandoned += driven - adopted_at;
                 break;
             };
             // Bonus for the current class: kept if within the margin of the best.
             let pick = routes
                 .iter()
                 .position(|r| {
-                    r.class == route.class && !should_switch(r.cost, best.cost, Real::INFINITY, cfg)
+                    r.class == route.class && r.cost <= (1.0 + cfg.switch_margin) * best.cost
                 })
                 .unwrap_or(0);
             let next = routes[pick].clone();
@@ -763,8 +797,7 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
                     },
                 );
             }
-            if next.line.pts.len() > 1 && (next.line.pts[1] - next.line.pts[0]).dot(&heading) < 0.0
-            {
+            if starts_backwards(&next.line, heading) {
                 run.event(t, pos, EventKind::TurnedAround);
             }
             abandoned += driven - adopted_at;
@@ -779,11 +812,13 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
         } else {
             // The map changed but the path is still clear: a better class may have opened
             // (a mapped obstacle gone) or the current one may have become worse (a new
-            // obstacle near it). Switch only through the hysteresis.
-            replans += 1;
+            // obstacle near it). Switch only through the hysteresis. (A re-plan that finds no
+            // class leaves the valid path as it is and is not counted.)
             let routes = run.routes_from(pos, Some(heading));
             if let Some(best) = routes.first() {
-                // The current class as re-planned, else the rest of the current path.
+                replans += 1;
+                // The current class as re-planned (the same class from here: a fair, if
+                // optimistic, price of staying), else the rest of the current path.
                 let current = routes
                     .iter()
                     .find(|r| r.class == route.class)
@@ -814,6 +849,9 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
                             to: best.class.clone(),
                         },
                     );
+                    if starts_backwards(&best.line, heading) {
+                        run.event(t, pos, EventKind::TurnedAround);
+                    }
                     abandoned += driven - adopted_at;
                     alternatives = routes[1..].to_vec();
                     route = best.clone();
@@ -889,6 +927,11 @@ pub fn should_switch(
     candidate < (1.0 - cfg.switch_margin) * current && since_last_switch >= cfg.min_switch_interval
 }
 
+/// Whether a path leaves its start against `heading` (the UGV turns on the spot).
+fn starts_backwards(line: &Polyline, heading: Vector) -> bool {
+    line.pts.len() > 1 && (line.pts[1] - line.pts[0]).dot(&heading) < 0.0
+}
+
 /// The part of the route a scout `ahead` inspects: scout `j` of `n` takes the `j`-th of `n`
 /// equal parts of the far half of what is left.
 fn ahead_route(from: Point, route: &Route, s: Real, j: usize, n: usize) -> Vec<Point> {
@@ -946,27 +989,33 @@ fn assign_idle(
     if policy == Policy::None {
         return;
     }
-    let n = scouts.len();
     let mut taken: Vec<String> = scouts
         .iter()
         .flat_map(|sc| sc.jobs.iter().cloned())
         .collect();
+    // First the alternatives, one scout each; then the scouts left without a job share the
+    // far half of the UGV's route between them.
+    let mut ahead = Vec::new();
     for (j, sc) in scouts.iter_mut().enumerate() {
         if !sc.route.is_empty() {
             continue;
         }
-        let from = sc.pos;
         if policy == Policy::Alternatives
             && let Some(alt) = alts
                 .iter()
                 .find(|a| !taken.contains(&a.class) && a.class != route.class)
         {
-            sc.route = alternative_route(from, alt, route, s, range);
+            sc.route = alternative_route(sc.pos, alt, route, s, range);
             sc.jobs.push(alt.class.clone());
             taken.push(alt.class.clone());
         } else if sc.jobs.is_empty() {
-            sc.route = ahead_route(from, route, s, j, n);
-            sc.jobs.push(String::new());
+            ahead.push(j);
         }
+    }
+    let n = ahead.len();
+    for (part, &j) in ahead.iter().enumerate() {
+        let sc = &mut scouts[j];
+        sc.route = ahead_route(sc.pos, route, s, part, n);
+        sc.jobs.push(String::new());
     }
 }

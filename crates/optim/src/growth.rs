@@ -79,9 +79,9 @@ pub struct Guard<'a> {
     /// is not positive: a seed that is collision-free stays so. Off for the straight seed,
     /// which starts in collision.
     pub collision_free: bool,
-    /// Reject candidates whose clearance is below this (0: no floor). [`grow`] applies it as
-    /// a ratchet: while the current curve is below the floor, a candidate may not fall below
-    /// the current curve's clearance, so a seed below the floor can still climb to it.
+    /// Reject candidates whose clearance is below this (`-inf`: no floor). [`grow`] applies
+    /// it as a ratchet: while the current curve is below the floor, a candidate may not fall
+    /// below the current curve's clearance, so a seed below the floor can still climb to it.
     pub clearance_floor: Real,
 }
 
@@ -101,14 +101,13 @@ impl Guard<'_> {
 
     /// Whether a candidate of minimum clearance `m` is rejected.
     pub fn rejects(&self, m: Real) -> bool {
-        (self.collision_free && m <= 0.0)
-            || (self.clearance_floor > 0.0 && m < self.clearance_floor)
+        (self.collision_free && m <= 0.0) || m < self.clearance_floor
     }
 
     /// This guard with its floor lowered to `current` when the current curve is below it.
     fn ratchet(&self, current: Real) -> Self {
         let mut g = self.clone();
-        if g.clearance_floor > 0.0 {
+        if g.clearance_floor.is_finite() {
             g.clearance_floor = g.clearance_floor.min(current);
         }
         g
@@ -288,6 +287,7 @@ pub fn grow(
                 && (!guard.collision_free || is_collision_free(&sp, model))
                 && stays_in_bounds(&sp, &guard.bounds)
             {
+                current = evaluate(&sp, model, &cfg.cost).min_clearance;
                 points = candidate;
                 spline = sp;
                 best_cost = value;
@@ -322,11 +322,12 @@ pub fn grow(
         let mut grown = points.clone();
         grown.insert(seg + 1, mid);
         // The curve through one more point of itself is nearly the same curve; keep it only
-        // if it is still admissible.
+        // if it is still admissible (and no less clear than the floor's ratchet allows now).
         let grown_end = fixed_end(&grown);
+        let grown_guard = outer.ratchet(current);
         match build(&grown, grown_end) {
             Some(sp2)
-                if guard.cost(&sp2, model, cfg).is_finite()
+                if grown_guard.cost(&sp2, model, cfg).is_finite()
                     && (!guard.collision_free || is_collision_free(&sp2, model))
                     && stays_in_bounds(&sp2, &guard.bounds) =>
             {

@@ -18,6 +18,6 @@ pub use growth::{Grown, GrowthConfig, Guard, Optimizer, grow};
 pub use lbfgs::Lbfgs;
 pub use nelder_mead::{Coefficients, NelderMead, Outcome, Termination};
 pub use planner::{
-    ClassPlan, Plan, PlanConfig, PlanError, Seed, Timing, World, default_resolution, plan,
-    plan_with_graph, plan_world,
+    ClassPlan, Plan, PlanConfig, PlanError, Seed, Timing, World, default_resolution, graph_fits,
+    plan, plan_with_graph, plan_world,
 };

@@ -254,12 +254,25 @@ pub fn plan(scene: &Scene, cfg: &PlanConfig) -> Result<Plan, PlanError> {
     plan_with_graph(scene, None, cfg)
 }
 
-/// Plans `scene`, reusing `graph` when given (built offline for this scene).
+/// Whether `graph` was built for `scene`'s start and goal (a saved graph must be).
+pub fn graph_fits(graph: &VoronoiGraph, scene: &Scene) -> bool {
+    let at = |n: Option<usize>| n.and_then(|i| graph.nodes.get(i)).map(|n| n.at);
+    at(graph.start) == Some([scene.start.x, scene.start.y])
+        && at(graph.goal) == Some([scene.goal.x, scene.goal.y])
+}
+
+/// Plans `scene`, reusing `graph` when given (built offline for this scene: refused if it
+/// was built for another start or goal).
 pub fn plan_with_graph(
     scene: &Scene,
     graph: Option<VoronoiGraph>,
     cfg: &PlanConfig,
 ) -> Result<Plan, PlanError> {
+    if graph.as_ref().is_some_and(|g| !graph_fits(g, scene)) {
+        return Err(PlanError::Config(
+            "the graph was built for another start or goal than this scene's".into(),
+        ));
+    }
     let model = CircleModel::new(scene.circles());
     let world = World {
         name: scene.name.clone(),
@@ -838,19 +851,25 @@ fn optimise_class(
         class: signature.map(|s| (rays, s)),
         bounds: world.bounds,
         collision_free: signature.is_some(),
-        clearance_floor: cfg.clearance_floor,
+        clearance_floor: if cfg.clearance_floor > 0.0 {
+            cfg.clearance_floor
+        } else {
+            Real::NEG_INFINITY
+        },
     };
     // A seed need only be collision-free: the growth loop's ratchet raises it to the floor.
     // On scenes the first via-point set that already keeps the floor is preferred.
     let seed_guard = Guard {
-        clearance_floor: 0.0,
+        clearance_floor: Real::NEG_INFINITY,
         ..guard.clone()
     };
     let seed = match (signature, graph_cell) {
         (Some(_), Some(cell)) if world.grid_is_exact => {
             subdivided_seed(seed_poly, model, &seed_guard, growth, cell)
         }
-        (Some(_), _) => (guard.clearance_floor > 0.0)
+        (Some(_), _) => guard
+            .clearance_floor
+            .is_finite()
             .then(|| seed_points(seed_poly, model, &guard, growth))
             .flatten()
             .or_else(|| seed_points(seed_poly, model, &seed_guard, growth))
