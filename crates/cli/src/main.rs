@@ -1,4 +1,5 @@
-//! The `homospline` command: validate scenes, plan paths, build Voronoi graphs.
+//! The `homospline` command: validate scenes, plan paths, build Voronoi graphs, run MovingAI
+//! benchmarks (sharded and merged) and missions.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -69,7 +70,7 @@ impl From<RoughnessArg> for RoughnessForm {
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Plan paths: a table of classes and the chosen one; exit 0 with a collision-free plan,
-    /// 1 when there is none, 2 on bad input.
+    /// 1 when no collision-free class meets the clearance floor, 2 on bad input.
     Plan(PlanArgs),
     /// Plan every scenario of a MovingAI `.scen` file (its map sits beside it) and report the
     /// success rate, time per plan and path length over the scenario's octile optimum.

@@ -183,7 +183,10 @@ pub fn plan_table(plan: &Plan) -> String {
             );
         }
         None => {
-            let _ = writeln!(s, "no collision-free class: no plan");
+            let _ = writeln!(
+                s,
+                "no collision-free class (meeting the clearance floor): no plan"
+            );
         }
     }
     s

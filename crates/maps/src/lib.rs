@@ -22,8 +22,9 @@ pub use model::GridModel;
 /// close, more than the scenes' default of 10.
 pub const MAX_VIA_POINTS: usize = 32;
 
-/// Evaluation budget of one optimisation round on a map, whatever the path's length (L-BFGS
-/// takes four evaluations per budget unit): the work per plan grows linearly with the path.
+/// Evaluation budget of one optimisation round on a map, whatever the path's length (each
+/// L-BFGS evaluation, a cost and its gradient, counts as four budget units): the work per
+/// plan grows linearly with the path.
 pub const MAX_EVALUATIONS_PER_ROUND: usize = 800;
 
 /// Budget of the class search on a map: the graph of a whole map has thousands of cycles, and

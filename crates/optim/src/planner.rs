@@ -713,7 +713,6 @@ fn subdivided_seed(
             return pts;
         };
         let mut bad = homospline_spline::certify::uncertified_segments(&sp, model);
-
         if bad.is_empty() {
             if guard.cost(&sp, model, cfg).is_finite() {
                 return pts;

@@ -133,6 +133,10 @@ def test_a_saved_graph_gives_the_same_plan(tmp_path):
     g.save(tmp_path / "g.msgpack")
     again = homospline.Graph.load(tmp_path / "g.msgpack")
     assert timeless(homospline.plan(scene, graph=again).to_dict()) == timeless(homospline.plan(scene).to_dict())
+    # A graph built for another start or goal is refused, as by `plan --graph`.
+    other = homospline.Scene.from_file(ROOT / "fixtures/scenes/convex.yaml")
+    with pytest.raises(ValueError, match="another start or goal"):
+        homospline.plan(other, graph=again)
 
 
 def test_a_mission_reaches_its_goal():
