@@ -39,17 +39,23 @@ pub struct BenchInfo {
     pub prepare_ms: f64,
 }
 
+/// The files of directory `dir` whose extension is `ext`, sorted.
+pub fn files_in(dir: &Path, ext: &str) -> Result<Vec<PathBuf>, String> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map_err(|e| format!("{}: cannot read the directory: {e}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|f| f.extension().is_some_and(|e| e == ext))
+        .collect();
+    v.sort();
+    Ok(v)
+}
+
 /// The `.scen` files named: files as given, directories expanded (sorted).
 pub fn scen_files(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
     let mut out = Vec::new();
     for p in paths {
         if p.is_dir() {
-            let mut v: Vec<PathBuf> = std::fs::read_dir(p)
-                .map_err(|e| format!("{}: cannot read the directory: {e}", p.display()))?
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|f| f.extension().is_some_and(|e| e == "scen"))
-                .collect();
-            v.sort();
+            let v = files_in(p, "scen")?;
             if v.is_empty() {
                 return Err(format!("{}: no .scen file in the directory", p.display()));
             }

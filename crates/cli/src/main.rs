@@ -417,29 +417,16 @@ fn graph_dir(
     shard: Option<&str>,
     single: (Option<PathBuf>, Option<PathBuf>, Option<PathBuf>),
 ) -> anyhow::Result<u8> {
-    use homospline_maps::bench::Shard;
     if single.0.is_some() || single.1.is_some() || single.2.is_some() {
         return Err(bad(
             "--out-dir writes one file per input: drop --out, --json and --svg",
         ));
     }
-    let shard = match shard {
-        Some(t) => Shard::parse(t).map_err(|e| bad(format!("--shard {e}")))?,
-        None => match Shard::from_slurm(|k| std::env::var(k).ok()) {
-            Some(r) => r.map_err(|e| bad(format!("Slurm job array: {e}")))?,
-            None => Shard::ALL,
-        },
-    };
+    let shard = shard_of(shard)?;
     let mut files = Vec::new();
     for p in inputs {
         if p.is_dir() {
-            let mut v: Vec<PathBuf> = std::fs::read_dir(p)
-                .map_err(|e| bad(format!("{}: cannot read the directory: {e}", p.display())))?
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|f| f.extension().is_some_and(|e| e == "map"))
-                .collect();
-            v.sort();
-            files.extend(v);
+            files.extend(homospline_cli::bench::files_in(p, "map").map_err(bad)?);
         } else {
             files.push(p.clone());
         }
@@ -747,17 +734,23 @@ fn load_graph(p: &Path, scene: &Scene) -> anyhow::Result<VoronoiGraph> {
     Ok(g)
 }
 
+/// This run's slice: `--shard K/N`, else a Slurm job array's, else the whole.
+fn shard_of(opt: Option<&str>) -> anyhow::Result<homospline_maps::bench::Shard> {
+    use homospline_maps::bench::Shard;
+    match opt {
+        Some(t) => Shard::parse(t).map_err(|e| bad(format!("--shard {e}"))),
+        None => match Shard::from_slurm(|k| std::env::var(k).ok()) {
+            Some(r) => r.map_err(|e| bad(format!("Slurm job array: {e}"))),
+            None => Ok(Shard::ALL),
+        },
+    }
+}
+
 /// `bench-scen`: plans this run's shard of the scenarios and prints the summary.
 fn bench_scen(a: BenchArgs) -> anyhow::Result<u8> {
     use homospline_cli::bench::{BenchJob, csv_text, run_files};
-    use homospline_maps::bench::{self, Shard};
-    let shard = match &a.shard {
-        Some(t) => Shard::parse(t).map_err(|e| bad(format!("--shard {e}")))?,
-        None => match Shard::from_slurm(|k| std::env::var(k).ok()) {
-            Some(r) => r.map_err(|e| bad(format!("Slurm job array: {e}")))?,
-            None => Shard::ALL,
-        },
-    };
+    use homospline_maps::bench;
+    let shard = shard_of(a.shard.as_deref())?;
     let job = BenchJob {
         files: a.scen.clone(),
         sample: a.sample,

@@ -388,6 +388,34 @@ impl Run<'_> {
         self.events.push(Event { t, at, kind });
     }
 
+    /// The events of driving `next` instead of `current` from `at`: a class switch if the
+    /// class changes, and a turn on the spot if `next` starts against `heading`. Whether the
+    /// class changed.
+    fn adopt(
+        &mut self,
+        t: Real,
+        at: Point,
+        heading: Vector,
+        current: &Route,
+        next: &Route,
+    ) -> bool {
+        let switched = next.class != current.class;
+        if switched {
+            self.event(
+                t,
+                at,
+                EventKind::Switched {
+                    from: current.class.clone(),
+                    to: next.class.clone(),
+                },
+            );
+        }
+        if starts_backwards(&next.line, heading) {
+            self.event(t, at, EventKind::TurnedAround);
+        }
+        switched
+    }
+
     /// The collision-free classes of a plan from `from` on the known map, best first.
     fn routes_from(&mut self, from: Point, heading: Option<Vector>) -> Vec<Route> {
         let mut scene = self.known.clone();
@@ -785,20 +813,9 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
                     class: next.class.clone(),
                 },
             );
-            if next.class != route.class {
+            if run.adopt(t, pos, heading, &route, &next) {
                 switches += 1;
                 last_switch = t;
-                run.event(
-                    t,
-                    pos,
-                    EventKind::Switched {
-                        from: route.class.clone(),
-                        to: next.class.clone(),
-                    },
-                );
-            }
-            if starts_backwards(&next.line, heading) {
-                run.event(t, pos, EventKind::TurnedAround);
             }
             abandoned += driven - adopted_at;
             alternatives = routes
@@ -839,19 +856,9 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
                     },
                 );
                 if better {
+                    run.adopt(t, pos, heading, &route, best);
                     switches += 1;
                     last_switch = t;
-                    run.event(
-                        t,
-                        pos,
-                        EventKind::Switched {
-                            from: route.class.clone(),
-                            to: best.class.clone(),
-                        },
-                    );
-                    if starts_backwards(&best.line, heading) {
-                        run.event(t, pos, EventKind::TurnedAround);
-                    }
                     abandoned += driven - adopted_at;
                     alternatives = routes[1..].to_vec();
                     route = best.clone();
