@@ -467,10 +467,6 @@ struct NodePartial {
     ga: Vector,
 }
 
-/// Segments on each side of a via-point over which its influence is taken in [`gradient`]
-/// on long curves (more than `2 * BASIS_WINDOW + 2` points).
-pub const BASIS_WINDOW: usize = 20;
-
 /// The cost of `spline` against `model`.
 pub fn evaluate(spline: &Spline, model: &dyn ClearanceModel, cfg: &CostConfig) -> CostTerms {
     run(spline, model, cfg, None)
@@ -478,7 +474,8 @@ pub fn evaluate(spline: &Spline, model: &dyn ClearanceModel, cfg: &CostConfig) -
 
 /// The cost and its gradient with respect to the inner via-points (`points[1..n-1]`).
 ///
-/// Analytic for uniform parameters (the spline is then linear in its points); with
+/// Analytic for uniform parameters (the spline is then linear in its points), in `O(n)` by
+/// reverse mode through the spline ([`Spline::pull_back`]); with
 /// chord-length parameters the knots move with the points, and with a start heading the
 /// start slope does, so there the gradient is taken by central differences (step `1e-6`
 /// times the scene scale).
@@ -514,34 +511,19 @@ pub fn gradient(
     }
     let mut partials = Vec::new();
     let terms = run(spline, model, cfg, Some(&mut partials));
-    let mut g = vec![Vector::zeros(); n.saturating_sub(2)];
-    if n > 2 * BASIS_WINDOW + 2 {
-        // Long curves (maps): each via-point's basis on its window of segments only, so the
-        // gradient costs O(n) rather than O(n^2) (see `Spline::local_basis`).
-        let local: Vec<(usize, Spline)> = (1..n - 1)
-            .map(|j| spline.local_basis(j, BASIS_WINDOW))
-            .collect();
-        for p in &partials {
-            let lo = (p.seg + 1).saturating_sub(BASIS_WINDOW).max(1);
-            let hi = (p.seg + BASIS_WINDOW).min(n - 2);
-            for j in lo..=hi {
-                let (first, b) = &local[j - 1];
-                if p.seg < *first || p.seg - first >= b.segments() {
-                    continue;
-                }
-                let (b0, b1, b2) = b.eval_segment(p.seg - first, p.s);
-                g[j - 1] += p.gq * b0.x + p.gv * b1.x + p.ga * b2.x;
-            }
-        }
-        return (terms, g);
-    }
-    let basis = spline.basis();
+    // dC/d(a, b, c, d) per segment, then reverse mode through the spline (O(n), exact).
+    let mut coef = vec![[Vector::zeros(); 4]; spline.segments()];
     for p in &partials {
-        for (j, gj) in g.iter_mut().enumerate() {
-            let (b, b1, b2) = basis[j + 1].eval_segment(p.seg, p.s);
-            *gj += p.gq * b.x + p.gv * b1.x + p.ga * b2.x;
-        }
+        let (s, s2) = (p.s, p.s * p.s);
+        let c = &mut coef[p.seg];
+        c[0] += p.gq;
+        c[1] += p.gq * s + p.gv;
+        c[2] += p.gq * s2 + p.gv * (2.0 * s) + p.ga * 2.0;
+        c[3] += p.gq * (s2 * s) + p.gv * (3.0 * s2) + p.ga * (6.0 * s);
     }
+    let mut g = spline.pull_back(&coef);
+    g.pop();
+    g.remove(0);
     (terms, g)
 }
 

@@ -186,23 +186,66 @@ impl Spline {
             .collect()
     }
 
-    /// The cardinal basis function of point `j` on the segments within `window` of it, as
-    /// `(first segment, spline)`: the spline through the knots `lo..=hi` (`lo = j - window`,
-    /// `hi = j + window`, clipped to the ends) with value 1 at knot `j` and 0 elsewhere. With
-    /// uniform knots a point's influence falls by `2 - sqrt 3 = 0.268` per segment, so beyond
-    /// 20 segments it is below `4e-12` of its value at the point, and cutting the knots there
-    /// changes the basis by as little; [`Spline::basis`] is the exact, quadratic-cost form.
-    pub fn local_basis(&self, j: usize, window: usize) -> (usize, Spline) {
+    /// The gradient with respect to the points of a function of the segments' coefficients
+    /// (knots and clamped end slopes held fixed), by reverse mode through the spline's
+    /// construction: `coef_grads[i]` holds the derivatives with respect to `a, b, c, d` of
+    /// segment `i` (`a + b s + c s^2 + d s^3`). The second derivatives `M` solve `A M = r(P)`
+    /// with `A` tridiagonal and fixed, so their adjoint is one solve with `A^T`: `O(n)`, and
+    /// exact (the same as summing against [`Spline::basis`], which costs `O(n^2)`). A start
+    /// heading's slope is held fixed too (it moves with `P_1`; `cost::gradient` takes that
+    /// case by differences).
+    ///
+    /// # Panics
+    /// When `coef_grads` does not hold one entry per segment (a caller's bug).
+    pub fn pull_back(&self, coef_grads: &[[Vector; 4]]) -> Vec<Vector> {
         let n = self.points.len();
-        let (lo, hi) = (j.saturating_sub(window), (j + window).min(n - 1));
-        let end = self.end.with_zero_slopes();
-        let pts: Vec<Point> = (lo..=hi)
-            .map(|i| Point::new(if i == j { 1.0 } else { 0.0 }, 0.0))
-            .collect();
-        (
-            lo,
-            Self::with_knots(self.knots[lo..=hi].to_vec(), &pts, self.param, end),
-        )
+        assert_eq!(
+            coef_grads.len(),
+            n - 1,
+            "one coefficient gradient per segment"
+        );
+        let t = &self.knots;
+        let h: Vec<Real> = (0..n - 1).map(|i| t[i + 1] - t[i]).collect();
+        let mut gp = vec![Vector::zeros(); n];
+        let mut gm = vec![Vector::zeros(); n];
+        let mut gslope = vec![Vector::zeros(); n - 1];
+        for (i, [ga, gb, gc, gd]) in coef_grads.iter().enumerate() {
+            // a = P_i, b = slope_i - (2 M_i + M_{i+1}) h / 6, c = M_i / 2,
+            // d = (M_{i+1} - M_i) / (6 h).
+            gp[i] += ga;
+            gslope[i] += gb;
+            gm[i] += gb * (-h[i] / 3.0) + gc * 0.5 - gd / (6.0 * h[i]);
+            gm[i + 1] += gb * (-h[i] / 6.0) + gd / (6.0 * h[i]);
+        }
+        let natural_pair = n == 2 && self.end == EndCondition::Natural;
+        if !natural_pair {
+            let (sub, diag, sup) = system_matrix(&h, self.end);
+            // Solve A^T lambda = gm: A^T has sub'[i] = sup[i-1] and sup'[i] = sub[i+1].
+            let tsub: Vec<Real> = (0..n)
+                .map(|i| if i == 0 { 0.0 } else { sup[i - 1] })
+                .collect();
+            let tsup: Vec<Real> = (0..n)
+                .map(|i| if i + 1 == n { 0.0 } else { sub[i + 1] })
+                .collect();
+            let lambda = solve_tridiagonal(&tsub, diag, &tsup, gm);
+            // r_i = 6 (slope_i - slope_{i-1}) inside, 6 slope_0 on a clamped start row,
+            // -6 slope_{n-2} on a clamped end row (the given slopes are constants).
+            for i in 1..n - 1 {
+                gslope[i] += lambda[i] * 6.0;
+                gslope[i - 1] -= lambda[i] * 6.0;
+            }
+            if !matches!(self.end, EndCondition::Natural) {
+                gslope[0] += lambda[0] * 6.0;
+            }
+            if matches!(self.end, EndCondition::Clamped { .. }) {
+                gslope[n - 2] -= lambda[n - 1] * 6.0;
+            }
+        }
+        for (i, g) in gslope.iter().enumerate() {
+            gp[i + 1] += g / h[i];
+            gp[i] -= g / h[i];
+        }
+        gp
     }
 
     /// The points it passes through.
@@ -382,36 +425,23 @@ impl Spline {
 /// algorithm on the tridiagonal system; `O(n)`.
 fn second_derivatives(t: &[Real], p: &[Point], end: EndCondition) -> Vec<Vector> {
     let n = p.len();
-    let mut m = vec![Vector::zeros(); n];
     if n == 2 && end == EndCondition::Natural {
-        return m;
+        return vec![Vector::zeros(); n];
     }
     let h: Vec<Real> = (0..n - 1).map(|i| t[i + 1] - t[i]).collect();
     let slope: Vec<Vector> = (0..n - 1).map(|i| (p[i + 1] - p[i]) / h[i]).collect();
-    // Rows: sub[i] m[i-1] + diag[i] m[i] + sup[i] m[i+1] = rhs[i].
-    let mut sub = vec![0.0; n];
-    let mut diag = vec![1.0; n];
-    let mut sup = vec![0.0; n];
+    let (sub, diag, sup) = system_matrix(&h, end);
     let mut rhs = vec![Vector::zeros(); n];
     for i in 1..n - 1 {
-        sub[i] = h[i - 1];
-        diag[i] = 2.0 * (h[i - 1] + h[i]);
-        sup[i] = h[i];
         rhs[i] = (slope[i] - slope[i - 1]) * 6.0;
     }
     match end {
         EndCondition::Natural => {}
         EndCondition::Clamped { start, end } => {
-            diag[0] = 2.0 * h[0];
-            sup[0] = h[0];
             rhs[0] = (slope[0] - start) * 6.0;
-            sub[n - 1] = h[n - 2];
-            diag[n - 1] = 2.0 * h[n - 2];
             rhs[n - 1] = (end - slope[n - 2]) * 6.0;
         }
         EndCondition::ClampedStart { start } => {
-            diag[0] = 2.0 * h[0];
-            sup[0] = h[0];
             rhs[0] = (slope[0] - start) * 6.0;
         }
         EndCondition::StartHeading { direction } => {
@@ -421,18 +451,51 @@ fn second_derivatives(t: &[Real], p: &[Point], end: EndCondition) -> Vec<Vector>
             } else {
                 slope[0]
             };
-            diag[0] = 2.0 * h[0];
-            sup[0] = h[0];
             rhs[0] = (slope[0] - start) * 6.0;
         }
     }
-    // Forward sweep.
+    solve_tridiagonal(&sub, diag, &sup, rhs)
+}
+
+/// The matrix of the system for the second derivatives, by rows:
+/// `sub[i] M[i-1] + diag[i] M[i] + sup[i] M[i+1]`; it depends on the knot steps `h` and the
+/// kind of end condition only.
+fn system_matrix(h: &[Real], end: EndCondition) -> (Vec<Real>, Vec<Real>, Vec<Real>) {
+    let n = h.len() + 1;
+    let mut sub = vec![0.0; n];
+    let mut diag = vec![1.0; n];
+    let mut sup = vec![0.0; n];
+    for i in 1..n - 1 {
+        sub[i] = h[i - 1];
+        diag[i] = 2.0 * (h[i - 1] + h[i]);
+        sup[i] = h[i];
+    }
+    if !matches!(end, EndCondition::Natural) {
+        diag[0] = 2.0 * h[0];
+        sup[0] = h[0];
+    }
+    if matches!(end, EndCondition::Clamped { .. }) {
+        sub[n - 1] = h[n - 2];
+        diag[n - 1] = 2.0 * h[n - 2];
+    }
+    (sub, diag, sup)
+}
+
+/// Thomas' algorithm (no pivoting: the systems here are diagonally dominant).
+fn solve_tridiagonal(
+    sub: &[Real],
+    mut diag: Vec<Real>,
+    sup: &[Real],
+    mut rhs: Vec<Vector>,
+) -> Vec<Vector> {
+    let n = diag.len();
     for i in 1..n {
         let w = sub[i] / diag[i - 1];
         diag[i] -= w * sup[i - 1];
         let r = rhs[i - 1] * w;
         rhs[i] -= r;
     }
+    let mut m = vec![Vector::zeros(); n];
     m[n - 1] = rhs[n - 1] / diag[n - 1];
     for i in (0..n - 1).rev() {
         m[i] = (rhs[i] - m[i + 1] * sup[i]) / diag[i];
