@@ -86,11 +86,25 @@ impl Rays {
         let mut angle: Real = 1.4137;
         loop {
             let dir = Vector::new(angle.cos(), angle.sin());
-            let collinear = origins.iter().enumerate().any(|(i, a)| {
-                origins[i + 1..].iter().any(|b| {
-                    let v = b - a;
-                    (dir.x * v.y - dir.y * v.x).abs() <= 1e-9 * (1.0 + v.norm())
-                })
+            // Two origins on one line along `dir`: |q(b) - q(a)| <= 1e-9 (1 + |b - a|), with
+            // q(p) = dir x p. Such pairs are within 1e-9 (1 + diameter) of each other in q
+            // (widened past rounding), so only neighbours in q order are tested: O(n log n)
+            // rather than all pairs, with the same answer.
+            let mut qs: Vec<(Real, usize)> = origins
+                .iter()
+                .enumerate()
+                .map(|(i, o)| (dir.x * o.y - dir.y * o.x, i))
+                .collect();
+            qs.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            let window = 2e-9 * (1.0 + 2.0 * scale_of(&origins)) + 1e-12 * scale_of(&origins);
+            let collinear = (0..qs.len()).any(|x| {
+                qs[x + 1..]
+                    .iter()
+                    .take_while(|(q, _)| q - qs[x].0 <= window)
+                    .any(|&(_, j)| {
+                        let v = origins[j] - origins[qs[x].1];
+                        (dir.x * v.y - dir.y * v.x).abs() <= 1e-9 * (1.0 + v.norm())
+                    })
             });
             if !collinear || angle > 1.7 {
                 let mut by_q: Vec<(Real, usize)> = origins
@@ -99,7 +113,7 @@ impl Rays {
                     .map(|(i, o)| (dir.x * o.y - dir.y * o.x, i))
                     .collect();
                 by_q.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-                let scale = origins.iter().map(|o| o.coords.amax()).fold(0.0, Real::max);
+                let scale = scale_of(&origins);
                 return Self {
                     origins,
                     dir,
@@ -121,6 +135,12 @@ impl Rays {
                 .map(|t| t.representative)
                 .collect(),
         )
+    }
+
+    /// The rays' common direction: the first of the angles `1.4137 + 0.0123 k` (radians, up
+    /// to 1.7) along which no two origins lie on one line.
+    pub fn direction(&self) -> Vector {
+        self.dir
     }
 
     /// Number of rays.
@@ -147,6 +167,21 @@ impl Rays {
 
     /// Appends the crossings of segment `a -> b` to `word`, in the order along the segment.
     pub fn cross_segment(&self, a: &Point, b: &Point, word: &mut Signature) {
+        let mut cursor = None;
+        self.cross_segment_at(a, b, word, &mut cursor);
+    }
+
+    /// [`Rays::cross_segment`] with a cursor into the rays sorted by `q`: consecutive
+    /// segments of a polyline have nearby `q` ranges, so the first ray in range is found by
+    /// walking from the previous segment's (a binary search when it is far or unknown).
+    /// The result does not depend on the cursor.
+    fn cross_segment_at(
+        &self,
+        a: &Point,
+        b: &Point,
+        word: &mut Signature,
+        cursor: &mut Option<usize>,
+    ) {
         // Ray i's side test is `q(p) - q(o_i) >= 0` up to rounding, `q(p) = dir x p`: only rays
         // with `q(o_i)` between `q(a)` and `q(b)` (widened far beyond the rounding) can change
         // sides; the exact test below decides, so the result is the same as testing all.
@@ -156,7 +191,29 @@ impl Rays {
         );
         let margin = 1e-9 * (1.0 + self.scale + a.coords.amax() + b.coords.amax());
         let (lo, hi) = (qa.min(qb) - margin, qa.max(qb) + margin);
-        let first = self.by_q.partition_point(|&(q, _)| q < lo);
+        let first = match *cursor {
+            Some(mut c) => {
+                // partition_point by a short walk: by_q[..first] < lo <= by_q[first..].
+                let mut steps = 0;
+                while c > 0 && self.by_q[c - 1].0 >= lo && steps < 16 {
+                    c -= 1;
+                    steps += 1;
+                }
+                while c < self.by_q.len() && self.by_q[c].0 < lo && steps < 16 {
+                    c += 1;
+                    steps += 1;
+                }
+                let settled = (c == 0 || self.by_q[c - 1].0 < lo)
+                    && (c == self.by_q.len() || self.by_q[c].0 >= lo);
+                if settled {
+                    c
+                } else {
+                    self.by_q.partition_point(|&(q, _)| q < lo)
+                }
+            }
+            None => self.by_q.partition_point(|&(q, _)| q < lo),
+        };
+        *cursor = Some(first);
         let mut hits: Vec<(Real, i32)> = Vec::new();
         for &(q, i) in &self.by_q[first..] {
             if q > hi {
@@ -184,11 +241,17 @@ impl Rays {
     /// The signature of a polyline.
     pub fn signature(&self, path: &[Point]) -> Signature {
         let mut w = Signature::identity();
+        let mut cursor = None;
         for s in path.windows(2) {
-            self.cross_segment(&s[0], &s[1], &mut w);
+            self.cross_segment_at(&s[0], &s[1], &mut w, &mut cursor);
         }
         w
     }
+}
+
+/// The largest coordinate magnitude of `points` (0 for none).
+fn scale_of(points: &[Point]) -> Real {
+    points.iter().map(|o| o.coords.amax()).fold(0.0, Real::max)
 }
 
 /// The H-signature of a polyline: per representative point `z_i`, the complex integral of

@@ -134,3 +134,46 @@ fn winding_twice_is_not_winding_once() {
     let h = h_signature(&lp, rays.origins());
     assert!(h.iter().all(|(_, im)| im.abs() < 1e-9), "{h:?}");
 }
+
+/// The direction by testing every pair of origins: the definition `Rays::new` must keep
+/// while testing only neighbours in order along the ray's normal.
+fn direction_by_all_pairs(origins: &[Point]) -> homospline_geom::Vector {
+    let mut angle: f64 = 1.4137;
+    loop {
+        let dir = homospline_geom::Vector::new(angle.cos(), angle.sin());
+        let collinear = origins.iter().enumerate().any(|(i, a)| {
+            origins[i + 1..].iter().any(|b| {
+                let v = b - a;
+                (dir.x * v.y - dir.y * v.x).abs() <= 1e-9 * (1.0 + v.norm())
+            })
+        });
+        if !collinear || angle > 1.7 {
+            return dir;
+        }
+        angle += 0.0123;
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// Origins on a few lines along the first candidate directions (cell centres of a grid
+    /// line up along many of them) pick the same ray direction as the all-pairs test.
+    #[test]
+    fn the_ray_direction_is_the_all_pairs_one(
+        free in prop::collection::vec((-60.0..60.0, -60.0..60.0), 0..40),
+        lined in prop::collection::vec((-60.0..60.0, -60.0..60.0, 0..4usize, -30.0..30.0), 0..20),
+        grid in prop::collection::vec((-40i32..40, -40i32..40), 0..40),
+    ) {
+        let mut origins: Vec<Point> = free.into_iter().map(|(x, y)| Point::new(x, y)).collect();
+        for (x, y, k, t) in lined {
+            // A point and its copy moved along candidate direction k.
+            let a = 1.4137 + 0.0123 * k as f64;
+            origins.push(Point::new(x, y));
+            origins.push(Point::new(x + t * a.cos(), y + t * a.sin()));
+        }
+        origins.extend(grid.into_iter().map(|(i, j)| Point::new(i as f64 + 0.5, j as f64 + 0.5)));
+        let rays = Rays::new(origins.clone());
+        prop_assert_eq!(rays.direction(), direction_by_all_pairs(&origins));
+    }
+}

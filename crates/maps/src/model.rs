@@ -11,6 +11,7 @@
 use homospline_geom::{Point, Real, Vector};
 use homospline_spline::field::{ClearanceModel, FieldSample, exp_fast};
 use homospline_voronoi::{DistanceField, Grid};
+use std::sync::OnceLock;
 
 /// Rings of depth inside obstacles that the smooth clearance tells apart.
 pub const DEPTH_RINGS: u8 = 6;
@@ -27,6 +28,10 @@ pub struct GridModel {
     d: Vec<Real>,
     /// Squared brushfire distance at each cell, cells.
     d2: Vec<i64>,
+    /// Per free cell, filled on first use: the occupied cells that can be nearest to some
+    /// point of the cell (the annulus of [`GridModel::exact`]), as row-major indices. The
+    /// verification queries of one map meet the same cells again and again.
+    candidates: Vec<OnceLock<Box<[u32]>>>,
 }
 
 impl GridModel {
@@ -101,6 +106,7 @@ impl GridModel {
             occ: occ.to_vec(),
             d,
             d2,
+            candidates: (0..w * h).map(|_| OnceLock::new()).collect(),
         }
     }
 
@@ -153,19 +159,34 @@ impl GridModel {
             // No occupied cell at all.
             return self.exact_by_rings(p, ci, cj, Real::INFINITY);
         }
-        // In cells (h = 1): every occupied centre o has |c - o|^2 >= d2 (the exact brushfire
-        // of centre c), and the nearest one, o*, has |c - o*| = D = sqrt(d2). A square holds
-        // the disc of radius 1/2 around its centre, so the answer is at most
-        // |p - o*| - 1/2 <= D + sqrt(2)/2 - 1/2. A square at o is at least
-        // |p - o| - sqrt(2)/2 >= |c - o| - sqrt(2) away, so only centres with
-        // |c - o| <= D + sqrt(2)/2 - 1/2 + sqrt(2) can beat it: an annulus of width 1.62
-        // instead of the whole disc.
+        // Only the cells of the annulus (see `annulus`) can be nearest; the first query in a
+        // cell lists them.
+        let dc = (d2 as Real).sqrt();
+        let mut best = (dc + std::f64::consts::FRAC_1_SQRT_2 - 0.5) * h;
+        let k = cj * self.w + ci;
+        let candidates = self.candidates[k].get_or_init(|| self.annulus(ci, cj, d2));
+        for &o in candidates.iter() {
+            let o = o as usize;
+            best = best.min(self.square_distance(p, o % self.w, o / self.w));
+        }
+        best
+    }
+
+    /// The occupied cells that can be nearest to a point of free cell `(ci, cj)`, whose
+    /// squared brushfire distance is `d2`. In cells (h = 1): every occupied centre o has
+    /// |c - o|^2 >= d2 (the exact brushfire of centre c), and the nearest one, o*, has
+    /// |c - o*| = D = sqrt(d2). A square holds the disc of radius 1/2 around its centre, so
+    /// the answer is at most |p - o*| - 1/2 <= D + sqrt(2)/2 - 1/2. A square at o is at least
+    /// |p - o| - sqrt(2)/2 >= |c - o| - sqrt(2) away, so only centres with
+    /// |c - o| <= D + sqrt(2)/2 - 1/2 + sqrt(2) can beat it: an annulus of width 1.62
+    /// instead of the whole disc.
+    fn annulus(&self, ci: usize, cj: usize, d2: i64) -> Box<[u32]> {
         let dc = (d2 as Real).sqrt();
         let best0 = dc + std::f64::consts::FRAC_1_SQRT_2 - 0.5;
         let outer = best0 + std::f64::consts::SQRT_2 + 1e-9;
         let outer2 = outer * outer;
         let reach = outer as i64; // truncation is floor here: all >= 0
-        let mut best = best0 * h;
+        let mut out = Vec::new();
         for dy in -reach..=reach {
             let j = cj as i64 + dy;
             if j < 0 || j >= self.h as i64 {
@@ -187,9 +208,11 @@ impl GridModel {
             }
             for dx in lo..=hi {
                 for i in [ci as i64 + dx, ci as i64 - dx] {
-                    if i >= 0 && (i as usize) < self.w && self.occ[j as usize * self.w + i as usize]
-                    {
-                        best = best.min(self.square_distance(p, i as usize, j as usize));
+                    if i >= 0 && (i as usize) < self.w {
+                        let k = j as usize * self.w + i as usize;
+                        if self.occ[k] {
+                            out.push(k as u32);
+                        }
                     }
                     if dx == 0 {
                         break;
@@ -197,7 +220,7 @@ impl GridModel {
                 }
             }
         }
-        best
+        out.into_boxed_slice()
     }
 
     /// Distance from `p` to the closed square of cell `(i, j)`.
