@@ -137,10 +137,10 @@ fn winding_twice_is_not_winding_once() {
 
 /// The direction by testing every pair of origins: the definition `Rays::new` must keep
 /// while testing only neighbours in order along the ray's normal.
-fn direction_by_all_pairs(origins: &[Point]) -> homospline_geom::Vector {
+fn direction_by_all_pairs(origins: &[Point]) -> Vector {
     let mut angle: f64 = 1.4137;
     loop {
-        let dir = homospline_geom::Vector::new(angle.cos(), angle.sin());
+        let dir = Vector::new(angle.cos(), angle.sin());
         let collinear = origins.iter().enumerate().any(|(i, a)| {
             origins[i + 1..].iter().any(|b| {
                 let v = b - a;
