@@ -25,6 +25,101 @@ pub struct Rays {
     by_q: Vec<(Real, usize)>,
     /// Largest coordinate magnitude of the origins, for the candidate margin.
     scale: Real,
+    /// The origins bucketed on a uniform grid, for box queries ([`Rays::sweep_is_clear`]).
+    buckets: Buckets,
+}
+
+/// Origins bucketed on a uniform grid of about one origin per bucket.
+#[derive(Clone, Debug, PartialEq)]
+struct Buckets {
+    lo: Point,
+    /// Buckets per unit length.
+    inv: Real,
+    nx: usize,
+    ny: usize,
+    /// Bucket `b` holds `items[start[b]..start[b + 1]]`.
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl Buckets {
+    fn new(origins: &[Point]) -> Self {
+        let n = origins.len();
+        let (mut lo, mut hi) = (Point::new(0.0, 0.0), Point::new(0.0, 0.0));
+        if let Some(first) = origins.first() {
+            (lo, hi) = (*first, *first);
+            for o in origins {
+                lo = lo.inf(o);
+                hi = hi.sup(o);
+            }
+        }
+        let (wx, wy) = ((hi.x - lo.x).max(1e-9), (hi.y - lo.y).max(1e-9));
+        let side = (wx * wy / n.max(1) as Real).sqrt().max(wx.max(wy) / 4096.0);
+        let inv = 1.0 / side;
+        let nx = ((wx * inv) as usize + 1).min(4096);
+        let ny = ((wy * inv) as usize + 1).min(4096);
+        let bucket = |o: &Point| {
+            let i = (((o.x - lo.x) * inv) as usize).min(nx - 1);
+            let j = (((o.y - lo.y) * inv) as usize).min(ny - 1);
+            j * nx + i
+        };
+        let mut count = vec![0u32; nx * ny + 1];
+        for o in origins {
+            count[bucket(o) + 1] += 1;
+        }
+        for b in 0..nx * ny {
+            count[b + 1] += count[b];
+        }
+        let mut fill = count.clone();
+        let mut items = vec![0u32; n];
+        for (k, o) in origins.iter().enumerate() {
+            let b = bucket(o);
+            items[fill[b] as usize] = k as u32;
+            fill[b] += 1;
+        }
+        Self {
+            lo,
+            inv,
+            nx,
+            ny,
+            start: count,
+            items,
+        }
+    }
+
+    /// Whether some origin in the closed box `[lo, hi]` satisfies `hit`.
+    fn any_in_box(
+        &self,
+        origins: &[Point],
+        lo: &Point,
+        hi: &Point,
+        hit: impl Fn(&Point) -> bool,
+    ) -> bool {
+        if origins.is_empty() {
+            return false;
+        }
+        let clamp =
+            |v: Real, n: usize| -> usize { if v <= 0.0 { 0 } else { (v as usize).min(n - 1) } };
+        let (i0, i1) = (
+            clamp((lo.x - self.lo.x) * self.inv, self.nx),
+            clamp((hi.x - self.lo.x) * self.inv, self.nx),
+        );
+        let (j0, j1) = (
+            clamp((lo.y - self.lo.y) * self.inv, self.ny),
+            clamp((hi.y - self.lo.y) * self.inv, self.ny),
+        );
+        (j0..=j1).any(|j| {
+            let row = j * self.nx;
+            let (a, b) = (
+                self.start[row + i0] as usize,
+                self.start[row + i1 + 1] as usize,
+            );
+            self.items[a..b].iter().any(|&k| {
+                let o = &origins[k as usize];
+                o.x >= lo.x && o.x <= hi.x && o.y >= lo.y && o.y <= hi.y && hit(o)
+            })
+        })
+    }
 }
 
 /// A reduced word of signed ray crossings: letter `+(i + 1)` or `-(i + 1)` for ray `i`.
@@ -114,11 +209,13 @@ impl Rays {
                     .collect();
                 by_q.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
                 let scale = scale_of(&origins);
+                let buckets = Buckets::new(&origins);
                 return Self {
                     origins,
                     dir,
                     by_q,
                     scale,
+                    buckets,
                 };
             }
             angle += 0.0123;
@@ -238,6 +335,40 @@ impl Rays {
         }
     }
 
+    /// Whether `to` is proven to have the signature of `from` without computing it: the two
+    /// polylines have as many points and the same ends, and the straight-line homotopy
+    /// between them (point `k` of one moving to point `k` of the other) meets no origin. The
+    /// homotopy's quadrilateral between segment `k` of either lies in the convex hull of its
+    /// four corners (the union of the four triangles on three of them); when no origin is in
+    /// any hull or within a margin of it (far beyond rounding, so the crossing tests of both
+    /// polylines are exact), the paths are homotopic in the plane minus the origins and their
+    /// words are equal. `false` proves nothing: compute the signature. Cost: the hulls' boxes'
+    /// buckets, about one origin per bucket; an optimiser's step moves a curve little, so this
+    /// is far cheaper than the signature among thousands of origins.
+    pub fn sweep_is_clear(&self, from: &[Point], to: &[Point]) -> bool {
+        if from.len() != to.len()
+            || from.len() < 2
+            || from[0] != to[0]
+            || from[from.len() - 1] != to[to.len() - 1]
+        {
+            return false;
+        }
+        let margin = 1e-9 * (1.0 + self.scale);
+        (0..from.len() - 1).all(|k| {
+            let mut lo = from[k].inf(&from[k + 1]).inf(&to[k]).inf(&to[k + 1]);
+            let mut hi = from[k].sup(&from[k + 1]).sup(&to[k]).sup(&to[k + 1]);
+            let box_margin = margin + 1e-12 * (lo.coords.amax() + hi.coords.amax());
+            lo -= Vector::repeat(box_margin);
+            hi += Vector::repeat(box_margin);
+            let (a, b, c, d) = (from[k], from[k + 1], to[k + 1], to[k]);
+            !self.buckets.any_in_box(&self.origins, &lo, &hi, |o| {
+                [(a, b, c), (a, c, d), (a, b, d), (b, c, d)]
+                    .iter()
+                    .any(|(p, q, r)| near_triangle(o, p, q, r, box_margin))
+            })
+        })
+    }
+
     /// The signature of a polyline.
     pub fn signature(&self, path: &[Point]) -> Signature {
         let mut w = Signature::identity();
@@ -247,6 +378,18 @@ impl Rays {
         }
         w
     }
+}
+
+/// Whether `o` is in the closed triangle `p q r` (any orientation, degenerate included) or
+/// within `margin` of its edges.
+fn near_triangle(o: &Point, p: &Point, q: &Point, r: &Point, margin: Real) -> bool {
+    let cross = |a: &Point, b: &Point| (b - a).perp(&(o - a));
+    let (u, v, w) = (cross(p, q), cross(q, r), cross(r, p));
+    let inside = (u >= 0.0 && v >= 0.0 && w >= 0.0) || (u <= 0.0 && v <= 0.0 && w <= 0.0);
+    inside
+        || [(p, q), (q, r), (r, p)]
+            .iter()
+            .any(|(a, b)| homospline_geom::math::distance_point_segment(o, a, b) <= margin)
 }
 
 /// The largest coordinate magnitude of `points` (0 for none).

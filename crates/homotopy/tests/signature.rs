@@ -177,3 +177,49 @@ proptest! {
         prop_assert_eq!(rays.direction(), direction_by_all_pairs(&origins));
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// A sweep proven clear means equal signatures; and a small move far from every origin
+    /// is proven clear (the proof is not vacuous).
+    #[test]
+    fn a_clear_sweep_keeps_the_signature(
+        reps in prop::collection::vec((-30.0..30.0, -30.0..30.0), 0..60),
+        inner in prop::collection::vec((-30.0..30.0, -30.0..30.0), 1..12),
+        moves in prop::collection::vec((-8.0..8.0, -8.0..8.0), 12),
+        tiny in 1e-6..1e-3,
+    ) {
+        let rays = Rays::new(reps.iter().map(|&(x, y)| Point::new(x, y)).collect());
+        let mut from = vec![Point::new(-35.0, 0.0)];
+        from.extend(inner.iter().map(|&(x, y)| Point::new(x, y)));
+        from.push(Point::new(35.0, 0.0));
+        let n = from.len();
+        let moved = |scale: f64| -> Vec<Point> {
+            from.iter()
+                .enumerate()
+                .map(|(k, p)| {
+                    if k == 0 || k == n - 1 {
+                        *p
+                    } else {
+                        p + Vector::new(moves[k].0, moves[k].1) * scale
+                    }
+                })
+                .collect()
+        };
+        for to in [moved(1.0), moved(0.1), moved(tiny)] {
+            if rays.sweep_is_clear(&from, &to) {
+                prop_assert_eq!(rays.signature(&from), rays.signature(&to));
+            }
+        }
+        // Far from every origin (no origin within 1 of the path), a tiny move is proven clear.
+        let far = reps.iter().all(|&(x, y)| {
+            from.windows(2).all(|w| {
+                homospline_geom::math::distance_point_segment(&Point::new(x, y), &w[0], &w[1]) > 1.0
+            })
+        });
+        if far {
+            prop_assert!(rays.sweep_is_clear(&from, &moved(tiny)));
+        }
+    }
+}

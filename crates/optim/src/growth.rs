@@ -8,6 +8,7 @@ use homospline_spline::{
     ClearanceModel, CostConfig, CostTerms, EndCondition, Parametrization, Spline, SplineError,
     evaluate, gradient, is_collision_free, min_clearance,
 };
+use std::cell::RefCell;
 
 use crate::lbfgs::Lbfgs;
 use crate::nelder_mead::NelderMead;
@@ -83,6 +84,12 @@ pub struct Guard<'a> {
     /// it as a ratchet: while the current curve is below the floor, a candidate may not fall
     /// below the current curve's clearance, so a seed below the floor can still climb to it.
     pub clearance_floor: Real,
+    /// The guard's own memory: the samples of the last candidate found in the class (start
+    /// with `Default::default()`). A candidate whose straight-line sweep from it meets no
+    /// obstacle's representative is in the class without its signature being computed
+    /// ([`Rays::sweep_is_clear`]): on a map with thousands of obstacles the signature of every
+    /// candidate was most of the optimisation's time.
+    pub proven: RefCell<Option<Vec<Point>>>,
 }
 
 impl Guard<'_> {
@@ -157,7 +164,17 @@ pub fn admissible(spline: &Spline, guard: &Guard<'_>, samples_per_segment: usize
         return false;
     }
     match guard.class {
-        Some((rays, sig)) => &rays.signature(&pts) == sig,
+        Some((rays, sig)) => {
+            let mut proven = guard.proven.borrow_mut();
+            let same = proven
+                .as_ref()
+                .is_some_and(|before| rays.sweep_is_clear(before, &pts))
+                || &rays.signature(&pts) == sig;
+            if same {
+                *proven = Some(pts);
+            }
+            same
+        }
         None => true,
     }
 }

@@ -855,6 +855,7 @@ fn optimise_class(
         } else {
             Real::NEG_INFINITY
         },
+        proven: Default::default(),
     };
     // A seed need only be collision-free: the growth loop's ratchet raises it to the floor.
     // On scenes the first via-point set that already keeps the floor is preferred.
