@@ -61,7 +61,10 @@ pub fn obstacle_keys(grid: &Grid) -> Vec<u32> {
 }
 
 /// Bounding box `(i0, j0, i1, j1)` of each obstacle's cells, by key.
-type Boxes = std::collections::BTreeMap<u32, (usize, usize, usize, usize)>;
+/// A bounding box of cells `(i0, j0, i1, j1)`.
+type Bbox = (usize, usize, usize, usize);
+
+type Boxes = std::collections::BTreeMap<u32, Bbox>;
 
 /// [`obstacle_keys`] and the obstacles' bounding boxes, both from the runs of occupied cells.
 fn keys_and_boxes(grid: &Grid) -> (Vec<u32>, Boxes) {
@@ -472,7 +475,8 @@ impl DistanceField {
         // Groups of new cells, in raster order of their first cell, with the key each takes.
         let mut key_of: std::collections::HashMap<(usize, usize), u32> =
             std::collections::HashMap::new();
-        let mut groups: Vec<(u32, (usize, usize, usize, usize), bool)> = Vec::new();
+        // (key, bounding box, joined an existing obstacle)
+        let mut groups: Vec<(u32, Bbox, bool)> = Vec::new();
         for &start in &sorted {
             if key_of.contains_key(&start) {
                 continue;
@@ -489,8 +493,8 @@ impl DistanceField {
                     for di in -1i64..=1 {
                         let n = ((i as i64 + di) as usize, (j as i64 + dj) as usize);
                         if new.contains(&n) {
-                            if !key_of.contains_key(&n) {
-                                key_of.insert(n, own);
+                            if let std::collections::hash_map::Entry::Vacant(e) = key_of.entry(n) {
+                                e.insert(own);
                                 members.push(n);
                             }
                         } else if grid.occupied(n.0, n.1) {
