@@ -1,6 +1,9 @@
 //! Criterion bench of re-planning during missions: every re-plan event of the paper-like
 //! worlds and 20 generated worlds (map update as the UGV knew it then, classes, optimisation,
-//! from the UGV's position and heading), timed one by one; prints p50 and p99.
+//! from the UGV's position and heading), timed one by one; prints p50 and p99. On the 512 x
+//! 512 map world (`fixtures/worlds/maps/16room-blocked.yaml`): the missions of every policy,
+//! each re-plan timed whole (map update and plan) with the map update's parts, and the full
+//! rebuild of the brushfire and of the graph for comparison.
 
 use std::time::{Duration, Instant};
 
@@ -106,12 +109,85 @@ fn bench(c: &mut Criterion) {
     );
 }
 
+fn bench_map(c: &mut Criterion) {
+    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../fixtures/worlds/maps/16room-blocked.yaml");
+    let world = match homospline_mission::world::load_any(&path, |p| std::fs::read(p)) {
+        Ok(homospline_mission::AnyWorld::Map(w)) => w,
+        _ => panic!("{}: a map world", path.display()),
+    };
+    let (mut replan, mut field, mut graph, mut model, mut local) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), 0);
+    for _ in 0..3 {
+        for policy in Policy::ALL {
+            let cfg = MissionConfig {
+                policy,
+                ..MissionConfig::default()
+            };
+            let r = homospline_mission::simulate_map(&world, &cfg).expect("a mission");
+            assert!(r.reached, "{}: not reached", policy.name());
+            replan.extend(r.replan_ms.iter().copied());
+            for u in &r.map_updates {
+                field.push(u.field_ms);
+                graph.push(u.graph_ms);
+                model.push(u.model_ms);
+                local += usize::from(u.local);
+            }
+        }
+    }
+    let n_updates = field.len();
+    for v in [&mut replan, &mut field, &mut graph, &mut model] {
+        v.sort_by(f64::total_cmp);
+    }
+    eprintln!(
+        "512 x 512 map world: re-plan latency (map update and plan) over {} re-plans: p50 {:.1} ms, p99 {:.1} ms; map updates: {} ({} local), brushfire p50 {:.2} ms, graph rebuilt from the field p50 {:.1} ms, model p50 {:.1} ms",
+        replan.len(),
+        percentile(&replan, 0.5),
+        percentile(&replan, 0.99),
+        n_updates,
+        local,
+        percentile(&field, 0.5),
+        percentile(&graph, 0.5),
+        percentile(&model, 0.5),
+    );
+    let grid = world.truth.to_grid().expect("a grid");
+    let built = homospline_voronoi::DistanceField::build(&grid);
+    let mut g = c.benchmark_group("mission_map_512");
+    g.bench_function("brushfire_rebuild", |b| {
+        b.iter(|| homospline_voronoi::DistanceField::build(&grid))
+    });
+    // The local update of a blockage that joins one obstacle: the door's cell and the wall
+    // cell beside it (joined to that wall alone), added to the prior's field.
+    let prior = world.prior.to_grid().expect("a grid");
+    let prior_field = homospline_voronoi::DistanceField::build(&prior);
+    let (i, j) = (151 + 1, 192 + 1);
+    let cells = [(i - 1, j - 1), (i - 1, j), (i - 1, j + 1)];
+    assert!(
+        prior_field
+            .clone()
+            .add_cells(&mut prior.clone(), &cells)
+            .is_ok(),
+        "the bench's blockage joins one obstacle"
+    );
+    g.bench_function("brushfire_local_update", |b| {
+        b.iter_batched(
+            || (prior.clone(), prior_field.clone()),
+            |(mut gr, mut f)| f.add_cells(&mut gr, &cells).map(|_| f),
+            criterion::BatchSize::LargeInput,
+        )
+    });
+    g.bench_function("graph_from_field", |b| {
+        b.iter(|| homospline_voronoi::MapGraph::build(&grid, &built))
+    });
+    g.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default()
         .sample_size(20)
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(5));
-    targets = bench
+    targets = bench, bench_map
 }
 criterion_main!(benches);

@@ -10,7 +10,7 @@ use homospline_cli::options::{PlanOptions, plan_config};
 use homospline_cli::{EXAMPLE_SCENE, mission, picture, report};
 use homospline_geom::{Point, Scene};
 use homospline_maps::input::Input;
-use homospline_mission::{MissionConfig, MissionWorld, Policy};
+use homospline_mission::{AnyWorld, MissionConfig, Policy};
 use homospline_optim::{PlanConfig, default_resolution, plan_with_graph};
 use homospline_spline::{CostConfig, RoughnessForm};
 use homospline_voronoi::VoronoiGraph;
@@ -266,13 +266,8 @@ fn load_scene(path: &Path) -> anyhow::Result<Scene> {
     Scene::from_bytes(&bytes, &path.display().to_string()).map_err(|e| bad(e.to_string()))
 }
 
-/// Reads a world file and the scene it names.
-fn load_world(path: &Path) -> anyhow::Result<MissionWorld> {
-    homospline_mission::world::load(path, |p| std::fs::read(p)).map_err(bad)
-}
-
 fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
-    let world = load_world(&a.world)?;
+    let world = homospline_mission::world::load_any(&a.world, |p| std::fs::read(p)).map_err(bad)?;
     if a.classes == 0 || a.classes > 64 {
         return Err(bad(format!(
             "--classes {}: must be between 1 and 64",
@@ -314,22 +309,30 @@ fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
         min_switch_interval: a.min_switch_interval,
         ..base
     };
-    let result = homospline_mission::simulate(&world, &cfg)
-        .map_err(|e| bad(format!("{}: {e}", a.world.display())))?;
-    print!("{}", mission::mission_text(&world, &result));
+    let failed = |e: homospline_mission::MissionError| bad(format!("{}: {e}", a.world.display()));
+    let (result, text, json, svg) = match &world {
+        AnyWorld::Scene(w) => {
+            let r = homospline_mission::simulate(w, &cfg).map_err(failed)?;
+            let (t, j) = (mission::mission_text(w, &r), mission::mission_json(w, &r));
+            let svg = a.svg.as_ref().map(|_| mission::mission_svg(w, &r));
+            (r, t, j, svg)
+        }
+        AnyWorld::Map(w) => {
+            let r = homospline_mission::simulate_map(w, &cfg).map_err(failed)?;
+            let (t, j) = (
+                mission::map_mission_text(w, &r),
+                mission::map_mission_json(w, &r),
+            );
+            let svg = a.svg.as_ref().map(|_| mission::map_mission_svg(w, &r));
+            (r, t, j, svg)
+        }
+    };
+    print!("{text}");
     if let Some(p) = &a.json {
-        write(
-            p,
-            "mission JSON",
-            mission::mission_json(&world, &result).as_bytes(),
-        )?;
+        write(p, "mission JSON", json.as_bytes())?;
     }
-    if let Some(p) = &a.svg {
-        write(
-            p,
-            "picture",
-            mission::mission_svg(&world, &result).as_bytes(),
-        )?;
+    if let (Some(p), Some(svg)) = (&a.svg, svg) {
+        write(p, "picture", svg.as_bytes())?;
         println!("picture: {}", p.display());
     }
     Ok(if result.reached { 0 } else { 1 })

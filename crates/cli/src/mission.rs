@@ -3,8 +3,9 @@
 
 use std::fmt::Write;
 
+use homospline_geom::Bounds;
 use homospline_geom::{Point, Real};
-use homospline_mission::{EventKind, MissionResult, MissionWorld, Robot};
+use homospline_mission::{EventKind, MapWorld, MissionResult, MissionWorld, Robot};
 use serde_json::{Value, json};
 
 fn who(r: Robot) -> String {
@@ -56,9 +57,7 @@ fn fmt_opt(x: Option<Real>) -> String {
 
 /// The events and the figures, as `homospline simulate` prints them.
 pub fn mission_text(world: &MissionWorld, r: &MissionResult) -> String {
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
+    let head = format!(
         "world {}  policy {}  scouts {}  hidden {}  cleared {}",
         r.world,
         r.policy.name(),
@@ -66,6 +65,44 @@ pub fn mission_text(world: &MissionWorld, r: &MissionResult) -> String {
         world.hidden.len(),
         world.cleared.len()
     );
+    text_with(&head, world.team.ugv.speed, r)
+}
+
+/// The same for a map world, with each update of the known map.
+pub fn map_mission_text(world: &MapWorld, r: &MissionResult) -> String {
+    let blocked = world.changes.iter().filter(|c| c.blocked).count();
+    let head = format!(
+        "world {}  map {} x {}  policy {}  scouts {}  blocked {}  freed {}",
+        r.world,
+        world.prior.width,
+        world.prior.height,
+        r.policy.name(),
+        r.scouts,
+        blocked,
+        world.changes.len() - blocked
+    );
+    let mut s = text_with(&head, world.team.ugv.speed, r);
+    for u in &r.map_updates {
+        let _ = writeln!(
+            s,
+            "map update: {} cells, brushfire {} {:.2} ms, graph rebuilt {:.1} ms, model {:.1} ms",
+            u.cells,
+            if u.local {
+                "updated locally"
+            } else {
+                "rebuilt"
+            },
+            u.field_ms,
+            u.graph_ms,
+            u.model_ms
+        );
+    }
+    s
+}
+
+fn text_with(head: &str, ugv_speed: Real, r: &MissionResult) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "{head}");
     for e in &r.events {
         let _ = writeln!(
             s,
@@ -85,7 +122,7 @@ pub fn mission_text(world: &MissionWorld, r: &MissionResult) -> String {
         r.ugv_distance,
         fmt_opt(r.hindsight_length),
         fmt_opt(r.distance_ratio()),
-        fmt_opt(r.time_ratio(world.team.ugv.speed)),
+        fmt_opt(r.time_ratio(ugv_speed)),
     );
     let _ = writeln!(
         s,
@@ -112,6 +149,15 @@ fn xy(p: &Point) -> Value {
 
 /// The mission as JSON (`docs/formats.md`, mission result).
 pub fn mission_json(world: &MissionWorld, r: &MissionResult) -> String {
+    json_with(world.team.ugv.speed, r)
+}
+
+/// The same for a map world (`docs/formats.md`, mission result, with `map_updates`).
+pub fn map_mission_json(world: &MapWorld, r: &MissionResult) -> String {
+    json_with(world.team.ugv.speed, r)
+}
+
+fn json_with(ugv_speed: Real, r: &MissionResult) -> String {
     let events: Vec<Value> = r
         .events
         .iter()
@@ -157,7 +203,7 @@ pub fn mission_json(world: &MissionWorld, r: &MissionResult) -> String {
         "ugv_distance": r.ugv_distance,
         "hindsight_length": r.hindsight_length,
         "distance_ratio": r.distance_ratio(),
-        "time_ratio": r.time_ratio(world.team.ugv.speed),
+        "time_ratio": r.time_ratio(ugv_speed),
         "replans": r.replans,
         "switches": r.switches,
         "abandoned_distance": r.abandoned_distance,
@@ -172,6 +218,17 @@ pub fn mission_json(world: &MissionWorld, r: &MissionResult) -> String {
             "path": a.path.iter().map(xy).collect::<Vec<_>>(),
         })).collect::<Vec<_>>(),
     });
+    let mut doc = doc;
+    if !r.map_updates.is_empty() {
+        doc["map_updates"] = r
+            .map_updates
+            .iter()
+            .map(|u| {
+                json!({"cells": u.cells, "local": u.local, "field_ms": u.field_ms,
+                       "graph_ms": u.graph_ms, "model_ms": u.model_ms})
+            })
+            .collect();
+    }
     serde_json::to_string_pretty(&doc).unwrap_or_default() + "\n"
 }
 
@@ -193,31 +250,76 @@ const KEY_FRAMES: usize = 400;
 /// path (dashed), the UGV's (blue) and the scouts' (orange) tracks, re-plan points, and the
 /// robots moving along their tracks (the mission plays in 20 s and repeats).
 pub fn mission_svg(world: &MissionWorld, r: &MissionResult) -> String {
-    let b = &world.prior.bounds;
-    let (w, h) = (b.max.x - b.min.x, b.max.y - b.min.y);
-    let scale = 800.0 / w.max(h);
-    let (pw, ph) = (w * scale, h * scale);
-    let x = |v: Real| (v - b.min.x) * scale;
-    let y = |v: Real| (b.max.y - v) * scale;
-    let k = ANIMATION_SECONDS / r.time.max(1e-9);
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{:.0}" height="{:.0}" viewBox="0 0 {pw:.1} {:.1}">"#,
-        pw,
-        ph + 40.0,
-        ph + 40.0
-    );
-    let _ = writeln!(
-        s,
-        r##"<rect x="0" y="0" width="{pw:.1}" height="{ph:.1}" fill="#fafafa" stroke="#333"/>"##
-    );
-    let when = |name: &str| {
-        r.events.iter().find_map(|e| match &e.kind {
-            EventKind::Discovered { obstacle, .. } if obstacle == name => Some(e.t),
-            _ => None,
-        })
-    };
+    svg_with(
+        &world.prior.bounds,
+        false,
+        (world.prior.start, world.prior.goal),
+        r,
+        &mut |s, x, y, scale, when| scene_layers(s, world, x, y, scale, when),
+    )
+}
+
+/// The same for a map world: the prior map as the raster picture of `plan`'s map SVGs, and
+/// the cells that differ in the truth, faint until discovered (red: blocked; green: freed).
+pub fn map_mission_svg(world: &MapWorld, r: &MissionResult) -> String {
+    let map = &world.prior;
+    svg_with(
+        &map.bounds(),
+        map.y_down,
+        (world.start, world.goal),
+        r,
+        &mut |s, x, y, scale, when| {
+            let b = map.bounds();
+            let (ya, yb) = (y(b.min.y), y(b.max.y));
+            let _ = writeln!(
+                s,
+                r#"<g id="map"><image x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" preserveAspectRatio="none" image-rendering="optimizeSpeed" style="image-rendering: pixelated" href="{}"/></g>"#,
+                x(b.min.x),
+                ya.min(yb),
+                (b.max.x - b.min.x) * scale,
+                (ya - yb).abs(),
+                crate::picture::occupancy_href(map, map.y_down)
+            );
+            s.push_str("<g id=\"hidden\">\n");
+            for c in &world.changes {
+                let colour = if c.blocked { "#d62728" } else { "#2ca02c" };
+                for &(i, j) in &c.cells {
+                    let (x0, y0) = (
+                        map.origin.x + i as Real * map.cell,
+                        map.origin.y + j as Real * map.cell,
+                    );
+                    let (ya, yb) = (y(y0), y(y0 + map.cell));
+                    let _ = write!(
+                        s,
+                        r#"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="{colour}" fill-opacity="0.2">"#,
+                        x(x0),
+                        ya.min(yb),
+                        map.cell * scale,
+                        (ya - yb).abs()
+                    );
+                    if let Some(t) = when(&c.name) {
+                        let _ = write!(
+                            s,
+                            r#"<animate attributeName="fill-opacity" from="0.2" to="0.9" begin="{t:.2}s" dur="0.5s" fill="freeze"/>"#
+                        );
+                    }
+                    s.push_str("</rect>\n");
+                }
+            }
+            s.push_str("</g>\n");
+        },
+    )
+}
+
+/// The scene's layers: the map's circles and the hidden ones.
+fn scene_layers(
+    s: &mut String,
+    world: &MissionWorld,
+    x: &dyn Fn(Real) -> Real,
+    y: &dyn Fn(Real) -> Real,
+    scale: Real,
+    when: &dyn Fn(&str) -> Option<Real>,
+) {
     let rr = world.prior.robot_radius;
     s.push_str("<g id=\"map\">\n");
     for o in &world.prior.obstacles {
@@ -233,8 +335,7 @@ pub fn mission_svg(world: &MissionWorld, r: &MissionResult) -> String {
             if gone && let Some(t) = when(&o.name) {
                 let _ = write!(
                     s,
-                    r#"<animate attributeName="fill-opacity" from="0.85" to="0.12" begin="{:.2}s" dur="0.5s" fill="freeze"/>"#,
-                    t * k
+                    r#"<animate attributeName="fill-opacity" from="0.85" to="0.12" begin="{t:.2}s" dur="0.5s" fill="freeze"/>"#,
                 );
             }
             s.push_str("</circle>\n");
@@ -258,19 +359,70 @@ pub fn mission_svg(world: &MissionWorld, r: &MissionResult) -> String {
             if let Some(t) = when(&o.name) {
                 let _ = write!(
                     s,
-                    r#"<animate attributeName="fill-opacity" from="0.12" to="0.85" begin="{:.2}s" dur="0.5s" fill="freeze"/>"#,
-                    t * k
+                    r#"<animate attributeName="fill-opacity" from="0.12" to="0.85" begin="{t:.2}s" dur="0.5s" fill="freeze"/>"#,
                 );
             }
             s.push_str("</circle>\n");
         }
     }
+    s.push_str("</g>\n");
+}
+
+/// Layers drawn under the plans and tracks: `(svg, x, y, scale, animation time of an
+/// obstacle's discovery)`.
+type Layers<'a> = dyn FnMut(
+        &mut String,
+        &dyn Fn(Real) -> Real,
+        &dyn Fn(Real) -> Real,
+        Real,
+        &dyn Fn(&str) -> Option<Real>,
+    ) + 'a;
+
+fn svg_with(
+    b: &Bounds,
+    y_down: bool,
+    (start, goal): (Point, Point),
+    r: &MissionResult,
+    layers: &mut Layers<'_>,
+) -> String {
+    let (w, h) = (b.max.x - b.min.x, b.max.y - b.min.y);
+    let scale = 800.0 / w.max(h);
+    let (pw, ph) = (w * scale, h * scale);
+    let x = |v: Real| (v - b.min.x) * scale;
+    let y = |v: Real| {
+        if y_down {
+            (v - b.min.y) * scale
+        } else {
+            (b.max.y - v) * scale
+        }
+    };
+    let k = ANIMATION_SECONDS / r.time.max(1e-9);
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{:.0}" height="{:.0}" viewBox="0 0 {pw:.1} {:.1}">"#,
+        pw,
+        ph + 40.0,
+        ph + 40.0
+    );
+    let _ = writeln!(
+        s,
+        r##"<rect x="0" y="0" width="{pw:.1}" height="{ph:.1}" fill="#fafafa" stroke="#333"/>"##
+    );
+    let when = |name: &str| {
+        r.events.iter().find_map(|e| match &e.kind {
+            EventKind::Discovered { obstacle, .. } if obstacle == name => Some(e.t),
+            _ => None,
+        })
+    };
+    let when_scaled = |name: &str| when(name).map(|t| t * k);
+    layers(&mut s, &x, &y, scale, &when_scaled);
     let poly = |pts: &mut dyn Iterator<Item = Point>| {
         pts.map(|p| format!("{:.2},{:.2}", x(p.x), y(p.y)))
             .collect::<Vec<_>>()
             .join(" ")
     };
-    s.push_str("</g>\n<g id=\"plans\">\n");
+    s.push_str("<g id=\"plans\">\n");
     for a in &r.adopted {
         let _ = writeln!(
             s,
@@ -303,7 +455,7 @@ pub fn mission_svg(world: &MissionWorld, r: &MissionResult) -> String {
             );
         }
     }
-    for (p, label) in [(world.prior.start, "S"), (world.prior.goal, "T")] {
+    for (p, label) in [(start, "S"), (goal, "T")] {
         let _ = writeln!(
             s,
             r##"<circle cx="{:.2}" cy="{:.2}" r="5" fill="#2ca02c"/><text x="{:.2}" y="{:.2}" font-size="14" font-family="sans-serif">{label}</text>"##,

@@ -238,6 +238,17 @@ fn cells(map: &OccupancyMap, v: &View) -> Group {
     Group::new().set("id", "obstacles").add(image)
 }
 
+/// The occupancy of `map` as a `data:` URI of a 1-bit PNG, one pixel per cell (occupied grey,
+/// free transparent), cell row 0 at the top when `row0_on_top`.
+pub(crate) fn occupancy_href(map: &OccupancyMap, row0_on_top: bool) -> String {
+    let (w, h) = (map.width, map.height);
+    let png = png::indexed_1bit(w, h, [[0xff; 3], OCCUPIED], [0, 0xff], |i, r| {
+        let j = if row0_on_top { r } else { h - 1 - r };
+        map.occupied[j * w + i]
+    });
+    format!("data:image/png;base64,{}", base64(&png))
+}
+
 /// Standard base64 with padding.
 fn base64(bytes: &[u8]) -> String {
     const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";

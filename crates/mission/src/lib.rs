@@ -17,11 +17,13 @@
 //!
 //! This crate reads no files: front ends load the world file and its scene.
 
+pub mod map;
 pub mod sim;
 pub mod world;
 
+pub use map::{Change, MapUpdate, MapWorld};
 pub use sim::{
     Adopted, Event, EventKind, MissionConfig, MissionError, MissionResult, Policy, Robot, Track,
-    should_switch, simulate,
+    should_switch, simulate, simulate_map,
 };
-pub use world::{MissionWorld, Team, Uav, Ugv, WorldFile};
+pub use world::{AnyWorld, MissionWorld, Team, Uav, Ugv, WorldFile};

@@ -10,7 +10,8 @@ use homospline_optim::{GrowthConfig, Optimizer, Plan, PlanConfig, plan};
 use homospline_spline::{CircleModel, ClearanceModel, EndCondition, Spline, evaluate};
 use thiserror::Error;
 
-use crate::world::{MissionWorld, Uav};
+use crate::map::{MapKnown, MapUpdate, MapWorld};
+use crate::world::{MissionWorld, Team, Uav};
 
 /// How the scouts are used.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -236,6 +237,9 @@ pub struct MissionResult {
     /// Wall time of each re-plan (map update, classes, optimisation), milliseconds: not part
     /// of the deterministic outcome.
     pub replan_ms: Vec<Real>,
+    /// On maps, each update of the known map (what was updated locally, wall times); empty
+    /// on scenes.
+    pub map_updates: Vec<MapUpdate>,
 }
 
 impl MissionResult {
@@ -372,18 +376,113 @@ fn within(p: &Point, range: Real, o: &homospline_geom::Obstacle) -> bool {
         .any(|c| (p - c.center).norm() - c.radius <= range)
 }
 
-/// Everything the mission needs while it runs.
-struct Run<'a> {
-    cfg: &'a MissionConfig,
-    rays: Rays,
-    known: Scene,
-    known_hidden: Vec<String>,
-    known_cleared: Vec<String>,
-    events: Vec<Event>,
-    replan_ms: Vec<Real>,
+/// What the team knows of the world while the mission runs, and the truth its sensors read:
+/// a scene of circles or an occupancy map. The simulation loop is the same for both.
+pub(crate) trait Known {
+    /// The UGV's start.
+    fn start(&self) -> Point;
+    /// The goal.
+    fn goal(&self) -> Point;
+    /// A plan from `from` to the goal on the known world (`None`: no plan).
+    fn plan_from(&self, from: Point, cfg: &PlanConfig) -> Option<Plan>;
+    /// The clearance model of the known world.
+    fn model(&self) -> &dyn ClearanceModel;
+    /// What a robot at `p` seeing `range` discovers now: `(name, hidden)` for each
+    /// difference between the known world and the truth that comes within range (`hidden`:
+    /// something is there that the known world lacks). Marked known; the known world itself
+    /// changes at [`Known::update`].
+    fn sense(&mut self, p: &Point, range: Real) -> Vec<(String, bool)>;
+    /// Applies what was sensed since the last update to the known world; its wall time, ms.
+    fn update(&mut self) -> Real;
+    /// The rays that name classes, when mapped obstacles found gone renamed them.
+    fn renamed(&self) -> Option<Rays>;
 }
 
-impl Run<'_> {
+/// The known world of a scene mission: the prior scene with the obstacles found so far.
+struct SceneKnown<'w> {
+    world: &'w MissionWorld,
+    known: Scene,
+    model: CircleModel,
+    known_hidden: Vec<String>,
+    known_cleared: Vec<String>,
+}
+
+impl Known for SceneKnown<'_> {
+    fn start(&self) -> Point {
+        self.world.prior.start
+    }
+
+    fn goal(&self) -> Point {
+        self.world.prior.goal
+    }
+
+    fn plan_from(&self, from: Point, cfg: &PlanConfig) -> Option<Plan> {
+        let mut scene = self.known.clone();
+        scene.start = from;
+        if scene.validate("mission").is_err() {
+            return None;
+        }
+        plan(&scene, cfg).ok()
+    }
+
+    fn model(&self) -> &dyn ClearanceModel {
+        &self.model
+    }
+
+    fn sense(&mut self, p: &Point, range: Real) -> Vec<(String, bool)> {
+        let world = self.world;
+        let mut found = Vec::new();
+        for o in &world.truth.obstacles {
+            if world.hidden.contains(&o.name)
+                && !self.known_hidden.contains(&o.name)
+                && within(p, range, o)
+            {
+                self.known_hidden.push(o.name.clone());
+                self.known.obstacles.push(o.clone());
+                found.push((o.name.clone(), true));
+            }
+        }
+        for o in &world.prior.obstacles {
+            if world.cleared.contains(&o.name)
+                && !self.known_cleared.contains(&o.name)
+                && within(p, range, o)
+            {
+                self.known_cleared.push(o.name.clone());
+                self.known.obstacles.retain(|k| k.name != o.name);
+                found.push((o.name.clone(), false));
+            }
+        }
+        found
+    }
+
+    fn update(&mut self) -> Real {
+        let t0 = Instant::now();
+        self.model = CircleModel::new(self.known.circles());
+        t0.elapsed().as_secs_f64() * 1e3
+    }
+
+    fn renamed(&self) -> Option<Rays> {
+        // Classes are named by the obstacles of the map that are still there.
+        let mut named = self.world.prior.clone();
+        named
+            .obstacles
+            .retain(|o| !self.known_cleared.contains(&o.name));
+        Some(Rays::for_scene(&named))
+    }
+}
+
+/// Everything the mission needs while it runs.
+struct Run<'a, K: Known> {
+    cfg: &'a MissionConfig,
+    rays: Rays,
+    known: K,
+    events: Vec<Event>,
+    replan_ms: Vec<Real>,
+    /// Wall time of map updates not yet counted in a re-plan.
+    pending_ms: Real,
+}
+
+impl<K: Known> Run<'_, K> {
     fn event(&mut self, t: Real, at: Point, kind: EventKind) {
         self.events.push(Event { t, at, kind });
     }
@@ -418,11 +517,6 @@ impl Run<'_> {
 
     /// The collision-free classes of a plan from `from` on the known map, best first.
     fn routes_from(&mut self, from: Point, heading: Option<Vector>) -> Vec<Route> {
-        let mut scene = self.known.clone();
-        scene.start = from;
-        if scene.validate("mission").is_err() {
-            return Vec::new();
-        }
         let cfg = PlanConfig {
             start_heading: heading,
             classes: match heading {
@@ -432,8 +526,9 @@ impl Run<'_> {
             ..self.cfg.plan.clone()
         };
         let t0 = Instant::now();
-        let p: Option<Plan> = plan(&scene, &cfg).ok();
-        self.replan_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+        let p: Option<Plan> = self.known.plan_from(from, &cfg);
+        let ms = t0.elapsed().as_secs_f64() * 1e3 + std::mem::take(&mut self.pending_ms);
+        self.replan_ms.push(ms);
         p.map(|p| {
             p.classes
                 .into_iter()
@@ -447,10 +542,6 @@ impl Run<'_> {
                 .collect()
         })
         .unwrap_or_default()
-    }
-
-    fn model(&self) -> CircleModel {
-        CircleModel::new(self.known.circles())
     }
 
     /// The cost of driving the rest of `route` from arc length `s` on the known map: the
@@ -479,7 +570,7 @@ impl Run<'_> {
         pts.dedup();
         let end = EndCondition::StartHeading { direction: heading };
         match Spline::new(&pts, self.cfg.plan.growth.parametrization, end) {
-            Ok(sp) => evaluate(&sp, &self.model(), &self.cfg.plan.growth.cost).total,
+            Ok(sp) => evaluate(&sp, self.known.model(), &self.cfg.plan.growth.cost).total,
             Err(_) => Real::INFINITY,
         }
     }
@@ -488,6 +579,67 @@ impl Run<'_> {
 /// Simulates the mission in `world` with `cfg`. Deterministic: the same world and settings
 /// give the same events and tracks (only `replan_ms` varies).
 pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResult, MissionError> {
+    check_config(cfg)?;
+    // The scene's danger points, critical points and hazards join the cost of every plan.
+    let plan_cfg = PlanConfig {
+        growth: GrowthConfig {
+            cost: cfg.plan.growth.cost.clone().with_scene_points(&world.prior),
+            ..cfg.plan.growth.clone()
+        },
+        ..cfg.plan.clone()
+    };
+    let cfg = &MissionConfig {
+        plan: plan_cfg,
+        ..cfg.clone()
+    };
+    // Hindsight: the best plan on the true world.
+    let hindsight_length = plan(&world.truth, &cfg.plan)
+        .ok()
+        .and_then(|p| p.best.map(|b| p.classes[b - 1].length));
+    let known = SceneKnown {
+        world,
+        known: world.prior.clone(),
+        model: CircleModel::new(world.prior.circles()),
+        known_hidden: Vec::new(),
+        known_cleared: Vec::new(),
+    };
+    let rays = Rays::for_scene(&world.prior);
+    let (result, _) = run_mission(known, rays, &world.name, &world.team, hindsight_length, cfg)?;
+    Ok(result)
+}
+
+/// Simulates the mission on an occupancy map world: the same loop as [`simulate`], with the
+/// known map updated locally at each discovery (`MissionResult::map_updates`). The planner
+/// takes the map defaults of `homospline_maps::map_config` for via-points, the class search
+/// and the evaluation budget.
+pub fn simulate_map(world: &MapWorld, cfg: &MissionConfig) -> Result<MissionResult, MissionError> {
+    check_config(cfg)?;
+    let defaults = homospline_maps::map_config();
+    let mut plan_cfg = cfg.plan.clone();
+    plan_cfg.growth.max_via_points = defaults.growth.max_via_points;
+    plan_cfg.growth.max_evaluations_per_round = defaults.growth.max_evaluations_per_round;
+    plan_cfg.search.one_path_per_state = defaults.search.one_path_per_state;
+    plan_cfg.search.max_expansions = defaults.search.max_expansions;
+    let cfg = &MissionConfig {
+        plan: plan_cfg,
+        ..cfg.clone()
+    };
+    // Hindsight: the best plan on the true map.
+    let hindsight_length = homospline_maps::PreparedMap::new(&world.truth)
+        .ok()
+        .and_then(|m| m.plan(world.start, world.goal, &cfg.plan).ok())
+        .and_then(|p| p.best.map(|b| p.classes[b - 1].length));
+    let known =
+        MapKnown::new(world).map_err(|e| MissionError::Config(format!("{}: {e}", world.name)))?;
+    let rays = known.naming_rays();
+    let (mut result, known) =
+        run_mission(known, rays, &world.name, &world.team, hindsight_length, cfg)?;
+    result.map_updates = known.updates;
+    Ok(result)
+}
+
+/// The settings' ranges.
+fn check_config(cfg: &MissionConfig) -> Result<(), MissionError> {
     if cfg.replan_classes == 0 || cfg.plan.classes == 0 {
         return Err(MissionError::Config(
             "--classes: plans need at least 1 class".into(),
@@ -516,16 +668,29 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
             cfg.min_switch_interval
         )));
     }
-    let prior = &world.prior;
-    let ugv = world.team.ugv.clone();
+    Ok(())
+}
+
+/// The mission loop, on any known world: offline plan, then time steps of driving, flying,
+/// sensing, map updates, re-checks and re-plans.
+fn run_mission<K: Known>(
+    known: K,
+    rays: Rays,
+    name: &str,
+    team: &Team,
+    hindsight_length: Option<Real>,
+    cfg: &MissionConfig,
+) -> Result<(MissionResult, K), MissionError> {
+    let (start, goal) = (known.start(), known.goal());
+    let ugv = team.ugv.clone();
     let n_scouts = match cfg.policy {
         Policy::None => 0,
-        _ => cfg.scouts.unwrap_or(world.team.uavs.len()),
+        _ => cfg.scouts.unwrap_or(team.uavs.len()),
     };
     let mut scouts: Vec<Scout> = (0..n_scouts)
         .map(|i| {
-            let uav = world.team.uavs.get(i).cloned().unwrap_or(Uav {
-                start: prior.start,
+            let uav = team.uavs.get(i).cloned().unwrap_or(Uav {
+                start,
                 speed: 3.0,
                 sensor_range: 10.0,
             });
@@ -536,7 +701,7 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
                 flown: 0.0,
                 track: Track {
                     name: format!("uav-{i}"),
-                    samples: vec![(0.0, world.team.uavs.get(i).map_or(prior.start, |u| u.start))],
+                    samples: vec![(0.0, team.uavs.get(i).map_or(start, |u| u.start))],
                 },
                 jobs: Vec::new(),
             }
@@ -544,7 +709,7 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
         .collect();
     let max_time = cfg
         .max_time
-        .unwrap_or_else(|| 20.0 * (prior.goal - prior.start).norm() / ugv.speed + 60.0);
+        .unwrap_or_else(|| 20.0 * (goal - start).norm() / ugv.speed + 60.0);
     if !(max_time.is_finite() && max_time > 0.0) || max_time / cfg.dt > MAX_STEPS {
         return Err(MissionError::Config(format!(
             "the mission would take {:.0} time steps (time limit {max_time:.0} s over --dt {}); at most {MAX_STEPS:.0}: raise --dt or the UGV's speed",
@@ -552,44 +717,27 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
             cfg.dt
         )));
     }
-    // The scene's danger points, critical points and hazards join the cost of every plan.
-    let plan_cfg = PlanConfig {
-        growth: GrowthConfig {
-            cost: cfg.plan.growth.cost.clone().with_scene_points(prior),
-            ..cfg.plan.growth.clone()
-        },
-        ..cfg.plan.clone()
-    };
-    let cfg = &MissionConfig {
-        plan: plan_cfg,
-        ..cfg.clone()
-    };
     let mut run = Run {
         cfg,
-        rays: Rays::for_scene(prior),
-        known: prior.clone(),
-        known_hidden: Vec::new(),
-        known_cleared: Vec::new(),
+        rays,
+        known,
         events: Vec::new(),
         replan_ms: Vec::new(),
+        pending_ms: 0.0,
     };
-    // Hindsight: the best plan on the true world.
-    let hindsight_length = plan(&world.truth, &cfg.plan)
-        .ok()
-        .and_then(|p| p.best.map(|b| p.classes[b - 1].length));
     let mut t = 0.0;
     let mut ugv_track = Track {
         name: "ugv".into(),
-        samples: vec![(0.0, prior.start)],
+        samples: vec![(0.0, start)],
     };
     let mut adopted = Vec::new();
     let (mut replans, mut switches) = (0, 0);
     let (mut driven, mut abandoned) = (0.0, 0.0);
     let mut last_switch = Real::NEG_INFINITY;
     // Offline: the classes on the prior map.
-    let offline = run.routes_from(prior.start, None);
+    let offline = run.routes_from(start, None);
     run.replan_ms.clear();
-    let finish = |run: Run<'_>,
+    let finish = |run: Run<'_, K>,
                   reached: bool,
                   t: Real,
                   driven: Real,
@@ -597,8 +745,8 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
                   scouts: Vec<Scout>,
                   adopted: Vec<Adopted>,
                   (replans, switches, abandoned): (usize, usize, Real)| {
-        MissionResult {
-            world: world.name.clone(),
+        let result = MissionResult {
+            world: name.to_owned(),
             policy: cfg.policy,
             scouts: scouts.len(),
             reached,
@@ -614,12 +762,14 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
             uavs: scouts.into_iter().map(|s| s.track).collect(),
             adopted,
             replan_ms: run.replan_ms,
-        }
+            map_updates: Vec::new(),
+        };
+        (result, run.known)
     };
     let Some(first) = offline.first().cloned() else {
         run.event(
             0.0,
-            prior.start,
+            start,
             EventKind::Stuck {
                 reason: "no collision-free class on the prior map".into(),
             },
@@ -637,7 +787,7 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
     };
     run.event(
         0.0,
-        prior.start,
+        start,
         EventKind::Planned {
             classes: offline.len(),
             class: first.class.clone(),
@@ -692,41 +842,19 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
                 )
                 .collect();
         for (by, p, range) in observers {
-            for o in &world.truth.obstacles {
-                if world.hidden.contains(&o.name)
-                    && !run.known_hidden.contains(&o.name)
-                    && within(&p, range, o)
-                {
-                    run.known_hidden.push(o.name.clone());
-                    run.known.obstacles.push(o.clone());
-                    run.event(
-                        t,
-                        pos,
-                        EventKind::Discovered {
-                            obstacle: o.name.clone(),
-                            hidden: true,
-                            by,
-                        },
-                    );
+            for (obstacle, hidden) in run.known.sense(&p, range) {
+                run.event(
+                    t,
+                    pos,
+                    EventKind::Discovered {
+                        obstacle,
+                        hidden,
+                        by,
+                    },
+                );
+                if hidden {
                     found_hidden = true;
-                }
-            }
-            for o in &prior.obstacles {
-                if world.cleared.contains(&o.name)
-                    && !run.known_cleared.contains(&o.name)
-                    && within(&p, range, o)
-                {
-                    run.known_cleared.push(o.name.clone());
-                    run.known.obstacles.retain(|k| k.name != o.name);
-                    run.event(
-                        t,
-                        pos,
-                        EventKind::Discovered {
-                            obstacle: o.name.clone(),
-                            hidden: false,
-                            by,
-                        },
-                    );
+                } else {
                     found_cleared = true;
                 }
             }
@@ -745,20 +873,16 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
             }
             continue;
         }
-        if found_cleared {
-            // Classes are named by the obstacles of the map that are still there.
-            let mut named = prior.clone();
-            named
-                .obstacles
-                .retain(|o| !run.known_cleared.contains(&o.name));
-            run.rays = Rays::for_scene(&named);
+        run.pending_ms += run.known.update();
+        if found_cleared && let Some(rays) = run.known.renamed() {
+            run.rays = rays;
             route.class = run.rays.signature(&route.line.pts).to_string();
             for a in &mut alternatives {
                 a.class = run.rays.signature(&a.line.pts).to_string();
             }
         }
-        let model = run.model();
-        let clear = |pts: &[Point]| pts.len() < 2 || model.polyline_clearance(pts) > 0.0;
+        let known = &run.known;
+        let clear = |pts: &[Point]| pts.len() < 2 || known.model().polyline_clearance(pts) > 0.0;
         // Alternatives found blocked are closed.
         let mut closed = Vec::new();
         alternatives.retain(|a| {
@@ -768,12 +892,12 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
             }
             ok
         });
-        for c in closed {
-            run.event(t, pos, EventKind::ClassClosed { class: c });
-        }
         let heading = route.line.heading(s);
         let remaining = route.line.slice(s, route.line.length());
         let blocked = !clear(&remaining);
+        for c in closed {
+            run.event(t, pos, EventKind::ClassClosed { class: c });
+        }
         let mut replanned = false;
         if blocked {
             run.event(

@@ -55,16 +55,41 @@ impl Default for Team {
 pub struct WorldFile {
     /// Name (the file stem when the file gives none).
     pub name: String,
-    /// The prior scene's path as written (relative to the world file).
+    /// The prior scene's path as written (relative to the world file); empty for a map world.
     pub scene: String,
+    /// For a map world: the prior and truth maps and the UGV's start and goal.
+    pub map: Option<MapSpec>,
     /// Obstacles in the world but not on the map.
     pub hidden_obstacles: Vec<Obstacle>,
     /// Names of obstacles on the map that are gone from the world.
     pub cleared_obstacles: Vec<String>,
     /// The robots.
     pub team: Team,
-    source: String,
-    lines: Vec<(String, u64)>,
+    pub(crate) source: String,
+    pub(crate) lines: Vec<(String, u64)>,
+}
+
+/// The map form of a world file: an occupancy map as the prior, the truth map beside it, and
+/// the UGV's start and goal in map coordinates.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapSpec {
+    /// The prior map's path as written (relative to the world file).
+    pub map: String,
+    /// The truth map's path as written.
+    pub truth_map: String,
+    /// The UGV's start.
+    pub start: Point,
+    /// The goal.
+    pub goal: Point,
+}
+
+/// A world of either form, as a front end loads it.
+#[derive(Clone, Debug)]
+pub enum AnyWorld {
+    /// A prior scene of circles.
+    Scene(MissionWorld),
+    /// A prior occupancy map and its truth map.
+    Map(crate::map::MapWorld),
 }
 
 /// A world ready to simulate: the prior map, the truth, the team.
@@ -91,7 +116,16 @@ struct RawWorld {
     version: Option<Spanned<u32>>,
     #[serde(default)]
     name: Option<String>,
-    scene: Spanned<String>,
+    #[serde(default)]
+    scene: Option<Spanned<String>>,
+    #[serde(default)]
+    map: Option<Spanned<String>>,
+    #[serde(default)]
+    truth_map: Option<Spanned<String>>,
+    #[serde(default)]
+    start: Option<Spanned<[Real; 2]>>,
+    #[serde(default)]
+    goal: Option<Spanned<[Real; 2]>>,
     #[serde(default)]
     hidden_obstacles: Vec<Spanned<RawObstacle>>,
     #[serde(default)]
@@ -194,15 +228,134 @@ impl WorldFile {
                 ),
             ));
         }
-        let mut lines = vec![("scene".to_owned(), line_of(&raw.scene))];
-        if raw.scene.value.trim().is_empty() {
-            return Err(error(
-                source,
-                Some(line_of(&raw.scene)),
-                Some("scene"),
-                "empty path (expected the prior scene's file)".into(),
-            ));
-        }
+        let mut lines = Vec::new();
+        let map = match (&raw.scene, &raw.map) {
+            (None, None) => {
+                return Err(error(
+                    source,
+                    None,
+                    Some("scene"),
+                    "missing: a world needs `scene` (a scene file) or `map` (an occupancy map)"
+                        .into(),
+                ));
+            }
+            (Some(_), Some(m)) => {
+                return Err(error(
+                    source,
+                    Some(line_of(m)),
+                    Some("map"),
+                    "a world has either `scene` or `map`, not both".into(),
+                ));
+            }
+            (Some(sc), None) => {
+                lines.push(("scene".to_owned(), line_of(sc)));
+                if sc.value.trim().is_empty() {
+                    return Err(error(
+                        source,
+                        Some(line_of(sc)),
+                        Some("scene"),
+                        "empty path (expected the prior scene's file)".into(),
+                    ));
+                }
+                for (field, line) in [
+                    ("truth_map", raw.truth_map.as_ref().map(line_of)),
+                    ("start", raw.start.as_ref().map(line_of)),
+                    ("goal", raw.goal.as_ref().map(line_of)),
+                ] {
+                    if let Some(l) = line {
+                        return Err(error(
+                            source,
+                            Some(l),
+                            Some(field),
+                            "only for a map world (`map`); a scene has its own".into(),
+                        ));
+                    }
+                }
+                None
+            }
+            (None, Some(m)) => {
+                lines.push(("map".to_owned(), line_of(m)));
+                let map_line = line_of(m);
+                let missing = |field: &str, what: &str| {
+                    error(
+                        source,
+                        Some(map_line),
+                        Some(field),
+                        format!("missing: a map world needs {what}"),
+                    )
+                };
+                if m.value.trim().is_empty() {
+                    return Err(error(
+                        source,
+                        Some(map_line),
+                        Some("map"),
+                        "empty path (expected the prior map's file)".into(),
+                    ));
+                }
+                let truth = raw
+                    .truth_map
+                    .as_ref()
+                    .ok_or_else(|| missing("truth_map", "the truth map beside the prior"))?;
+                lines.push(("truth_map".to_owned(), line_of(truth)));
+                if truth.value.trim().is_empty() {
+                    return Err(error(
+                        source,
+                        Some(line_of(truth)),
+                        Some("truth_map"),
+                        "empty path (expected the truth map's file)".into(),
+                    ));
+                }
+                let mut ends = [Point::origin(); 2];
+                for (k, (field, v)) in [("start", &raw.start), ("goal", &raw.goal)]
+                    .into_iter()
+                    .enumerate()
+                {
+                    let v = v
+                        .as_ref()
+                        .ok_or_else(|| missing(field, "the UGV's start and goal"))?;
+                    lines.push((field.to_owned(), line_of(v)));
+                    let [x, y] = v.value;
+                    if !(x.is_finite() && y.is_finite()) {
+                        return Err(error(
+                            source,
+                            Some(line_of(v)),
+                            Some(field),
+                            format!("({x}, {y}) must be finite"),
+                        ));
+                    }
+                    ends[k] = Point::new(x, y);
+                }
+                for (field, v) in [
+                    ("hidden_obstacles", raw.hidden_obstacles.first()),
+                    ("cleared_obstacles", None),
+                ] {
+                    if let Some(v) = v {
+                        return Err(error(
+                            source,
+                            Some(line_of(v)),
+                            Some(field),
+                            "not for a map world: the truth map holds what the map does not know"
+                                .into(),
+                        ));
+                    }
+                }
+                if let Some(c) = raw.cleared_obstacles.first() {
+                    return Err(error(
+                        source,
+                        Some(line_of(c)),
+                        Some("cleared_obstacles"),
+                        "not for a map world: the truth map holds what the map does not know"
+                            .into(),
+                    ));
+                }
+                Some(MapSpec {
+                    map: m.value.clone(),
+                    truth_map: truth.value.clone(),
+                    start: ends[0],
+                    goal: ends[1],
+                })
+            }
+        };
         let mut hidden = Vec::with_capacity(raw.hidden_obstacles.len());
         for (i, o) in raw.hidden_obstacles.iter().enumerate() {
             let field = format!("hidden_obstacles[{i}]");
@@ -327,7 +480,8 @@ impl WorldFile {
         });
         Ok(Self {
             name,
-            scene: raw.scene.value,
+            scene: raw.scene.map(|s| s.value).unwrap_or_default(),
+            map,
             hidden_obstacles: hidden,
             cleared_obstacles: cleared,
             team,
@@ -336,7 +490,8 @@ impl WorldFile {
         })
     }
 
-    fn line(&self, field: &str) -> Option<u64> {
+    /// Where a field is in the file.
+    pub(crate) fn line(&self, field: &str) -> Option<u64> {
         self.lines.iter().find(|(f, _)| f == field).map(|(_, l)| *l)
     }
 
@@ -423,6 +578,7 @@ impl MissionWorld {
         WorldFile {
             name: name.to_owned(),
             scene: prior.name.clone(),
+            map: None,
             hidden_obstacles: hidden,
             cleared_obstacles: cleared,
             team,
@@ -528,6 +684,11 @@ pub fn load(
         )
     })?;
     let file = WorldFile::from_str(text, &name).map_err(|e| e.to_string())?;
+    if file.map.is_some() {
+        return Err(format!(
+            "{name}: a map world (`map`): load it with `load_any`"
+        ));
+    }
     let scene_path = path
         .parent()
         .unwrap_or(std::path::Path::new("."))
@@ -537,4 +698,45 @@ pub fn load(
     let prior = Scene::from_bytes(&scene_bytes, &scene_path.display().to_string())
         .map_err(|e| e.to_string())?;
     file.with_prior(prior).map_err(|e| e.to_string())
+}
+
+/// Reads a world file of either form and the files it names (relative to the world file): a
+/// scene, or a prior map and its truth map (MovingAI `.map` or ROS map YAML, as
+/// `homospline plan MAP` reads them). The caller reads the files (`read`). The error is the
+/// message a front end shows.
+pub fn load_any(
+    path: &std::path::Path,
+    read: impl Fn(&std::path::Path) -> std::io::Result<Vec<u8>>,
+) -> Result<AnyWorld, String> {
+    let name = path.display().to_string();
+    let bytes = read(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
+    let text = std::str::from_utf8(&bytes).map_err(|e| {
+        format!(
+            "{name}: not a text file: invalid UTF-8 at byte {}",
+            e.valid_up_to()
+        )
+    })?;
+    let file = WorldFile::from_str(text, &name).map_err(|e| e.to_string())?;
+    let Some(spec) = file.map.clone() else {
+        return load(path, read).map(AnyWorld::Scene);
+    };
+    let dir = path.parent().unwrap_or(std::path::Path::new("."));
+    let load_map = |field: &str, file_name: &str| {
+        let p = dir.join(file_name);
+        let at = file.line(field).map_or(String::new(), |l| format!(":{l}"));
+        match homospline_maps::input::load(&p, &read)
+            .map_err(|e| format!("{name}{at}: {field}: {e}"))?
+        {
+            homospline_maps::input::Input::Map(m) => Ok(m),
+            homospline_maps::input::Input::Scene(_) => Err(format!(
+                "{name}{at}: {field}: {} is a scene, not an occupancy map (.map or ROS map YAML)",
+                p.display()
+            )),
+        }
+    };
+    let prior = load_map("map", &spec.map)?;
+    let truth = load_map("truth_map", &spec.truth_map)?;
+    file.with_maps(prior, truth, &spec)
+        .map(AnyWorld::Map)
+        .map_err(|e| e.to_string())
 }

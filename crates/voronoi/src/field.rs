@@ -61,7 +61,10 @@ pub fn obstacle_keys(grid: &Grid) -> Vec<u32> {
 }
 
 /// Bounding box `(i0, j0, i1, j1)` of each obstacle's cells, by key.
-type Boxes = std::collections::BTreeMap<u32, (usize, usize, usize, usize)>;
+/// A bounding box of cells `(i0, j0, i1, j1)`.
+type Bbox = (usize, usize, usize, usize);
+
+type Boxes = std::collections::BTreeMap<u32, Bbox>;
 
 /// [`obstacle_keys`] and the obstacles' bounding boxes, both from the runs of occupied cells.
 fn keys_and_boxes(grid: &Grid) -> (Vec<u32>, Boxes) {
@@ -417,6 +420,130 @@ impl DistanceField {
         let (wi1, wj1) = ((i1 + r + 1).min(w), (j1 + r + 1).min(h));
         let ww = wi1 - wi0;
         // The new cells as a dense source array over the window.
+        let mut src = vec![u32::MAX; ww * (wj1 - wj0)];
+        for (&(i, j), &kk) in &key_of {
+            src[(j - wj0) * ww + (i - wi0)] = kk;
+        }
+        let (vals, _) = transform(wi0, wi1, wj0, wj1, |y, out| {
+            out.copy_from_slice(&src[y * ww..(y + 1) * ww]);
+        });
+        for y in wj0..wj1 {
+            for x in wi0..wi1 {
+                let nv = vals[(y - wj0) * ww + (x - wi0)];
+                let c = &mut self.val[y * w + x];
+                if nv < *c {
+                    *c = nv;
+                }
+            }
+        }
+        Ok(ww * (wj1 - wj0))
+    }
+
+    /// Marks `cells` occupied in `grid` and updates the field locally, like
+    /// [`DistanceField::add_obstacle`], but the new cells may also join an existing obstacle
+    /// (a blockage across a passage touches the passage's walls). Each group of new cells
+    /// (8-connected among themselves) that touches no obstacle becomes an obstacle of its
+    /// own; one that touches exactly one obstacle whose key is below the raster index of
+    /// every cell of the group joins it under that key. Then no obstacle is renamed, so every
+    /// cell's value can only fall to its distance to the new cells, and only cells within
+    /// `sqrt(max d2) + 1` of them are visited. Cells already occupied are ignored. Refused
+    /// with [`UpdateError::Touches`], before anything changes, when a group joins two
+    /// obstacles or would become an obstacle's smallest cell (obstacles renamed: rebuild).
+    /// Returns the number of cells visited.
+    pub fn add_cells(
+        &mut self,
+        grid: &mut Grid,
+        cells: &[(usize, usize)],
+    ) -> Result<usize, UpdateError> {
+        let (w, h) = (self.width, self.height);
+        for &(i, j) in cells {
+            if i == 0 || j == 0 || i + 1 >= w || j + 1 >= h {
+                return Err(UpdateError::OutOfGrid(i, j));
+            }
+        }
+        let mut sorted: Vec<(usize, usize)> = cells
+            .iter()
+            .copied()
+            .filter(|&(i, j)| !grid.occupied(i, j))
+            .collect();
+        sorted.sort_by_key(|&(i, j)| (j, i));
+        sorted.dedup();
+        if sorted.is_empty() {
+            return Ok(0);
+        }
+        let new: std::collections::HashSet<(usize, usize)> = sorted.iter().copied().collect();
+        // Groups of new cells, in raster order of their first cell, with the key each takes.
+        let mut key_of: std::collections::HashMap<(usize, usize), u32> =
+            std::collections::HashMap::new();
+        // (key, bounding box, joined an existing obstacle)
+        let mut groups: Vec<(u32, Bbox, bool)> = Vec::new();
+        for &start in &sorted {
+            if key_of.contains_key(&start) {
+                continue;
+            }
+            let own = grid.index(start.0, start.1) as u32;
+            let mut members = vec![start];
+            key_of.insert(start, own);
+            let mut touched: Option<(u32, (usize, usize))> = None;
+            let mut k = 0;
+            while k < members.len() {
+                let (i, j) = members[k];
+                k += 1;
+                for dj in -1i64..=1 {
+                    for di in -1i64..=1 {
+                        let n = ((i as i64 + di) as usize, (j as i64 + dj) as usize);
+                        if new.contains(&n) {
+                            if let std::collections::hash_map::Entry::Vacant(e) = key_of.entry(n) {
+                                e.insert(own);
+                                members.push(n);
+                            }
+                        } else if grid.occupied(n.0, n.1) {
+                            let other = self.nearest(n.0, n.1);
+                            match touched {
+                                Some((t, _)) if t != other => {
+                                    return Err(UpdateError::Touches(n.0, n.1));
+                                }
+                                _ => touched = Some((other, n)),
+                            }
+                        }
+                    }
+                }
+            }
+            let mut bx = (start.0, start.1, start.0, start.1);
+            for &(i, j) in &members {
+                bx = (bx.0.min(i), bx.1.min(j), bx.2.max(i), bx.3.max(j));
+            }
+            // `own` is the group's smallest raster index (its first cell in raster order).
+            let key = match touched {
+                None => own,
+                Some((t, _)) if t < own => t,
+                Some((_, (i, j))) => return Err(UpdateError::Touches(i, j)),
+            };
+            for m in &members {
+                key_of.insert(*m, key);
+            }
+            groups.push((key, bx, touched.is_some()));
+        }
+        for &(i, j) in &sorted {
+            grid.set(i, j, true);
+        }
+        for (key, bx, joined) in groups {
+            let b = if joined {
+                let o = self.boxes.get(&key).copied().unwrap_or(bx);
+                (o.0.min(bx.0), o.1.min(bx.1), o.2.max(bx.2), o.3.max(bx.3))
+            } else {
+                bx
+            };
+            self.boxes.insert(key, b);
+        }
+        let (mut i0, mut j0, mut i1, mut j1) = (w, h, 0, 0);
+        for &(i, j) in &sorted {
+            (i0, j0, i1, j1) = (i0.min(i), j0.min(j), i1.max(i), j1.max(j));
+        }
+        let r = (self.max_d2 as f64).sqrt().ceil() as usize + 1;
+        let (wi0, wj0) = (i0.saturating_sub(r), j0.saturating_sub(r));
+        let (wi1, wj1) = ((i1 + r + 1).min(w), (j1 + r + 1).min(h));
+        let ww = wi1 - wi0;
         let mut src = vec![u32::MAX; ww * (wj1 - wj0)];
         for (&(i, j), &kk) in &key_of {
             src[(j - wj0) * ww + (i - wi0)] = kk;

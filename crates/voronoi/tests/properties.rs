@@ -137,6 +137,48 @@ proptest! {
             prop_assert_eq!(a, b);
         }
     }
+
+    /// Random discs added with `add_cells` (which may join the wall or an obstacle) and
+    /// obstacles removed: the field equals a full rebuild after every step, and a refused
+    /// addition changes nothing.
+    #[test]
+    fn added_cells_equal_full_rebuilds(
+        ops in prop::collection::vec((0u8..3, 1usize..39, 1usize..29, 0usize..4, any::<prop::sample::Index>()), 1..14),
+    ) {
+        let (w, h) = (40, 30);
+        let mut grid = Grid::new(w, h, Point::origin(), 1.0).unwrap();
+        let mut field = DistanceField::build(&grid);
+        for (op, ci, cj, r, pick) in ops {
+            if op < 2 {
+                let cells: Vec<(usize, usize)> = (cj.saturating_sub(r)..=(cj + r).min(h - 2))
+                    .flat_map(|j| (ci.saturating_sub(r)..=(ci + r).min(w - 2)).map(move |i| (i, j)))
+                    .filter(|&(i, j)| i >= 1 && j >= 1 && (i as i64 - ci as i64).pow(2) + (j as i64 - cj as i64).pow(2) <= (r * r) as i64)
+                    .collect();
+                let before = (grid.clone(), field.clone());
+                if field.add_cells(&mut grid, &cells).is_err() {
+                    prop_assert!(grid == before.0 && field == before.1, "a refused addition changed the field");
+                    continue;
+                }
+            } else {
+                let keys: Vec<u32> = field.obstacles().filter(|&k| k != field.wall_key()).collect();
+                if keys.is_empty() {
+                    continue;
+                }
+                field.remove_obstacle(&mut grid, keys[pick.index(keys.len())]).unwrap();
+            }
+            let rebuilt = DistanceField::build(&grid);
+            for j in 0..h {
+                for i in 0..w {
+                    prop_assert_eq!((field.d2(i, j), field.nearest(i, j)), (rebuilt.d2(i, j), rebuilt.nearest(i, j)), "cell ({}, {})", i, j);
+                }
+            }
+            let mut keys: Vec<u32> = field.obstacles().collect();
+            let mut fresh: Vec<u32> = rebuilt.obstacles().collect();
+            keys.sort_unstable();
+            fresh.sort_unstable();
+            prop_assert_eq!(keys, fresh);
+        }
+    }
 }
 
 #[test]

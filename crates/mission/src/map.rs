@@ -1,0 +1,465 @@
+//! Missions on occupancy maps: a prior map and a truth map of the same size. The cells whose
+//! state differs are grouped into changes (8-connected cells that became occupied, or
+//! free); a change is discovered when one of its cells comes within a robot's sensor range.
+//! The known map is then updated locally: the brushfire by
+//! [`DistanceField::add_cells`] (a blockage, even across a passage) or
+//! [`DistanceField::remove_obstacle`] (a whole obstacle gone), else rebuilt; the complete
+//! Voronoi graph and the clearance model are rebuilt from the updated field.
+
+use std::time::Instant;
+
+use homospline_geom::{Point, Real, SceneError};
+use homospline_homotopy::Rays;
+use homospline_maps::{GridModel, MapError, OccupancyMap};
+use homospline_optim::{Plan, PlanConfig, World, plan_world};
+use homospline_spline::ClearanceModel;
+use homospline_voronoi::{BuildError, DistanceField, Grid, MapGraph};
+
+use crate::sim::Known;
+use crate::world::{MapSpec, Team, WorldFile};
+
+/// Cells that differ between the prior map and the truth, discovered together.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Change {
+    /// `blocked-N` (cells occupied in the truth, free on the map) or `freed-N`.
+    pub name: String,
+    /// Whether the cells are occupied in the truth (a blockage) rather than free.
+    pub blocked: bool,
+    /// The cells `(i, j)` of the map (column, row), in raster order.
+    pub cells: Vec<(usize, usize)>,
+}
+
+/// A map world ready to simulate.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapWorld {
+    /// Name.
+    pub name: String,
+    /// What the robots know at the start.
+    pub prior: OccupancyMap,
+    /// What is there (same size, cell and origin).
+    pub truth: OccupancyMap,
+    /// The UGV's start, map coordinates.
+    pub start: Point,
+    /// The goal.
+    pub goal: Point,
+    /// The robots.
+    pub team: Team,
+    /// Where the maps differ, in raster order of their first cells.
+    pub changes: Vec<Change>,
+}
+
+/// One update of the known map at a discovery.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapUpdate {
+    /// Cells changed.
+    pub cells: usize,
+    /// The brushfire was updated locally (`false`: rebuilt, obstacles would be renamed).
+    pub local: bool,
+    /// Wall time of the brushfire's update, ms.
+    pub field_ms: Real,
+    /// Wall time of the graph's rebuild from the field, ms.
+    pub graph_ms: Real,
+    /// Wall time of the clearance model's rebuild, ms.
+    pub model_ms: Real,
+}
+
+impl MapWorld {
+    /// A world built in code or from a file: checks that the maps have the same size, cell
+    /// and origin, that start and goal are free on both, and that the scouts start on the
+    /// map. `source` names the world in errors.
+    pub fn new(
+        name: &str,
+        prior: OccupancyMap,
+        truth: OccupancyMap,
+        start: Point,
+        goal: Point,
+        team: Team,
+    ) -> Result<Self, SceneError> {
+        WorldFile {
+            name: name.to_owned(),
+            scene: String::new(),
+            map: None,
+            hidden_obstacles: Vec::new(),
+            cleared_obstacles: Vec::new(),
+            team: team.clone(),
+            source: name.to_owned(),
+            lines: Vec::new(),
+        }
+        .with_maps(
+            prior,
+            truth,
+            &MapSpec {
+                map: String::new(),
+                truth_map: String::new(),
+                start,
+                goal,
+            },
+        )
+    }
+}
+
+impl WorldFile {
+    /// Joins the file with its prior and truth maps and checks them together.
+    pub fn with_maps(
+        self,
+        prior: OccupancyMap,
+        truth: OccupancyMap,
+        spec: &MapSpec,
+    ) -> Result<MapWorld, SceneError> {
+        let err = |field: &str, problem: String| SceneError {
+            source_name: self.source.clone(),
+            line: self.line(field),
+            column: None,
+            field: Some(field.to_owned()),
+            problem,
+        };
+        let named = |f: &str| {
+            if f.is_empty() {
+                String::new()
+            } else {
+                format!(" ({f})")
+            }
+        };
+        if (truth.width, truth.height) != (prior.width, prior.height) {
+            return Err(err(
+                "truth_map",
+                format!(
+                    "the truth map{} is {} x {} cells; the prior map{} is {} x {}: they must be the same size",
+                    named(&spec.truth_map),
+                    truth.width,
+                    truth.height,
+                    named(&spec.map),
+                    prior.width,
+                    prior.height
+                ),
+            ));
+        }
+        if (truth.cell - prior.cell).abs() > 1e-9 * prior.cell
+            || (truth.origin - prior.origin).norm() > 1e-9 * prior.cell
+            || truth.y_down != prior.y_down
+        {
+            return Err(err(
+                "truth_map",
+                format!(
+                    "the truth map{} has another cell size, origin or axis than the prior map{}",
+                    named(&spec.truth_map),
+                    named(&spec.map)
+                ),
+            ));
+        }
+        for (field, p) in [("start", spec.start), ("goal", spec.goal)] {
+            for (which, m) in [("prior map", &prior), ("truth map", &truth)] {
+                match m.free_at(&p) {
+                    None => {
+                        return Err(err(
+                            field,
+                            format!("({}, {}) is outside the map {:?}", p.x, p.y, m.bounds()),
+                        ));
+                    }
+                    Some(false) => {
+                        return Err(err(
+                            field,
+                            format!("({}, {}) is in an occupied cell of the {which}", p.x, p.y),
+                        ));
+                    }
+                    Some(true) => {}
+                }
+            }
+        }
+        for (i, u) in self.team.uavs.iter().enumerate() {
+            if !prior.bounds().contains(&u.start) {
+                return Err(err(
+                    &format!("team.uavs[{i}]"),
+                    format!("start ({}, {}) is outside the map", u.start.x, u.start.y),
+                ));
+            }
+        }
+        let changes = changes(&prior, &truth);
+        Ok(MapWorld {
+            name: self.name,
+            prior,
+            truth,
+            start: spec.start,
+            goal: spec.goal,
+            team: self.team,
+            changes,
+        })
+    }
+}
+
+/// The 8-connected groups of cells that differ between `prior` and `truth`, each all blocked
+/// or all freed, in raster order of their first cells.
+fn changes(prior: &OccupancyMap, truth: &OccupancyMap) -> Vec<Change> {
+    let (w, h) = (prior.width, prior.height);
+    let differs = |k: usize| prior.occupied[k] != truth.occupied[k];
+    let mut seen = vec![false; w * h];
+    let mut out = Vec::new();
+    let (mut nb, mut nf) = (0, 0);
+    for k0 in 0..w * h {
+        if seen[k0] || !differs(k0) {
+            continue;
+        }
+        let blocked = truth.occupied[k0];
+        seen[k0] = true;
+        let mut cells = vec![k0];
+        let mut n = 0;
+        while n < cells.len() {
+            let k = cells[n];
+            n += 1;
+            let (i, j) = ((k % w) as i64, (k / w) as i64);
+            for dj in -1..=1 {
+                for di in -1..=1 {
+                    let (x, y) = (i + di, j + dj);
+                    if x < 0 || y < 0 || x >= w as i64 || y >= h as i64 {
+                        continue;
+                    }
+                    let q = y as usize * w + x as usize;
+                    if !seen[q] && differs(q) && truth.occupied[q] == blocked {
+                        seen[q] = true;
+                        cells.push(q);
+                    }
+                }
+            }
+        }
+        cells.sort_unstable();
+        let name = if blocked {
+            nb += 1;
+            format!("blocked-{}", nb - 1)
+        } else {
+            nf += 1;
+            format!("freed-{}", nf - 1)
+        };
+        out.push(Change {
+            name,
+            blocked,
+            cells: cells.into_iter().map(|k| (k % w, k / w)).collect(),
+        });
+    }
+    out
+}
+
+/// The distance from `p` to the square of map cell `(i, j)`.
+fn distance_to_cell(map: &OccupancyMap, p: &Point, (i, j): (usize, usize)) -> Real {
+    let lo = Point::new(
+        map.origin.x + i as Real * map.cell,
+        map.origin.y + j as Real * map.cell,
+    );
+    let dx = (lo.x - p.x).max(0.0).max(p.x - (lo.x + map.cell));
+    let dy = (lo.y - p.y).max(0.0).max(p.y - (lo.y + map.cell));
+    (dx * dx + dy * dy).sqrt()
+}
+
+/// The known map of a map mission: grid, brushfire, complete graph and clearance model, kept
+/// up to date as changes are discovered.
+pub(crate) struct MapKnown<'w> {
+    world: &'w MapWorld,
+    grid: Grid,
+    field: DistanceField,
+    graph: MapGraph,
+    model: GridModel,
+    /// The rays of the known map's obstacles (the planner's).
+    rays: Rays,
+    /// The rays of the prior map's obstacles (class names).
+    naming: Rays,
+    known: Vec<bool>,
+    pending: Vec<usize>,
+    /// Every update so far.
+    pub(crate) updates: Vec<MapUpdate>,
+}
+
+fn rays_of(graph: &MapGraph) -> Rays {
+    Rays::new(
+        graph
+            .graph
+            .obstacles
+            .iter()
+            .map(|o| Point::new(o.representative[0], o.representative[1]))
+            .collect(),
+    )
+}
+
+impl<'w> MapKnown<'w> {
+    /// The prior map's preparation.
+    pub(crate) fn new(world: &'w MapWorld) -> Result<Self, MapError> {
+        let grid = world.prior.to_grid()?;
+        let field = DistanceField::build(&grid);
+        let graph = MapGraph::build(&grid, &field);
+        let model = GridModel::new(&grid, &field);
+        let rays = rays_of(&graph);
+        Ok(Self {
+            world,
+            naming: rays.clone(),
+            grid,
+            field,
+            graph,
+            model,
+            rays,
+            known: vec![false; world.changes.len()],
+            pending: Vec::new(),
+            updates: Vec::new(),
+        })
+    }
+
+    /// The rays that name classes: the prior map's obstacles.
+    pub(crate) fn naming_rays(&self) -> Rays {
+        self.naming.clone()
+    }
+
+    /// Frees the cells of a change on the grid and updates the brushfire: locally when they
+    /// are a whole obstacle, else by a rebuild (freeing part of an obstacle may split it or
+    /// free its smallest cell, which renames obstacles anywhere on the map). Whether it was
+    /// local.
+    fn free(&mut self, cells: &[(usize, usize)]) -> bool {
+        let (i, j) = cells[0];
+        let key = self.field.nearest(i, j);
+        let whole = key != self.field.wall_key()
+            && cells
+                .iter()
+                .all(|&(a, b)| self.field.d2(a, b) == 0 && self.field.nearest(a, b) == key)
+            && component_size(&self.grid, (i, j), cells.len() + 1) == cells.len();
+        if whole && self.field.remove_obstacle(&mut self.grid, key).is_ok() {
+            return true;
+        }
+        for &(a, b) in cells {
+            self.grid.set(a, b, false);
+        }
+        self.field = DistanceField::build(&self.grid);
+        false
+    }
+}
+
+/// Cells of the 8-connected occupied component holding `from`, counted up to `limit`.
+fn component_size(grid: &Grid, from: (usize, usize), limit: usize) -> usize {
+    let mut seen = std::collections::HashSet::from([from]);
+    let mut stack = vec![from];
+    while let Some((i, j)) = stack.pop() {
+        if seen.len() >= limit {
+            break;
+        }
+        for dj in -1i64..=1 {
+            for di in -1i64..=1 {
+                let (x, y) = (i as i64 + di, j as i64 + dj);
+                if x < 0 || y < 0 || x >= grid.width() as i64 || y >= grid.height() as i64 {
+                    continue;
+                }
+                let n = (x as usize, y as usize);
+                if grid.occupied(n.0, n.1) && seen.insert(n) {
+                    stack.push(n);
+                }
+            }
+        }
+    }
+    seen.len().min(limit)
+}
+
+impl Known for MapKnown<'_> {
+    fn start(&self) -> Point {
+        self.world.start
+    }
+
+    fn goal(&self) -> Point {
+        self.world.goal
+    }
+
+    fn plan_from(&self, from: Point, cfg: &PlanConfig) -> Option<Plan> {
+        let world = World {
+            name: self.world.name.clone(),
+            bounds: self.world.prior.bounds(),
+            start: from,
+            goal: self.world.goal,
+            model: &self.model,
+            rays: self.rays.clone(),
+            grid_is_exact: true,
+        };
+        plan_world(
+            &world,
+            || {
+                self.graph
+                    .with_endpoints(&self.grid, &self.field, from, self.world.goal)
+                    .map_err(BuildError::from)
+            },
+            cfg,
+        )
+        .ok()
+    }
+
+    fn model(&self) -> &dyn ClearanceModel {
+        &self.model
+    }
+
+    fn sense(&mut self, p: &Point, range: Real) -> Vec<(String, bool)> {
+        let mut found = Vec::new();
+        for (c, change) in self.world.changes.iter().enumerate() {
+            if !self.known[c]
+                && change
+                    .cells
+                    .iter()
+                    .any(|&cell| distance_to_cell(&self.world.prior, p, cell) <= range)
+            {
+                self.known[c] = true;
+                self.pending.push(c);
+                // A blockage is something the map lacks (`hidden`); freed cells are a mapped
+                // obstacle found gone.
+                found.push((change.name.clone(), change.blocked));
+            }
+        }
+        found
+    }
+
+    fn update(&mut self) -> Real {
+        let t0 = Instant::now();
+        let pending = std::mem::take(&mut self.pending);
+        if pending.is_empty() {
+            return 0.0;
+        }
+        let world = self.world;
+        let mut cells = 0;
+        let mut local = true;
+        for &c in &pending {
+            let change = &world.changes[c];
+            // Map cell (i, j) is grid cell (i + 1, j + 1): the grid has a wall ring.
+            let on_grid: Vec<(usize, usize)> =
+                change.cells.iter().map(|&(i, j)| (i + 1, j + 1)).collect();
+            cells += on_grid.len();
+            if change.blocked {
+                if self.field.add_cells(&mut self.grid, &on_grid).is_err() {
+                    // The blockage joins two obstacles (or becomes an obstacle's smallest
+                    // cell): obstacles are renamed, possibly far away: rebuild.
+                    for &(i, j) in &on_grid {
+                        self.grid.set(i, j, true);
+                    }
+                    self.field = DistanceField::build(&self.grid);
+                    local = false;
+                }
+            } else {
+                local &= self.free(&on_grid);
+            }
+        }
+        let field_ms = t0.elapsed().as_secs_f64() * 1e3;
+        // The complete graph cannot be updated locally: the homotopic thinning removes cells
+        // in the order of their distance over the whole free space, and its chains are traced
+        // map-wide into nodes and edges whose numbering the class search relies on. It is
+        // rebuilt from the updated field (the brushfire, the expensive part of a preparation,
+        // is not).
+        let t1 = Instant::now();
+        self.graph = MapGraph::build(&self.grid, &self.field);
+        self.rays = rays_of(&self.graph);
+        let graph_ms = t1.elapsed().as_secs_f64() * 1e3;
+        let t2 = Instant::now();
+        self.model = GridModel::new(&self.grid, &self.field);
+        let model_ms = t2.elapsed().as_secs_f64() * 1e3;
+        self.updates.push(MapUpdate {
+            cells,
+            local,
+            field_ms,
+            graph_ms,
+            model_ms,
+        });
+        t0.elapsed().as_secs_f64() * 1e3
+    }
+
+    fn renamed(&self) -> Option<Rays> {
+        // Map classes keep the prior map's names throughout.
+        None
+    }
+}

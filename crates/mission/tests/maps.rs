@@ -1,0 +1,233 @@
+//! Missions on occupancy maps (`fixtures/worlds/maps/`): a small map world whose truth blocks
+//! the door on the prior's best path reaches the goal under every policy, deterministically,
+//! without the UGV's track ever entering a truly occupied cell; the known map is updated
+//! locally; a truth map of another size is refused with file, line, field and problem.
+
+use std::path::{Path, PathBuf};
+
+use homospline_geom::{Point, Real};
+use homospline_maps::OccupancyMap;
+use homospline_mission::world::load_any;
+use homospline_mission::{
+    AnyWorld, EventKind, MapWorld, MissionConfig, MissionResult, Policy, simulate_map,
+};
+
+fn fixtures() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../fixtures")
+}
+
+fn map_world(name: &str) -> MapWorld {
+    match load_any(&fixtures().join("worlds/maps").join(name), |p| {
+        std::fs::read(p)
+    }) {
+        Ok(AnyWorld::Map(w)) => w,
+        Ok(AnyWorld::Scene(_)) => panic!("{name}: a scene world"),
+        Err(e) => panic!("{e}"),
+    }
+}
+
+fn run(world: &MapWorld, policy: Policy) -> MissionResult {
+    simulate_map(
+        world,
+        &MissionConfig {
+            policy,
+            ..MissionConfig::default()
+        },
+    )
+    .unwrap()
+}
+
+/// Everything but the wall-clock times.
+fn outcome(r: &MissionResult) -> MissionResult {
+    MissionResult {
+        replan_ms: Vec::new(),
+        map_updates: Vec::new(),
+        ..r.clone()
+    }
+}
+
+/// Whether the segment `ab` meets the interior of the square `[x0, x0 + s] x [y0, y0 + s]`
+/// (Liang-Barsky clipping, strict).
+fn segment_enters_square(a: Point, b: Point, x0: Real, y0: Real, s: Real) -> bool {
+    let d = b - a;
+    let (mut t0, mut t1) = (0.0, 1.0);
+    for (p, q) in [
+        (-d.x, a.x - x0),
+        (d.x, x0 + s - a.x),
+        (-d.y, a.y - y0),
+        (d.y, y0 + s - a.y),
+    ] {
+        if p == 0.0 {
+            if q <= 0.0 {
+                return false;
+            }
+        } else {
+            let r = q / p;
+            if p < 0.0 {
+                t0 = Real::max(t0, r);
+            } else {
+                t1 = Real::min(t1, r);
+            }
+        }
+    }
+    t0 < t1
+}
+
+/// The first track segment that enters an occupied cell of `map`, if any.
+fn entered_cell(map: &OccupancyMap, track: &[Point]) -> Option<(usize, usize, usize)> {
+    for (k, w) in track.windows(2).enumerate() {
+        let lo = |v: Real, o: Real| (((v - o) / map.cell).floor().max(0.0)) as usize;
+        let (i0, i1) = (
+            lo(w[0].x.min(w[1].x), map.origin.x),
+            lo(w[0].x.max(w[1].x), map.origin.x),
+        );
+        let (j0, j1) = (
+            lo(w[0].y.min(w[1].y), map.origin.y),
+            lo(w[0].y.max(w[1].y), map.origin.y),
+        );
+        for j in j0..=j1.min(map.height - 1) {
+            for i in i0..=i1.min(map.width - 1) {
+                if map.occupied[j * map.width + i]
+                    && segment_enters_square(
+                        w[0],
+                        w[1],
+                        map.origin.x + i as Real * map.cell,
+                        map.origin.y + j as Real * map.cell,
+                        map.cell,
+                    )
+                {
+                    return Some((k, i, j));
+                }
+            }
+        }
+    }
+    None
+}
+
+#[test]
+fn the_segment_check_sees_a_cell_entered() {
+    let mut map = map_world("room-blocked.yaml").truth;
+    map.occupied.iter_mut().for_each(|c| *c = false);
+    map.occupied[3 * map.width + 3] = true;
+    let track = [Point::new(1.5, 1.5), Point::new(5.5, 5.5)];
+    assert_eq!(entered_cell(&map, &track), Some((0, 3, 3)));
+    assert_eq!(
+        entered_cell(&map, &[Point::new(1.5, 1.5), Point::new(1.5, 5.5)]),
+        None
+    );
+}
+
+#[test]
+fn a_small_map_world_is_reached_under_every_policy_deterministically_and_safely() {
+    let w = map_world("room-blocked.yaml");
+    assert_eq!(w.changes.len(), 2, "{:?}", w.changes);
+    assert!(w.changes.iter().any(|c| c.blocked && c.cells == [(12, 14)]));
+    let hindsight = run(&w, Policy::None).hindsight_length;
+    assert!(hindsight.is_some(), "the truth has a path");
+    for policy in Policy::ALL {
+        let r = run(&w, policy);
+        assert!(
+            r.reached,
+            "{}: not reached: {:?}",
+            policy.name(),
+            r.events.last()
+        );
+        assert_eq!(outcome(&r), outcome(&run(&w, policy)), "{}", policy.name());
+        // The blockage on the prior's best path was found and the UGV drove around it.
+        assert!(
+            r.events.iter().any(|e| matches!(
+                &e.kind,
+                EventKind::Discovered { obstacle, hidden: true, .. } if obstacle == "blocked-0"
+            )),
+            "{}: the blockage was not seen",
+            policy.name()
+        );
+        assert!(r.adopted.len() >= 2, "{}: no re-plan", policy.name());
+        assert!(!r.map_updates.is_empty());
+        let track: Vec<Point> = r.ugv.samples.iter().map(|(_, p)| *p).collect();
+        assert_eq!(
+            entered_cell(&w.truth, &track),
+            None,
+            "{}: the track enters an occupied cell",
+            policy.name()
+        );
+        assert!(r.ugv_distance >= 0.98 * hindsight.unwrap());
+    }
+}
+
+#[test]
+fn the_offline_plan_would_drive_through_the_blocked_door() {
+    // Without the truth map's blockage the mission never re-plans: the prior's best path
+    // itself goes through the door the truth blocks, so the test world tests something.
+    let mut w = map_world("room-blocked.yaml");
+    let r = run(&w, Policy::None);
+    let first = &r.adopted[0].path;
+    assert!(entered_cell(&w.truth, first).is_some());
+    w.truth = w.prior.clone();
+    w.changes.clear();
+    let r = run(&w, Policy::Ahead);
+    assert!(r.reached);
+    assert_eq!(r.replans, 0);
+}
+
+fn temp_dir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("homospline-mission-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn load_error(dir: &Path, world: &str) -> String {
+    let p = dir.join("w.yaml");
+    std::fs::write(&p, world).unwrap();
+    match load_any(&p, |p| std::fs::read(p)) {
+        Ok(_) => panic!("accepted: {world}"),
+        Err(e) => e,
+    }
+}
+
+#[test]
+fn a_truth_map_of_another_size_is_refused_with_file_line_field_and_problem() {
+    let dir = temp_dir("size");
+    let prior = fixtures().join("maps/movingai/room-32-32-4.map");
+    let other = fixtures().join("maps/movingai/maze-32-32-2.map");
+    std::fs::copy(&prior, dir.join("prior.map")).unwrap();
+    // 32 x 31: one row fewer.
+    let text = std::fs::read_to_string(&other).unwrap();
+    let mut lines: Vec<&str> = text.lines().collect();
+    lines[1] = "height 31";
+    lines.pop();
+    std::fs::write(dir.join("short.map"), lines.join("\n")).unwrap();
+    let e = load_error(
+        &dir,
+        "map: prior.map\ntruth_map: short.map\nstart: [1.5, 1.5]\ngoal: [30.5, 30.5]\n",
+    );
+    let p = dir.join("w.yaml").display().to_string();
+    assert_eq!(
+        e,
+        format!(
+            "{p}:2: truth_map: the truth map (short.map) is 32 x 31 cells; the prior map (prior.map) is 32 x 32: they must be the same size"
+        )
+    );
+    let e = load_error(
+        &dir,
+        "map: prior.map\nstart: [1.5, 1.5]\ngoal: [30.5, 30.5]\n",
+    );
+    assert!(e.contains(":1: truth_map: missing"), "{e}");
+    let e = load_error(
+        &dir,
+        "map: prior.map\ntruth_map: prior.map\nstart: [0.5, 0.5]\ngoal: [30.5, 30.5]\n",
+    );
+    assert!(
+        e.contains(":3: start: (0.5, 0.5) is in an occupied cell"),
+        "{e}"
+    );
+    let e = load_error(
+        &dir,
+        "map: prior.map\ntruth_map: nothing.map\nstart: [1.5, 1.5]\ngoal: [30.5, 30.5]\n",
+    );
+    assert!(
+        e.contains(":2: truth_map: ") && e.contains("cannot read"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
