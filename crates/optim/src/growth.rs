@@ -41,6 +41,13 @@ pub struct GrowthConfig {
     /// Evaluation budget of one round in all, whatever the dimension: with it the work of a
     /// round grows linearly with the via-points (each evaluation does), not quadratically.
     pub max_evaluations_per_round: usize,
+    /// On curves of more segments than this (0: never), the round's budget shrinks in
+    /// proportion, `max_evaluations_per_round * budget_segments / segments`, down to
+    /// `min_evaluations_per_round`: a long map path's cost flattens out within tens of
+    /// evaluations while each evaluation costs in proportion to its segments.
+    pub budget_segments: usize,
+    /// The floor of that shrinking budget.
+    pub min_evaluations_per_round: usize,
     /// A round must lower the cost by this fraction to count as an improvement.
     pub min_improvement: Real,
     /// The optimiser.
@@ -49,6 +56,21 @@ pub struct GrowthConfig {
     pub step_fraction: Real,
     /// Samples per spline segment for the class and bounds checks of each candidate.
     pub guard_samples: usize,
+}
+
+impl GrowthConfig {
+    /// The evaluation budget of a round on a curve of `segments` segments, before the
+    /// per-coordinate one (see `budget_segments`).
+    pub fn round_budget(&self, segments: usize) -> usize {
+        if self.budget_segments == 0 || segments <= self.budget_segments {
+            return self.max_evaluations_per_round;
+        }
+        let scaled = (self.max_evaluations_per_round as u128 * self.budget_segments as u128
+            / segments as u128) as usize;
+        scaled
+            .max(self.min_evaluations_per_round)
+            .min(self.max_evaluations_per_round)
+    }
 }
 
 impl Default for GrowthConfig {
@@ -61,6 +83,8 @@ impl Default for GrowthConfig {
             max_via_points: 10,
             evaluations_per_dimension: 30,
             max_evaluations_per_round: usize::MAX,
+            budget_segments: 0,
+            min_evaluations_per_round: 0,
             min_improvement: 1e-3,
             optimizer: Optimizer::NelderMead,
             step_fraction: 0.1,
@@ -253,7 +277,7 @@ pub fn grow(
         let budget = cfg
             .evaluations_per_dimension
             .saturating_mul(x0.len())
-            .min(cfg.max_evaluations_per_round);
+            .min(cfg.round_budget(points.len() - 1));
         let (x, value) = match cfg.optimizer {
             Optimizer::NelderMead => {
                 let nm = NelderMead::new(x0.len())
@@ -371,4 +395,29 @@ pub fn grow(
         rounds,
         evaluations,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn long_curves_get_a_proportionally_smaller_budget_down_to_the_floor() {
+        let cfg = GrowthConfig {
+            max_evaluations_per_round: 800,
+            budget_segments: 40,
+            min_evaluations_per_round: 320,
+            ..GrowthConfig::default()
+        };
+        assert_eq!(cfg.round_budget(10), 800);
+        assert_eq!(cfg.round_budget(40), 800);
+        assert_eq!(cfg.round_budget(80), 400);
+        assert_eq!(cfg.round_budget(100), 320);
+        assert_eq!(cfg.round_budget(10_000), 320);
+        let off = GrowthConfig {
+            max_evaluations_per_round: 800,
+            ..GrowthConfig::default()
+        };
+        assert_eq!(off.round_budget(10_000), 800);
+    }
 }
