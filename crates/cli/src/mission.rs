@@ -85,7 +85,7 @@ pub fn map_mission_text(world: &MapWorld, r: &MissionResult) -> String {
     for u in &r.map_updates {
         let _ = writeln!(
             s,
-            "map update: {} cells, brushfire {} {:.2} ms, graph rebuilt {:.1} ms, model {:.1} ms",
+            "map update: {} cells, brushfire {} {:.2} ms, graph {} {:.1} ms, model {:.1} ms",
             u.cells,
             if u.local {
                 "updated locally"
@@ -93,6 +93,11 @@ pub fn map_mission_text(world: &MapWorld, r: &MissionResult) -> String {
                 "rebuilt"
             },
             u.field_ms,
+            if u.graph_rebuilt {
+                "rebuilt"
+            } else {
+                "kept, edges through the blockage closed,"
+            },
             u.graph_ms,
             u.model_ms
         );
@@ -225,7 +230,8 @@ fn json_with(ugv_speed: Real, r: &MissionResult) -> String {
             .iter()
             .map(|u| {
                 json!({"cells": u.cells, "local": u.local, "field_ms": u.field_ms,
-                       "graph_ms": u.graph_ms, "model_ms": u.model_ms})
+                       "graph_ms": u.graph_ms, "graph_rebuilt": u.graph_rebuilt,
+                       "model_ms": u.model_ms})
             })
             .collect();
     }

@@ -231,3 +231,46 @@ fn a_truth_map_of_another_size_is_refused_with_file_line_field_and_problem() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A corridor 9 cells wide with one cell blocked on its axis, where the kept graph's only
+/// edge runs: closing that edge leaves no class on the kept graph, although the robot can
+/// pass beside the blockage. The re-plan must fall back to the graph of the updated map and
+/// still reach the goal, safely, with the graph kept in the update record.
+#[test]
+fn a_blockage_beside_which_the_robot_can_pass_does_not_close_the_corridor() {
+    let (w, h) = (60, 11);
+    let walls = |extra: Option<(usize, usize)>| OccupancyMap {
+        name: "corridor".into(),
+        width: w,
+        height: h,
+        cell: 1.0,
+        origin: Point::origin(),
+        occupied: (0..w * h)
+            .map(|k| {
+                let (i, j) = (k % w, k / w);
+                j == 0 || j == h - 1 || Some((i, j)) == extra
+            })
+            .collect(),
+        y_down: false,
+    };
+    let world = MapWorld::new(
+        "corridor",
+        walls(None),
+        walls(Some((30, 5))),
+        Point::new(2.5, 5.5),
+        Point::new(57.5, 5.5),
+        homospline_mission::Team::default(),
+    )
+    .unwrap();
+    let r = run(&world, Policy::None);
+    assert!(r.reached, "not reached");
+    assert_eq!(r.map_updates.len(), 1);
+    assert!(!r.map_updates[0].graph_rebuilt, "the graph was kept");
+    assert!(
+        r.events
+            .iter()
+            .any(|e| matches!(e.kind, EventKind::Replanned { .. }))
+    );
+    let track: Vec<Point> = r.ugv.samples.iter().map(|(_, p)| *p).collect();
+    assert_eq!(entered_cell(&world.truth, &track), None);
+}
