@@ -618,6 +618,8 @@ pub fn simulate_map(world: &MapWorld, cfg: &MissionConfig) -> Result<MissionResu
     let mut plan_cfg = cfg.plan.clone();
     plan_cfg.growth.max_via_points = defaults.growth.max_via_points;
     plan_cfg.growth.max_evaluations_per_round = defaults.growth.max_evaluations_per_round;
+    plan_cfg.growth.budget_segments = defaults.growth.budget_segments;
+    plan_cfg.growth.min_evaluations_per_round = defaults.growth.min_evaluations_per_round;
     plan_cfg.search.one_path_per_state = defaults.search.one_path_per_state;
     plan_cfg.search.max_expansions = defaults.search.max_expansions;
     let cfg = &MissionConfig {
