@@ -72,7 +72,7 @@ pub struct MapUpdate {
 impl MapWorld {
     /// A world built in code or from a file: checks that the maps have the same size, cell
     /// and origin, that start and goal are free on both, and that the scouts start on the
-    /// map. `source` names the world in errors.
+    /// map. `name` names the world in errors.
     pub fn new(
         name: &str,
         prior: OccupancyMap,

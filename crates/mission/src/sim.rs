@@ -327,10 +327,15 @@ impl Polyline {
 /// A class path the UGV may drive.
 #[derive(Clone, Debug)]
 struct Route {
+    /// The signature, on the naming rays, of the UGV's track up to where the route was
+    /// planned followed by the route: a class's name does not change as the UGV drives past
+    /// a ray (a route's own word from the UGV's position would).
     class: String,
     line: Polyline,
     via: Vec<Point>,
     cost: Real,
+    /// Samples of the UGV's track when the route was planned (for renaming).
+    track_len: usize,
 }
 
 /// A scout in flight.
@@ -516,7 +521,12 @@ impl<K: Known> Run<'_, K> {
     }
 
     /// The collision-free classes of a plan from `from` on the known map, best first.
-    fn routes_from(&mut self, from: Point, heading: Option<Vector>) -> Vec<Route> {
+    fn routes_from(
+        &mut self,
+        from: Point,
+        heading: Option<Vector>,
+        track: &[(Real, Point)],
+    ) -> Vec<Route> {
         let cfg = PlanConfig {
             start_heading: heading,
             classes: match heading {
@@ -529,19 +539,32 @@ impl<K: Known> Run<'_, K> {
         let p: Option<Plan> = self.known.plan_from(from, &cfg);
         let ms = t0.elapsed().as_secs_f64() * 1e3 + std::mem::take(&mut self.pending_ms);
         self.replan_ms.push(ms);
+        let driven: Vec<Point> = track.iter().map(|&(_, p)| p).collect();
+        let prefix = self.rays.signature(&driven);
         p.map(|p| {
             p.classes
                 .into_iter()
                 .filter(|c| c.collision_free)
                 .map(|c| Route {
-                    class: self.rays.signature(&c.path).to_string(),
+                    class: prefix.concat(&self.rays.signature(&c.path)).to_string(),
                     line: Polyline::new(c.path),
                     via: c.via_points,
                     cost: c.cost.total,
+                    track_len: track.len(),
                 })
                 .collect()
         })
         .unwrap_or_default()
+    }
+
+    /// A route's class name on the current naming rays (see [`Route::class`]).
+    fn name(&self, route: &Route, track: &[(Real, Point)]) -> String {
+        let mut pts: Vec<Point> = track[..route.track_len.min(track.len())]
+            .iter()
+            .map(|&(_, p)| p)
+            .collect();
+        pts.extend(route.line.pts.iter().copied());
+        self.rays.signature(&pts).to_string()
     }
 
     /// The cost of driving the rest of `route` from arc length `s` on the known map: the
@@ -739,7 +762,7 @@ fn run_mission<K: Known>(
     let (mut driven, mut abandoned) = (0.0, 0.0);
     let mut last_switch = Real::NEG_INFINITY;
     // Offline: the classes on the prior map.
-    let offline = run.routes_from(start, None);
+    let offline = run.routes_from(start, None, &ugv_track.samples);
     run.replan_ms.clear();
     let finish = |run: Run<'_, K>,
                   reached: bool,
@@ -880,9 +903,9 @@ fn run_mission<K: Known>(
         run.pending_ms += run.known.update();
         if found_cleared && let Some(rays) = run.known.renamed() {
             run.rays = rays;
-            route.class = run.rays.signature(&route.line.pts).to_string();
+            route.class = run.name(&route, &ugv_track.samples);
             for a in &mut alternatives {
-                a.class = run.rays.signature(&a.line.pts).to_string();
+                a.class = run.name(a, &ugv_track.samples);
             }
         }
         let known = &run.known;
@@ -912,7 +935,7 @@ fn run_mission<K: Known>(
                 },
             );
             replans += 1;
-            let routes = run.routes_from(pos, Some(heading));
+            let routes = run.routes_from(pos, Some(heading), &ugv_track.samples);
             let Some(best) = routes.first() else {
                 run.event(
                     t,
@@ -959,15 +982,19 @@ fn run_mission<K: Known>(
             // (a mapped obstacle gone) or the current one may have become worse (a new
             // obstacle near it). Switch only through the hysteresis. (A re-plan that finds no
             // class leaves the valid path as it is and is not counted.)
-            let routes = run.routes_from(pos, Some(heading));
+            let routes = run.routes_from(pos, Some(heading), &ugv_track.samples);
             if let Some(best) = routes.first() {
                 replans += 1;
-                // The current class as re-planned (the same class from here: a fair, if
-                // optimistic, price of staying), else the rest of the current path.
+                // The price of staying: the rest of the current path, or the current class
+                // as re-planned from here if that is cheaper. A re-plan alone can land in a
+                // worse local optimum of the same class than the path being driven (its cost
+                // moves by up to 2x between decisions on a tempting world), and switching on
+                // that noise is the oscillation the hysteresis is there to prevent.
+                let driving = run.remaining_cost(&route, s, heading);
                 let current = routes
                     .iter()
                     .find(|r| r.class == route.class)
-                    .map_or_else(|| run.remaining_cost(&route, s, heading), |r| r.cost);
+                    .map_or(driving, |r| r.cost.min(driving));
                 let better = best.class != route.class
                     && should_switch(current, best.cost, t - last_switch, cfg);
                 run.event(
