@@ -76,6 +76,48 @@ fn bench(c: &mut Criterion) {
         problems.len(),
         worlds.len()
     );
+    // Where the time of the slowest re-plans goes: each event's fastest of 5 runs, with the
+    // planner's own stage timings and each class's evaluations, via-points and time.
+    let mut slowest: Vec<(f64, String)> = problems
+        .iter()
+        .enumerate()
+        .map(|(i, (scene, heading))| {
+            let pc = PlanConfig {
+                start_heading: Some(*heading),
+                classes: cfg.replan_classes,
+                ..cfg.plan.clone()
+            };
+            let runs: Vec<(f64, homospline_optim::Plan)> = (0..5)
+                .map(|_| {
+                    let t = Instant::now();
+                    let p = plan(scene, &pc).expect("a plan");
+                    (t.elapsed().as_secs_f64() * 1e3, p)
+                })
+                .collect();
+            let (ms, p) = runs
+                .into_iter()
+                .min_by(|a, b| a.0.total_cmp(&b.0))
+                .expect("5 runs");
+            let classes: Vec<String> = p
+                .classes
+                .iter()
+                .map(|c| format!("{} evals, {} points, {:.1} ms", c.evaluations, c.via_points.len(), c.time_ms))
+                .collect();
+            let line = format!(
+                "event {i} ({}): {ms:.2} ms = graph {:.2} + classes {:.2} + optimisation {:.2} [{}]",
+                scene.name,
+                p.timing.voronoi,
+                p.timing.classes,
+                p.timing.optimize,
+                classes.join("; ")
+            );
+            (ms, line)
+        })
+        .collect();
+    slowest.sort_by(|a, b| b.0.total_cmp(&a.0));
+    for (_, line) in slowest.iter().take(5) {
+        eprintln!("{line}");
+    }
     let mut g = c.benchmark_group("mission");
     let mut times: Vec<f64> = Vec::new();
     g.bench_function("replan", |b| {

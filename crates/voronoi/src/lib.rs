@@ -24,6 +24,7 @@
 
 pub mod attach;
 mod crack;
+mod exact;
 pub mod field;
 pub mod graph;
 pub mod grid;
@@ -69,6 +70,8 @@ pub fn build(
 ) -> Result<(Grid, DistanceField, VoronoiGraph), BuildError> {
     let grid = Grid::from_scene(scene, resolution)?;
     let field = DistanceField::build(&grid);
-    let graph = VoronoiGraph::build(&grid, &field, Some(scene.start), Some(scene.goal))?;
+    let mut graph = VoronoiGraph::build(&grid, &field, Some(scene.start), Some(scene.goal))?;
+    // A thousandth of a cell of clearance for every point moved out of a circle.
+    exact::keep_out_of_circles(&mut graph, &scene.circle_set(), 1e-3 / resolution);
     Ok((grid, field, graph))
 }

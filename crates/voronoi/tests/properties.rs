@@ -210,3 +210,47 @@ fn start_and_goal_in_different_regions_are_an_error() {
         "start and goal are in different free regions: no path joins them"
     );
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(128))]
+
+    /// Invariant (c) on scenes: the graph is built on the raster of the circles, where a
+    /// gap narrower than a cell can look free; every segment of every edge's polyline must
+    /// still keep out of every circle (exact segment distance), so a seed never starts
+    /// inside an obstacle. Pairs of nearly touching circles make such gaps.
+    #[test]
+    fn scene_graph_polylines_keep_out_of_the_circles(
+        pairs in prop::collection::vec((10.0..90.0, 10.0..60.0, 1.5..5.0, 1.5..5.0, 0.0..6.3, 0.0..1.0), 1..7),
+        resolution in prop::sample::select(vec![0.5, 1.0, 2.0]),
+    ) {
+        let mut obstacles = Vec::new();
+        for (k, &(x, y, r1, r2, angle, gap)) in pairs.iter().enumerate() {
+            let (x, y, r1, r2, angle, gap): (f64, f64, f64, f64, f64, f64) = (x, y, r1, r2, angle, gap);
+            // Two circles `gap` cells apart (less than a cell).
+            let d = r1 + r2 + gap / resolution;
+            let (x2, y2) = (x + d * angle.cos(), y + d * angle.sin());
+            obstacles.push(Obstacle { name: format!("a{k}"), circles: vec![Circle::new(x, y, r1)] });
+            obstacles.push(Obstacle { name: format!("b{k}"), circles: vec![Circle::new(x2, y2, r2)] });
+        }
+        let scene = Scene {
+            name: "gaps".into(),
+            bounds: Bounds { min: Point::new(0.0, 0.0), max: Point::new(100.0, 70.0) },
+            start: Point::new(2.0, 35.0),
+            goal: Point::new(98.0, 35.0),
+            robot_radius: 0.0,
+            obstacles,
+            danger_points: vec![], critical_points: vec![], hazards: vec![],
+        };
+        let circles = scene.circle_set();
+        prop_assume!([scene.start, scene.goal].iter().all(|p: &Point| circles.clearance(p).is_none_or(|c| c.distance > 0.0)));
+        if let Ok((_, _, g)) = homospline_voronoi::build(&scene, resolution) {
+            for (i, e) in g.edges.iter().enumerate() {
+                for w in e.polyline.windows(2) {
+                    let (a, b) = (Point::new(w[0][0], w[0][1]), Point::new(w[1][0], w[1][1]));
+                    let d = circles.distance_to_segment(&a, &b).map_or(f64::INFINITY, |(d, _)| d);
+                    prop_assert!(d >= 0.0, "edge {} ({} -> {}) passes {} inside a circle", i, e.from, e.to, -d);
+                }
+            }
+        }
+    }
+}

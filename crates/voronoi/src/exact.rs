@@ -1,0 +1,127 @@
+//! The graph of a scene against its exact circles: the raster a scene's graph is built on
+//! marks a cell by its centre, so a ridge can run up to half a cell inside a circle, and
+//! through a gap between two circles narrower than a cell. This step pushes every polyline
+//! point out of the circles and drops an edge that still cannot keep out of them.
+
+use homospline_geom::{CircleSet, Point, Real};
+
+use crate::graph::{NodeKind, VoronoiGraph};
+
+/// Pushes `p` out of the circles until its clearance is at least `margin` (along the
+/// clearance gradient, a few steps for points between circles); `None` if it cannot.
+fn push_out(p: Point, circles: &CircleSet, margin: Real) -> Option<Point> {
+    let mut p = p;
+    for _ in 0..16 {
+        let c = match circles.clearance(&p) {
+            None => return Some(p),
+            Some(c) => c,
+        };
+        if c.distance >= margin {
+            return Some(p);
+        }
+        if c.gradient == homospline_geom::Vector::zeros() {
+            return None;
+        }
+        p += c.gradient * (margin - c.distance);
+    }
+    None
+}
+
+/// The exact clearance of the segment `ab`.
+fn segment_clearance(a: &Point, b: &Point, circles: &CircleSet) -> Real {
+    circles
+        .distance_to_segment(a, b)
+        .map_or(Real::INFINITY, |(d, _)| d)
+}
+
+/// Appends the points after `a` up to `b` to `out`, halving `ab` (pushed out) until every
+/// piece keeps out of the circles; `false` if that fails within `depth` halvings.
+fn refine(
+    a: Point,
+    b: Point,
+    circles: &CircleSet,
+    margin: Real,
+    depth: u32,
+    out: &mut Vec<Point>,
+) -> bool {
+    if segment_clearance(&a, &b, circles) >= 0.0 {
+        out.push(b);
+        return true;
+    }
+    if depth == 0 {
+        return false;
+    }
+    let Some(m) = push_out(Point::from((a.coords + b.coords) * 0.5), circles, margin) else {
+        return false;
+    };
+    refine(a, m, circles, margin, depth - 1, out) && refine(m, b, circles, margin, depth - 1, out)
+}
+
+/// Makes every edge of `graph` keep out of `circles` (`margin` is the clearance a moved
+/// point gets): nodes other than start and goal are pushed out, then each polyline's points,
+/// with points inserted where a segment still cuts a circle. An edge that cannot (it runs
+/// through a gap the circles close, or narrower than the raster could see) is dropped, unless
+/// it joins the start or the goal, which stays as it is (its clearance says so). Each edge's
+/// length and clearances are recomputed from its new polyline and the circles.
+pub(crate) fn keep_out_of_circles(graph: &mut VoronoiGraph, circles: &CircleSet, margin: Real) {
+    if circles.is_empty() {
+        return;
+    }
+    for node in &mut graph.nodes {
+        if matches!(node.kind, NodeKind::Start | NodeKind::Goal) {
+            continue;
+        }
+        if let Some(p) = push_out(Point::new(node.at[0], node.at[1]), circles, margin) {
+            node.at = [p.x, p.y];
+        }
+    }
+    let nodes = graph.nodes.clone();
+    let (start, goal) = (graph.start, graph.goal);
+    graph.edges.retain_mut(|e| {
+        let connector = [Some(e.from), Some(e.to)]
+            .iter()
+            .any(|n| n.is_some() && (*n == start || *n == goal));
+        let from = Point::new(nodes[e.from].at[0], nodes[e.from].at[1]);
+        let to = Point::new(nodes[e.to].at[0], nodes[e.to].at[1]);
+        let n = e.polyline.len();
+        let mut pts = vec![from];
+        let mut ok = true;
+        for (k, q) in e.polyline.iter().enumerate().skip(1) {
+            let q = if k + 1 == n {
+                Some(to)
+            } else {
+                push_out(Point::new(q[0], q[1]), circles, margin)
+            };
+            let Some(q) = q else {
+                ok = false;
+                break;
+            };
+            let a = *pts.last().expect("the first point");
+            ok &= refine(a, q, circles, margin, 6, &mut pts);
+            if !ok {
+                break;
+            }
+        }
+        if !ok {
+            // The edge keeps its raster polyline only when it joins the start or the goal.
+            if connector {
+                let poly: Vec<Point> = e.polyline.iter().map(|q| Point::new(q[0], q[1])).collect();
+                e.min_clearance = poly
+                    .windows(2)
+                    .map(|w| segment_clearance(&w[0], &w[1], circles))
+                    .fold(e.min_clearance, Real::min);
+                e.mean_clearance = e.mean_clearance.max(e.min_clearance);
+            }
+            return connector;
+        }
+        e.polyline = pts.iter().map(|p| [p.x, p.y]).collect();
+        e.length = pts.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+        let exact = pts
+            .windows(2)
+            .map(|w| segment_clearance(&w[0], &w[1], circles))
+            .fold(Real::INFINITY, Real::min);
+        e.min_clearance = e.min_clearance.min(exact);
+        e.mean_clearance = e.mean_clearance.max(e.min_clearance);
+        true
+    });
+}
