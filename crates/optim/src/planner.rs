@@ -418,13 +418,27 @@ pub fn plan_world(
     };
     let graph_cell = graph.as_ref().map(|g| 1.0 / g.resolution);
     let to = Instant::now();
+    // Longest seeds first, one class per task: the classes' times differ by up to 3x, and a
+    // short class left for last would leave a thread idle while a long one runs. Each class
+    // is independent, so the order changes no result.
+    let mut order: Vec<usize> = (0..seeds.len()).collect();
+    let seed_length =
+        |i: usize| -> Real { seeds[i].0.windows(2).map(|w| (w[1] - w[0]).norm()).sum() };
+    order.sort_by(|&a, &b| seed_length(b).total_cmp(&seed_length(a)).then(a.cmp(&b)));
     let run = || -> Vec<ClassPlan> {
-        seeds
+        let mut done: Vec<(usize, ClassPlan)> = order
             .par_iter()
-            .map(|(poly, sig, gcost)| {
-                optimise_class(world, poly, sig.as_ref(), *gcost, cfg, graph_cell)
+            .with_max_len(1)
+            .map(|&i| {
+                let (poly, sig, gcost) = &seeds[i];
+                (
+                    i,
+                    optimise_class(world, poly, sig.as_ref(), *gcost, cfg, graph_cell),
+                )
             })
-            .collect()
+            .collect();
+        done.sort_by_key(|(i, _)| *i);
+        done.into_iter().map(|(_, c)| c).collect()
     };
     let seed_signatures: Vec<String> = seeds
         .iter()
