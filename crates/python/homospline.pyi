@@ -121,7 +121,8 @@ def build_graph(scene: Scene, resolution: Optional[float] = None) -> Graph:
     """The Voronoi graph of a scene, start and goal attached."""
 
 def simulate(world: _Path, policy: str = "ahead", scouts: Optional[int] = None) -> dict[str, Any]:
-    """Runs the mission of a world file; returns the mission JSON of docs/formats.md."""
+    """Runs the mission of a world file (a scene world or a map world with its truth map);
+    returns the mission JSON of docs/formats.md."""
 
 def bench_scen(
     files: Sequence[_Path],

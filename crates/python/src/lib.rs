@@ -8,7 +8,7 @@ use homospline_cli::options::{PlanOptions, plan_config};
 use homospline_cli::{mission, report};
 use homospline_geom::{Point, Scene};
 use homospline_maps::OccupancyMap;
-use homospline_mission::{MissionConfig, Policy};
+use homospline_mission::{AnyWorld, MissionConfig, Policy};
 use homospline_optim::{ClassPlan, Plan};
 use homospline_voronoi::VoronoiGraph;
 use numpy::{PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
@@ -426,7 +426,8 @@ fn plan_map(
         .map_err(|e| bad(e.to_string()))
 }
 
-/// Runs the mission of a world file (`homospline simulate`) and returns its JSON as a dict.
+/// Runs the mission of a world file, on a scene or an occupancy map (`homospline simulate`),
+/// and returns its JSON as a dict.
 #[pyfunction]
 #[pyo3(signature = (world, policy="ahead", scouts=None))]
 fn simulate<'py>(
@@ -435,7 +436,7 @@ fn simulate<'py>(
     policy: &str,
     scouts: Option<usize>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let w = homospline_mission::world::load(&world, |p| std::fs::read(p)).map_err(bad)?;
+    let w = homospline_mission::world::load_any(&world, |p| std::fs::read(p)).map_err(bad)?;
     let policy = match policy {
         "none" => Policy::None,
         "ahead" => Policy::Ahead,
@@ -451,10 +452,17 @@ fn simulate<'py>(
         scouts,
         ..MissionConfig::default()
     };
-    let r = py
-        .detach(|| homospline_mission::simulate(&w, &cfg))
+    let text = py
+        .detach(|| match &w {
+            AnyWorld::Scene(w) => {
+                homospline_mission::simulate(w, &cfg).map(|r| mission::mission_json(w, &r))
+            }
+            AnyWorld::Map(w) => {
+                homospline_mission::simulate_map(w, &cfg).map(|r| mission::map_mission_json(w, &r))
+            }
+        })
         .map_err(|e| bad(e.to_string()))?;
-    json_loads(py, &mission::mission_json(&w, &r))
+    json_loads(py, &text)
 }
 
 /// Plans MovingAI scenarios (`homospline bench-scen`): every `.scen` file (or directory of

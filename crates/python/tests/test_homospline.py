@@ -145,6 +145,12 @@ def test_a_mission_reaches_its_goal():
     assert any(e["kind"] == "discovered" for e in r["events"])
 
 
+def test_a_mission_on_a_map_world_reaches_its_goal():
+    r = homospline.simulate(ROOT / "fixtures/worlds/maps/room-blocked.yaml", policy="none")
+    assert r["reached"] and r["replans"] >= 1
+    assert r["map_updates"] and r["map_updates"][0]["cells"] >= 1
+
+
 def test_shards_merge_into_the_whole_sweep():
     files = [str(ROOT / "fixtures/maps/movingai/maze-32-32-2-random-1.scen")]
     whole = homospline.bench_scen(files, sample=4, classes=2)
