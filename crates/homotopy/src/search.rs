@@ -8,7 +8,7 @@
 //! classes. Exact; checked against brute-force enumeration of all simple paths. A budget on
 //! expansions bounds pathological graphs, and the result says whether it was reached.
 
-use std::cmp::Ordering;
+use std::cmp::{Ordering, Reverse};
 use std::collections::{BinaryHeap, HashSet};
 
 use homospline_geom::{Point, Real};
@@ -112,10 +112,8 @@ pub struct SearchResult {
 
 #[derive(Clone, Copy)]
 struct Entry {
-    /// The order key of `f`: its bits in the backward Dijkstra (exact order), `f` in units of
-    /// a quantum in the forward search (see there).
+    /// The order key of `f`: `f` in units of a quantum (see the search).
     key: i64,
-    f: Real,
     g: Real,
     order: usize,
     id: usize,
@@ -228,15 +226,12 @@ pub fn k_best_classes(
     // Exact distance to the goal (Dijkstra backwards; the graph is undirected).
     let mut h = vec![Real::INFINITY; n];
     h[goal] = 0.0;
+    // Entries (distance's bits, node): non-negative floats order as their bits; ties go to
+    // the lower node, as the search's entries would order them.
     let mut heap = BinaryHeap::new();
-    heap.push(Entry {
-        key: 0,
-        f: 0.0,
-        g: 0.0,
-        order: goal,
-        id: goal,
-    });
-    while let Some(Entry { f, id, .. }) = heap.pop() {
+    heap.push(Reverse((0u64, goal)));
+    while let Some(Reverse((bits, id))) = heap.pop() {
+        let f = Real::from_bits(bits);
         if f > h[id] {
             continue;
         }
@@ -244,14 +239,7 @@ pub fn k_best_classes(
             let d = f + cost[e];
             if d < h[m] {
                 h[m] = d;
-                heap.push(Entry {
-                    // Non-negative floats order as their bits.
-                    key: d.to_bits() as i64,
-                    f: d,
-                    g: 0.0,
-                    order: m,
-                    id: m,
-                });
+                heap.push(Reverse((d.to_bits(), m)));
             }
         }
     }
@@ -279,7 +267,6 @@ pub fn k_best_classes(
     if h[start].is_finite() {
         queue.push(Entry {
             key: key(h[start]),
-            f: h[start],
             g: 0.0,
             order,
             id: 0,
@@ -290,6 +277,8 @@ pub fn k_best_classes(
     let mut classes = Vec::new();
     let mut expansions = 0;
     let mut complete = true;
+    // The expansion that last stamped each node as on its partial path (0: none yet).
+    let mut on_path = vec![0usize; n];
     while let Some(Entry { id, .. }) = queue.pop() {
         if classes.len() >= cfg.k {
             break;
@@ -312,15 +301,15 @@ pub fn k_best_classes(
             }
             continue;
         }
-        // Nodes on this partial path (for simplicity).
-        let mut on_path = HashSet::new();
+        // Nodes on this partial path (for simplicity): stamped with this expansion's number
+        // (an array write per node, where a hash set cost most of an expansion on deep paths).
         let mut p = id;
         while p != usize::MAX {
-            on_path.insert(arena[p].node);
+            on_path[arena[p].node] = expansions;
             p = arena[p].parent;
         }
         for &(m, e, fwd) in &adj[node] {
-            if on_path.contains(&m) || !h[m].is_finite() {
+            if on_path[m] == expansions || !h[m].is_finite() {
                 continue;
             }
             let g = arena[id].g + cost[e];
@@ -341,7 +330,6 @@ pub fn k_best_classes(
             order += 1;
             queue.push(Entry {
                 key: key(g + h[m]),
-                f: g + h[m],
                 g,
                 order,
                 id: arena.len() - 1,
