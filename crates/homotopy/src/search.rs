@@ -12,7 +12,7 @@ use std::cmp::{Ordering, Reverse};
 use std::collections::{BinaryHeap, HashSet};
 
 use homospline_geom::{Point, Real};
-use homospline_voronoi::VoronoiGraph;
+use homospline_voronoi::{Edge, VoronoiGraph};
 use thiserror::Error;
 
 use crate::signature::{Rays, Signature};
@@ -185,6 +185,29 @@ pub fn k_best_classes(
     }
     let n = graph.nodes.len();
     let blocked: HashSet<usize> = cfg.blocked_edges.iter().copied().collect();
+    // Whether edge `e` enters a blocked disc; the polyline's box is tested first (a map
+    // mission closes a disc round every blocked cell, against tens of thousands of edges).
+    let enters_blocked_region = |e: &Edge| {
+        if cfg.blocked_regions.is_empty() {
+            return false;
+        }
+        let (mut lo, mut hi) = ([Real::INFINITY; 2], [Real::NEG_INFINITY; 2]);
+        for q in &e.polyline {
+            lo = [lo[0].min(q[0]), lo[1].min(q[1])];
+            hi = [hi[0].max(q[0]), hi[1].max(q[1])];
+        }
+        cfg.blocked_regions.iter().any(|(c, r)| {
+            let outside = c.x + r < lo[0] || c.x - r > hi[0] || c.y + r < lo[1] || c.y - r > hi[1];
+            !outside
+                && e.polyline.windows(2).any(|s| {
+                    homospline_geom::math::distance_point_segment(
+                        c,
+                        &Point::new(s[0][0], s[0][1]),
+                        &Point::new(s[1][0], s[1][1]),
+                    ) <= *r
+                })
+        })
+    };
     let allowed: Vec<bool> = graph
         .edges
         .iter()
@@ -193,15 +216,7 @@ pub fn k_best_classes(
             let connector = [e.from, e.to].iter().any(|&x| x == start || x == goal);
             !blocked.contains(&i)
                 && (connector || e.min_clearance >= cfg.min_clearance)
-                && !cfg.blocked_regions.iter().any(|(c, r)| {
-                    e.polyline.windows(2).any(|s| {
-                        homospline_geom::math::distance_point_segment(
-                            c,
-                            &Point::new(s[0][0], s[0][1]),
-                            &Point::new(s[1][0], s[1][1]),
-                        ) <= *r
-                    })
-                })
+                && !enters_blocked_region(e)
         })
         .collect();
     let cost: Vec<Real> = graph
