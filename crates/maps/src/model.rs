@@ -5,7 +5,7 @@
 //!   the exact brushfire, `-h/2` inside obstacles) interpolated bilinearly, with its gradient;
 //! - for verification, the exact Euclidean distance from a point to the nearest occupied
 //!   cell (a closed square), found by a ring search bounded by the brushfire. It is
-//!   1-Lipschitz, so `min(d(a), d(b)) - |ab| / 2` is a rigorous lower bound of the clearance
+//!   1-Lipschitz, so `(d(a) + d(b) - |ab|) / 2` is a rigorous lower bound of the clearance
 //!   along a segment: that is what certification and the reported `min_clearance` use.
 
 use homospline_geom::{Point, Real, Vector};
@@ -307,7 +307,10 @@ impl ClearanceModel for GridModel {
     }
 
     fn segment_clearance_between(&self, a: &Point, b: &Point, da: Real, db: Real) -> Real {
-        da.min(db) - 0.5 * (b - a).norm()
+        // At distance s from a along the segment, d >= max(da - s, db - (|ab| - s)), whose
+        // least value over s is their average: (da + db - |ab|) / 2, never below
+        // min(da, db) - |ab| / 2 and equal to it only when da = db.
+        0.5 * (da + db - (b - a).norm())
     }
 
     fn exact_clearance(&self, p: &Point) -> Real {

@@ -211,6 +211,29 @@ proptest! {
         }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(128))]
+
+    /// The segment bound `(d(a) + d(b) - |ab|) / 2` never exceeds the exact clearance at any
+    /// of 400 points along the segment (so it is a lower bound wherever it is positive).
+    #[test]
+    fn the_segment_bound_is_below_the_clearance_along_the_segment(
+        bits in prop::collection::vec(prop::bool::weighted(0.15), 12 * 10),
+        (ax, ay, bx, by) in (0.0..12.0, 0.0..10.0, 0.0..12.0, 0.0..10.0),
+    ) {
+        use homospline_spline::ClearanceModel;
+        let map = OccupancyMap { name: "t".into(), width: 12, height: 10, cell: 1.0, origin: Point::origin(), occupied: bits, y_down: false };
+        let grid = map.to_grid().unwrap();
+        let model = GridModel::new(&grid, &DistanceField::build(&grid));
+        let (a, b) = (Point::new(ax, ay), Point::new(bx, by));
+        let bound = model.segment_clearance(&a, &b);
+        let least = (0..=400)
+            .map(|k| model.exact(&(a + (b - a) * (k as f64 / 400.0))))
+            .fold(f64::INFINITY, f64::min);
+        prop_assert!(bound <= least.max(0.0) + 1e-12, "bound {} above the least sampled clearance {}", bound, least);
+    }
+}
+
 /// Total turning, degrees, of a path over its first `span` units of length.
 fn turning(path: &[Point], span: f64) -> f64 {
     let (mut arc, mut total, mut heading) = (0.0, 0.0, None::<f64>);
