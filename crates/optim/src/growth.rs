@@ -180,8 +180,11 @@ fn to_points(s: Point, t: Point, x: &[Real]) -> Vec<Point> {
 }
 
 /// Whether the spline stays in bounds and (when asked) in its class, on dense samples. The
-/// collision test of a guarded candidate is the cost's own `m(C)` (every quadrature node,
-/// refined near the worst one), checked after the evaluation; a round's result is certified.
+/// class holds when the sweep from the guard's last in-class samples is proven clear
+/// ([`Rays::sweep_is_clear`]), else when the samples' signature is the class's; either way
+/// the samples become the guard's new reference. The collision test of a guarded candidate
+/// is the cost's own `m(C)` (every quadrature node, refined near the worst one), checked
+/// after the evaluation; a round's result is certified.
 pub fn admissible(spline: &Spline, guard: &Guard<'_>, samples_per_segment: usize) -> bool {
     let pts = spline.sample_uniform(spline.segments() * samples_per_segment.max(2));
     if !pts.iter().all(|p| guard.bounds.contains(p)) {
