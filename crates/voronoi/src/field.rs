@@ -411,32 +411,7 @@ impl DistanceField {
             }
             self.boxes.insert(key, bx);
         }
-        let (mut i0, mut j0, mut i1, mut j1) = (w, h, 0, 0);
-        for &(i, j) in cells {
-            (i0, j0, i1, j1) = (i0.min(i), j0.min(j), i1.max(i), j1.max(j));
-        }
-        let r = (self.max_d2 as f64).sqrt().ceil() as usize + 1;
-        let (wi0, wj0) = (i0.saturating_sub(r), j0.saturating_sub(r));
-        let (wi1, wj1) = ((i1 + r + 1).min(w), (j1 + r + 1).min(h));
-        let ww = wi1 - wi0;
-        // The new cells as a dense source array over the window.
-        let mut src = vec![u32::MAX; ww * (wj1 - wj0)];
-        for (&(i, j), &kk) in &key_of {
-            src[(j - wj0) * ww + (i - wi0)] = kk;
-        }
-        let (vals, _) = transform(wi0, wi1, wj0, wj1, |y, out| {
-            out.copy_from_slice(&src[y * ww..(y + 1) * ww]);
-        });
-        for y in wj0..wj1 {
-            for x in wi0..wi1 {
-                let nv = vals[(y - wj0) * ww + (x - wi0)];
-                let c = &mut self.val[y * w + x];
-                if nv < *c {
-                    *c = nv;
-                }
-            }
-        }
-        Ok(ww * (wj1 - wj0))
+        Ok(self.lower_towards(cells, &key_of))
     }
 
     /// Marks `cells` occupied in `grid` and updates the field locally, like
@@ -536,16 +511,30 @@ impl DistanceField {
             };
             self.boxes.insert(key, b);
         }
+        Ok(self.lower_towards(&sorted, &key_of))
+    }
+
+    /// The common end of [`DistanceField::add_obstacle`] and [`DistanceField::add_cells`]:
+    /// every cell within `sqrt(max d2) + 1` of the box of `cells` takes the lesser of its
+    /// value and its (squared distance, key) to the new cells `key_of`, found by one exact
+    /// transform over that window. Returns the number of cells visited.
+    fn lower_towards(
+        &mut self,
+        cells: &[(usize, usize)],
+        key_of: &std::collections::HashMap<(usize, usize), u32>,
+    ) -> usize {
+        let (w, h) = (self.width, self.height);
         let (mut i0, mut j0, mut i1, mut j1) = (w, h, 0, 0);
-        for &(i, j) in &sorted {
+        for &(i, j) in cells {
             (i0, j0, i1, j1) = (i0.min(i), j0.min(j), i1.max(i), j1.max(j));
         }
         let r = (self.max_d2 as f64).sqrt().ceil() as usize + 1;
         let (wi0, wj0) = (i0.saturating_sub(r), j0.saturating_sub(r));
         let (wi1, wj1) = ((i1 + r + 1).min(w), (j1 + r + 1).min(h));
         let ww = wi1 - wi0;
+        // The new cells as a dense source array over the window.
         let mut src = vec![u32::MAX; ww * (wj1 - wj0)];
-        for (&(i, j), &kk) in &key_of {
+        for (&(i, j), &kk) in key_of {
             src[(j - wj0) * ww + (i - wi0)] = kk;
         }
         let (vals, _) = transform(wi0, wi1, wj0, wj1, |y, out| {
@@ -560,7 +549,7 @@ impl DistanceField {
                 }
             }
         }
-        Ok(ww * (wj1 - wj0))
+        ww * (wj1 - wj0)
     }
 
     /// Removes the obstacle with `key` from `grid` and updates the field locally: only the
