@@ -675,6 +675,21 @@ pub fn load(
     path: &std::path::Path,
     read: impl Fn(&std::path::Path) -> std::io::Result<Vec<u8>>,
 ) -> Result<MissionWorld, String> {
+    let file = read_world_file(path, &read)?;
+    if file.map.is_some() {
+        return Err(format!(
+            "{}: a map world (`map`): load it with `load_any`",
+            path.display()
+        ));
+    }
+    scene_world(path, file, &read)
+}
+
+/// The world file at `path`, read and checked.
+fn read_world_file(
+    path: &std::path::Path,
+    read: &impl Fn(&std::path::Path) -> std::io::Result<Vec<u8>>,
+) -> Result<WorldFile, String> {
     let name = path.display().to_string();
     let bytes = read(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
     let text = std::str::from_utf8(&bytes).map_err(|e| {
@@ -683,12 +698,16 @@ pub fn load(
             e.valid_up_to()
         )
     })?;
-    let file = WorldFile::from_str(text, &name).map_err(|e| e.to_string())?;
-    if file.map.is_some() {
-        return Err(format!(
-            "{name}: a map world (`map`): load it with `load_any`"
-        ));
-    }
+    WorldFile::from_str(text, &name).map_err(|e| e.to_string())
+}
+
+/// A scene world: `file` (read from `path`) joined with the scene it names.
+fn scene_world(
+    path: &std::path::Path,
+    file: WorldFile,
+    read: &impl Fn(&std::path::Path) -> std::io::Result<Vec<u8>>,
+) -> Result<MissionWorld, String> {
+    let name = path.display().to_string();
     let scene_path = path
         .parent()
         .unwrap_or(std::path::Path::new("."))
@@ -709,16 +728,9 @@ pub fn load_any(
     read: impl Fn(&std::path::Path) -> std::io::Result<Vec<u8>>,
 ) -> Result<AnyWorld, String> {
     let name = path.display().to_string();
-    let bytes = read(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
-    let text = std::str::from_utf8(&bytes).map_err(|e| {
-        format!(
-            "{name}: not a text file: invalid UTF-8 at byte {}",
-            e.valid_up_to()
-        )
-    })?;
-    let file = WorldFile::from_str(text, &name).map_err(|e| e.to_string())?;
+    let file = read_world_file(path, &read)?;
     let Some(spec) = file.map.clone() else {
-        return load(path, read).map(AnyWorld::Scene);
+        return scene_world(path, file, &read).map(AnyWorld::Scene);
     };
     let dir = path.parent().unwrap_or(std::path::Path::new("."));
     let load_map = |field: &str, file_name: &str| {
