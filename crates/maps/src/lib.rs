@@ -148,24 +148,31 @@ impl OccupancyMap {
         (i < self.width && j < self.height).then(|| !self.occupied[j * self.width + i])
     }
 
+    /// Distance from `p` to the closed square of cell `(i, j)` (0 inside it).
+    pub fn distance_to_cell(&self, p: &Point, cell: (usize, usize)) -> Real {
+        self.squared_distance_to_cell(p, cell).sqrt()
+    }
+
+    fn squared_distance_to_cell(&self, p: &Point, (i, j): (usize, usize)) -> Real {
+        let lo = Point::new(
+            self.origin.x + i as Real * self.cell,
+            self.origin.y + j as Real * self.cell,
+        );
+        let dx = (lo.x - p.x).max(0.0).max(p.x - (lo.x + self.cell));
+        let dy = (lo.y - p.y).max(0.0).max(p.y - (lo.y + self.cell));
+        dx * dx + dy * dy
+    }
+
     /// Marks as occupied every cell that the closed disc overlaps (a blockage reported on
     /// the way); returns how many cells were free before.
     pub fn block_disc(&mut self, centre: &Point, radius: Real) -> usize {
         let mut count = 0;
         for j in 0..self.height {
             for i in 0..self.width {
-                let lo = Point::new(
-                    self.origin.x + i as Real * self.cell,
-                    self.origin.y + j as Real * self.cell,
-                );
-                let dx = (lo.x - centre.x)
-                    .max(0.0)
-                    .max(centre.x - (lo.x + self.cell));
-                let dy = (lo.y - centre.y)
-                    .max(0.0)
-                    .max(centre.y - (lo.y + self.cell));
                 let k = j * self.width + i;
-                if dx * dx + dy * dy <= radius * radius && !self.occupied[k] {
+                if self.squared_distance_to_cell(centre, (i, j)) <= radius * radius
+                    && !self.occupied[k]
+                {
                     self.occupied[k] = true;
                     count += 1;
                 }

@@ -244,17 +244,6 @@ fn changes(prior: &OccupancyMap, truth: &OccupancyMap) -> Vec<Change> {
     out
 }
 
-/// The distance from `p` to the square of map cell `(i, j)`.
-fn distance_to_cell(map: &OccupancyMap, p: &Point, (i, j): (usize, usize)) -> Real {
-    let lo = Point::new(
-        map.origin.x + i as Real * map.cell,
-        map.origin.y + j as Real * map.cell,
-    );
-    let dx = (lo.x - p.x).max(0.0).max(p.x - (lo.x + map.cell));
-    let dy = (lo.y - p.y).max(0.0).max(p.y - (lo.y + map.cell));
-    (dx * dx + dy * dy).sqrt()
-}
-
 /// The known map of a map mission: grid, brushfire, complete graph and clearance model, kept
 /// up to date as changes are discovered.
 pub(crate) struct MapKnown<'w> {
@@ -424,7 +413,7 @@ impl Known for MapKnown<'_> {
                 && change
                     .cells
                     .iter()
-                    .any(|&cell| distance_to_cell(&self.world.prior, p, cell) <= range)
+                    .any(|&cell| self.world.prior.distance_to_cell(p, cell) <= range)
             {
                 self.known[c] = true;
                 self.pending.push(c);
