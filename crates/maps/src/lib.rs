@@ -274,14 +274,7 @@ impl PreparedMap {
 
     fn assemble(map: &OccupancyMap, grid: Grid, field: DistanceField, graph: MapGraph) -> Self {
         let model = GridModel::new(&grid, &field);
-        let rays = Rays::new(
-            graph
-                .graph
-                .obstacles
-                .iter()
-                .map(|o| Point::new(o.representative[0], o.representative[1]))
-                .collect(),
-        );
+        let rays = rays_of(&graph);
         Self {
             name: map.name.clone(),
             bounds: map.bounds(),
@@ -333,6 +326,19 @@ impl PreparedMap {
             cfg,
         )?)
     }
+}
+
+/// The rays that name homotopy classes on a map's complete graph: one per obstacle inside
+/// the wall, from its representative point.
+pub fn rays_of(graph: &MapGraph) -> Rays {
+    Rays::new(
+        graph
+            .graph
+            .obstacles
+            .iter()
+            .map(|o| Point::new(o.representative[0], o.representative[1]))
+            .collect(),
+    )
 }
 
 /// Plans on `map` from `start` to `goal` (map coordinates), with the same result as on a

@@ -13,7 +13,7 @@ use std::time::Instant;
 
 use homospline_geom::{Point, Real, SceneError};
 use homospline_homotopy::Rays;
-use homospline_maps::{GridModel, MapError, OccupancyMap};
+use homospline_maps::{GridModel, MapError, OccupancyMap, rays_of};
 use homospline_optim::{Plan, PlanConfig, World, plan_world};
 use homospline_spline::ClearanceModel;
 use homospline_voronoi::{BuildError, DistanceField, Grid, MapGraph};
@@ -263,17 +263,6 @@ pub(crate) struct MapKnown<'w> {
     closed: Vec<(Point, Real)>,
     /// Every update so far.
     pub(crate) updates: Vec<MapUpdate>,
-}
-
-fn rays_of(graph: &MapGraph) -> Rays {
-    Rays::new(
-        graph
-            .graph
-            .obstacles
-            .iter()
-            .map(|o| Point::new(o.representative[0], o.representative[1]))
-            .collect(),
-    )
 }
 
 impl<'w> MapKnown<'w> {
