@@ -179,6 +179,7 @@ impl Rays {
     /// turned further if two origins would lie on one ray.
     pub fn new(origins: Vec<Point>) -> Self {
         let mut angle: Real = 1.4137;
+        let scale = scale_of(&origins);
         loop {
             let dir = Vector::new(angle.cos(), angle.sin());
             // Two origins on one line along `dir`: |q(b) - q(a)| <= 1e-9 (1 + |b - a|), with
@@ -191,7 +192,7 @@ impl Rays {
                 .map(|(i, o)| (dir.x * o.y - dir.y * o.x, i))
                 .collect();
             qs.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-            let window = 2e-9 * (1.0 + 2.0 * scale_of(&origins)) + 1e-12 * scale_of(&origins);
+            let window = 2e-9 * (1.0 + 2.0 * scale) + 1e-12 * scale;
             let collinear = (0..qs.len()).any(|x| {
                 qs[x + 1..]
                     .iter()
@@ -202,18 +203,11 @@ impl Rays {
                     })
             });
             if !collinear || angle > 1.7 {
-                let mut by_q: Vec<(Real, usize)> = origins
-                    .iter()
-                    .enumerate()
-                    .map(|(i, o)| (dir.x * o.y - dir.y * o.x, i))
-                    .collect();
-                by_q.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-                let scale = scale_of(&origins);
                 let buckets = Buckets::new(&origins);
                 return Self {
                     origins,
                     dir,
-                    by_q,
+                    by_q: qs,
                     scale,
                     buckets,
                 };
