@@ -7,7 +7,6 @@ use std::path::{Path, PathBuf};
 
 use homospline_maps::bench::{self, CSV_HEADER, Row, Shard};
 use homospline_maps::{PreparedMap, movingai};
-use homospline_optim::PlanConfig;
 
 /// A sweep, or one shard of it.
 #[derive(Clone, Debug)]
@@ -24,6 +23,9 @@ pub struct BenchJob {
     pub classes: usize,
     /// Plans slower than this (ms) count as timeouts.
     pub time_limit: Option<f64>,
+    /// Weights and parameters of the cost by name (`--weight NAME=VALUE`), over the map
+    /// defaults.
+    pub weights: Vec<(String, f64)>,
 }
 
 /// What a run did besides its rows.
@@ -81,12 +83,14 @@ pub fn run_files(
     job: &BenchJob,
     mut progress: impl FnMut(usize, usize),
 ) -> Result<(Vec<Row>, BenchInfo), String> {
-    if job.classes == 0 || job.classes > 64 {
-        return Err(format!(
-            "--classes {}: must be between 1 and 64",
-            job.classes
-        ));
-    }
+    let cfg = crate::options::plan_config(
+        &crate::options::PlanOptions {
+            classes: job.classes,
+            weights: job.weights.clone(),
+            ..Default::default()
+        },
+        None,
+    )?;
     if job.limit.is_some() && job.sample.is_some() {
         return Err("--limit and --sample exclude each other".into());
     }
@@ -142,10 +146,6 @@ pub fn run_files(
         prepare_ms += t.elapsed().as_secs_f64() * 1e3;
         maps.insert(map_path, prepared);
     }
-    let cfg = PlanConfig {
-        classes: job.classes,
-        ..homospline_maps::map_config()
-    };
     let mut rows = Vec::with_capacity(items.len());
     for (done, &(f, k)) in items.iter().enumerate() {
         let s = &scenarios[f][k];

@@ -191,9 +191,38 @@ struct BenchArgs {
     /// Homotopy classes per plan.
     #[arg(long, default_value_t = 5)]
     classes: usize,
+    /// Set a weight or parameter of the cost over the map defaults, e.g. --weight dm=1
+    /// (repeatable).
+    #[arg(long = "weight", value_name = "NAME=VALUE")]
+    weights: Vec<String>,
     /// Write one line per scenario here.
     #[arg(long, value_name = "FILE")]
     csv: Option<PathBuf>,
+}
+
+/// Writes a line to stdout. A closed pipe (`homospline plan | head`) drops the output
+/// and the command goes on to its files and its exit code; any other write error fails.
+macro_rules! say {
+    ($($arg:tt)*) => {
+        stdout_write(&format!("{}\n", format_args!($($arg)*)))?
+    };
+}
+
+/// [`say!`] without the line end.
+macro_rules! say_raw {
+    ($($arg:tt)*) => {
+        stdout_write(&format!($($arg)*))?
+    };
+}
+
+fn stdout_write(text: &str) -> anyhow::Result<()> {
+    use std::io::Write;
+    match std::io::stdout().lock().write_all(text.as_bytes()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(anyhow::anyhow!("cannot write to stdout: {e}"))
+        }
+        _ => Ok(()),
+    }
 }
 
 /// An error that is the user's input: exit 2.
@@ -327,13 +356,13 @@ fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
             (r, t, j, svg)
         }
     };
-    print!("{text}");
+    say_raw!("{text}");
     if let Some(p) = &a.json {
         write(p, "mission JSON", json.as_bytes())?;
     }
     if let (Some(p), Some(svg)) = (&a.svg, svg) {
         write(p, "picture", svg.as_bytes())?;
-        println!("picture: {}", p.display());
+        say!("picture: {}", p.display());
     }
     Ok(if result.reached { 0 } else { 1 })
 }
@@ -345,7 +374,7 @@ fn write(path: &Path, what: &str, bytes: &[u8]) -> anyhow::Result<()> {
 
 fn check(path: &Path) -> anyhow::Result<u8> {
     let scene = load_scene(path)?;
-    print!("{}", homospline_cli::summary(&scene));
+    say_raw!("{}", homospline_cli::summary(&scene));
     Ok(0)
 }
 
@@ -384,7 +413,7 @@ fn graph(
             )
         }
     };
-    println!(
+    say!(
         "graph of {}: {} x {} cells at {:.3} cells per unit, {} nodes, {} edges, {} cycles, {:.1} ms",
         name,
         cells.0,
@@ -529,6 +558,24 @@ struct PlanArgs {
     svg: Option<PathBuf>,
 }
 
+/// `--weight NAME=VALUE` options as names and numbers (the names are checked later, by
+/// the cost).
+fn parse_weights(weights: &[String]) -> anyhow::Result<Vec<(String, f64)>> {
+    weights
+        .iter()
+        .map(|w| {
+            let (name, value) = w
+                .split_once('=')
+                .ok_or_else(|| bad(format!("--weight {w}: expected NAME=VALUE")))?;
+            let v: f64 = value
+                .trim()
+                .parse()
+                .map_err(|_| bad(format!("--weight {w}: '{value}' is not a number")))?;
+            Ok((name.trim().to_owned(), v))
+        })
+        .collect()
+}
+
 fn parse_point(opt: &str, text: &str) -> anyhow::Result<Point> {
     let (x, y) = text
         .split_once(',')
@@ -624,17 +671,7 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
             Input::Map(map)
         }
     };
-    let mut weights = Vec::new();
-    for w in &a.weights {
-        let (name, value) = w
-            .split_once('=')
-            .ok_or_else(|| bad(format!("--weight {w}: expected NAME=VALUE")))?;
-        let v: f64 = value
-            .trim()
-            .parse()
-            .map_err(|_| bad(format!("--weight {w}: '{value}' is not a number")))?;
-        weights.push((name.trim().to_owned(), v));
-    }
+    let weights = parse_weights(&a.weights)?;
     let options = PlanOptions {
         seed: match a.seed {
             SeedArg::Voronoi => "voronoi".into(),
@@ -710,13 +747,13 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
             (result, pic)
         }
     };
-    print!("{}", report::plan_table(&result));
+    say_raw!("{}", report::plan_table(&result));
     if let Some(p) = &a.json {
         write(p, "plan JSON", report::plan_json(&result).as_bytes())?;
     }
     if let (Some(p), Some(pic)) = (&a.svg, picture) {
         write(p, "picture", pic.as_bytes())?;
-        println!("picture: {}", p.display());
+        say!("picture: {}", p.display());
     }
     Ok(if result.best.is_some() {
         0
@@ -761,6 +798,7 @@ fn bench_scen(a: BenchArgs) -> anyhow::Result<u8> {
         shard,
         classes: a.classes,
         time_limit: a.time_limit,
+        weights: parse_weights(&a.weights)?,
     };
     let bar = indicatif::ProgressBar::new(0);
     bar.set_style(
@@ -775,7 +813,7 @@ fn bench_scen(a: BenchArgs) -> anyhow::Result<u8> {
     })
     .map_err(bad)?;
     bar.finish_and_clear();
-    println!(
+    say!(
         "{}: {} of {} scenarios picked{}{}, on {}; maps prepared once in {:.1} ms",
         info.files
             .iter()
@@ -797,7 +835,7 @@ fn bench_scen(a: BenchArgs) -> anyhow::Result<u8> {
         info.maps.join(", "),
         info.prepare_ms
     );
-    print!("{}", bench::summary(&rows));
+    say_raw!("{}", bench::summary(&rows));
     if let Some(p) = &a.csv {
         write(p, "CSV", csv_text(&rows).as_bytes())?;
     }
@@ -813,8 +851,8 @@ fn bench_merge(csvs: &[PathBuf], out: Option<&Path>) -> anyhow::Result<u8> {
         texts.push((name, text));
     }
     let rows = homospline_cli::bench::rows_of_named(&texts).map_err(bad)?;
-    println!("{} scenarios from {} CSV files", rows.len(), csvs.len());
-    print!("{}", homospline_maps::bench::summary(&rows));
+    say!("{} scenarios from {} CSV files", rows.len(), csvs.len());
+    say_raw!("{}", homospline_maps::bench::summary(&rows));
     if let Some(p) = out {
         write(p, "CSV", homospline_cli::bench::csv_text(&rows).as_bytes())?;
     }

@@ -44,7 +44,7 @@ fn describe(kind: &EventKind) -> String {
         ),
         EventKind::Switched { from, to } => format!("switched class {from} -> {to}"),
         EventKind::TurnedAround => {
-            "the new path starts backwards: the UGV turns on the spot".into()
+            "the new path leaves off the heading: the UGV turns on the spot".into()
         }
         EventKind::Reached => "goal reached".into(),
         EventKind::Stuck { reason } => format!("stopped: {reason}"),

@@ -315,3 +315,22 @@ fn block_avoid_and_diverse_change_the_classes() {
         assert!(err.contains(msg), "{args:?}: {err}");
     }
 }
+
+#[test]
+fn a_closed_stdout_does_not_stop_the_plan() {
+    // `homospline plan | head -3`: the reader goes away before the table is printed. The
+    // plan still writes its JSON and exits with its own code, without a panic.
+    let json = tmp("closed-stdout.json");
+    let mut child = homospline()
+        .args(["plan", "--json"])
+        .arg(&json)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    assert_ok(&out);
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
+    assert!(read_json(&json)["best"].is_u64());
+}

@@ -158,7 +158,8 @@ pub enum EventKind {
         /// To.
         to: String,
     },
-    /// The new path starts backwards: the UGV turns on the spot.
+    /// The new path leaves more than [`TURN_ANGLE_DEG`] off the heading (it starts backwards
+    /// or sideways): the UGV turns on the spot.
     TurnedAround,
     /// The goal is reached.
     Reached,
@@ -493,7 +494,7 @@ impl<K: Known> Run<'_, K> {
     }
 
     /// The events of driving `next` instead of `current` from `at`: a class switch if the
-    /// class changes, and a turn on the spot if `next` starts against `heading`. Whether the
+    /// class changes, and a turn on the spot if `next` leaves off `heading`. Whether the
     /// class changed.
     fn adopt(
         &mut self,
@@ -514,7 +515,7 @@ impl<K: Known> Run<'_, K> {
                 },
             );
         }
-        if starts_backwards(&next.line, heading) {
+        if turns_on_the_spot(&next.line, heading) {
             self.event(t, at, EventKind::TurnedAround);
         }
         switched
@@ -1089,10 +1090,18 @@ pub fn should_switch(
     candidate < (1.0 - cfg.switch_margin) * current && since_last_switch >= cfg.min_switch_interval
 }
 
-/// Whether a path leaves its start against `heading` (the UGV turns on the spot).
-fn starts_backwards(line: &Polyline, heading: Vector) -> bool {
-    line.pts.len() > 1 && (line.pts[1] - line.pts[0]).dot(&heading) < 0.0
+/// Whether a path leaves its start more than [`TURN_ANGLE_DEG`] off `heading`: the UGV
+/// turns on the spot. A curve planned along the heading leaves exactly along it; one whose
+/// class starts backwards, or sideways, is planned from a standstill.
+fn turns_on_the_spot(line: &Polyline, heading: Vector) -> bool {
+    line.pts.len() > 1 && {
+        let d = line.pts[1] - line.pts[0];
+        d.dot(&heading) < TURN_ANGLE_DEG.to_radians().cos() * d.norm() * heading.norm()
+    }
 }
+
+/// The most a new path may leave off the UGV's heading without a turn on the spot, degrees.
+pub const TURN_ANGLE_DEG: Real = 25.0;
 
 /// The part of the route a scout `ahead` inspects: scout `j` of `n` takes the `j`-th of `n`
 /// equal parts of the far half of what is left.

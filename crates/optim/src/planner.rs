@@ -400,6 +400,7 @@ pub fn plan_world(
                     let poly = shortcut_ends(&poly, world.model, 1.0 / graph.resolution, |p| {
                         rays.signature(p) == c.signature
                     });
+                    // A map's seed is pulled taut in the class's own task, below.
                     let poly = if world.grid_is_exact {
                         poly
                     } else {
@@ -431,6 +432,13 @@ pub fn plan_world(
             .with_max_len(1)
             .map(|&i| {
                 let (poly, sig, gcost) = &seeds[i];
+                let pulled = match (sig, graph_cell) {
+                    (Some(s), Some(cell)) if world.grid_is_exact => {
+                        Some(pull_taut(poly, world.model, rays, cell, s))
+                    }
+                    _ => None,
+                };
+                let poly = pulled.as_deref().unwrap_or(poly);
                 (
                     i,
                     optimise_class(world, poly, sig.as_ref(), *gcost, cfg, graph_cell),
@@ -580,11 +588,211 @@ fn shortcut_ends(
     out
 }
 
+/// String pulling on a map's class path, which runs along the ridge of free space: through
+/// the middle of every room and round every bend at the bend's full clearance, so the curve
+/// seeded by it is up to a fifth longer than the octile path, and an optimiser with a budget
+/// that follows the path's length does not pull it straight.
+///
+/// Each point of the ridge gets a margin: its clearance less half a cell, at least half of
+/// it (as at the ends) and at most [`PULL_MARGIN`] cells. A pass ([`pull_pass`]) puts a
+/// point every cell along the path and replaces it by chords between its points that keep
+/// the least margin of the stretch they replace. A chord's corners lie on the path it
+/// replaced (the ridge, at first), so passes are repeated on the result, its points
+/// carrying their chord's margin, until the length stops falling: the corners move in
+/// towards the walls, to the margin. The result keeps the class; the cost then decides how
+/// far from walls the curve ends up.
+fn pull_taut(
+    poly: &[Point],
+    model: &dyn ClearanceModel,
+    rays: &Rays,
+    cell: Real,
+    signature: &Signature,
+) -> Vec<Point> {
+    if poly.len() < 3 {
+        return poly.to_vec();
+    }
+    let margin = |c: Real| (c - 0.5 * cell).max(0.5 * c).min(PULL_MARGIN * cell);
+    let margins: Vec<Real> = poly.iter().map(|p| margin(model.clearance(p).0)).collect();
+    // A vertex's margin applies to both its segments.
+    let mut path: Vec<(Point, Real)> = poly
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| (p, margins[i].min(margins[i.saturating_sub(1)])))
+        .collect();
+    let length =
+        |p: &[(Point, Real)]| -> Real { p.windows(2).map(|w| (w[1].0 - w[0].0).norm()).sum() };
+    for pass in 0..PULL_PASSES {
+        let cut = if pass == 0 {
+            path.clone()
+        } else {
+            cut_corners(&path, model, rays, cell)
+        };
+        let Some(next) = pull_pass(&cut, model, rays, cell, signature) else {
+            break;
+        };
+        let (before, after) = (length(&path), length(&next));
+        path = next;
+        if after > before * (1.0 - 1e-3) {
+            break;
+        }
+    }
+    path.into_iter().map(|(p, _)| p).collect()
+}
+
+/// Cuts each corner `V` of `path` (between `A` and `B`) by the chord between `V + s (A - V)`
+/// and `V + s (B - V)`, for the largest `s` of a halving search whose chord keeps the margin
+/// of both segments and whose cut triangle holds no obstacle. A chord's corners lie on the
+/// path it replaced; cutting moves them in towards the walls, which a pass of chords alone
+/// cannot do once every chord touches its margin.
+fn cut_corners(
+    path: &[(Point, Real)],
+    model: &dyn ClearanceModel,
+    rays: &Rays,
+    cell: Real,
+) -> Vec<(Point, Real)> {
+    let mut out = vec![path[0]];
+    for k in 1..path.len() - 1 {
+        let (a, v, b) = (out[out.len() - 1].0, path[k].0, path[k + 1].0);
+        let (ta, tb) = (path[k].1, path[k + 1].1);
+        let target = ta.min(tb);
+        let cut_at = |s: Real| {
+            let (w1, w2) = (v + (a - v) * s, v + (b - v) * s);
+            let ok = target > 0.0
+                && clear_at_least(model, w1, w2, target, cell)
+                && rays.sweep_is_clear(
+                    &[w1, v, w2],
+                    &[w1, Point::from((w1.coords + w2.coords) * 0.5), w2],
+                );
+            ok.then_some((w1, w2))
+        };
+        let mut best = None;
+        let (mut lo, mut hi) = (0.0, 1.0);
+        for _ in 0..CUT_STEPS {
+            let s = 0.5 * (lo + hi);
+            match cut_at(s) {
+                Some(w) => {
+                    best = Some(w);
+                    lo = s;
+                }
+                None => hi = s,
+            }
+        }
+        match best {
+            Some((w1, w2)) if (w1 - v).norm() > 0.05 * cell && (w2 - v).norm() > 0.05 * cell => {
+                out.push((w1, ta));
+                out.push((w2, target));
+            }
+            _ => out.push(path[k]),
+        }
+    }
+    out.push(path[path.len() - 1]);
+    out
+}
+
+/// Halving steps of [`cut_corners`]' search.
+const CUT_STEPS: usize = 6;
+
+/// One pass of [`pull_taut`] over `path`, whose points carry the margin of the segment that
+/// ends at them. `None` when the result cannot be kept in the class.
+fn pull_pass(
+    path: &[(Point, Real)],
+    model: &dyn ClearanceModel,
+    rays: &Rays,
+    cell: Real,
+    signature: &Signature,
+) -> Option<Vec<(Point, Real)>> {
+    // A point every cell, each with the least margin of the segments it is on.
+    let mut dense = vec![path[0].0];
+    let mut margin = vec![path.get(1).map_or(0.0, |p| p.1)];
+    for (k, w) in path.windows(2).enumerate() {
+        let n = ((w[1].0 - w[0].0).norm() / cell).ceil().max(1.0) as usize;
+        let next = path.get(k + 2).map_or(w[1].1, |p| p.1.min(w[1].1));
+        for j in 1..n {
+            dense.push(w[0].0 + (w[1].0 - w[0].0) * (j as Real / n as Real));
+            margin.push(w[1].1);
+        }
+        // The vertex itself, exactly (the goal stays the goal).
+        dense.push(w[1].0);
+        margin.push(next);
+    }
+    let target = |i: usize, j: usize| {
+        margin[i..=j]
+            .iter()
+            .copied()
+            .fold(Real::INFINITY, Real::min)
+    };
+    let loop_is_trivial = |i: usize, j: usize| {
+        let mut w = rays.signature(&dense[i..=j]);
+        rays.cross_segment(&dense[j], &dense[i], &mut w);
+        w.is_identity()
+    };
+    let pull = |checked: bool| -> Vec<(Point, Real)> {
+        let ok = |i: usize, j: usize| {
+            j == i + 1
+                || (target(i, j) > 0.0
+                    && clear_at_least(model, dense[i], dense[j], target(i, j), cell)
+                    && (!checked || loop_is_trivial(i, j)))
+        };
+        let last = dense.len() - 1;
+        let mut out = vec![(dense[0], 0.0)];
+        let mut i = 0;
+        while i < last {
+            // Doubling while the chord is admissible, then halving between the last
+            // admissible and the first refused.
+            let (mut good, mut step, mut bad) = (i + 1, 2, None);
+            while good < last {
+                let j = (i + step).min(last);
+                if ok(i, j) {
+                    good = j;
+                    step *= 2;
+                } else {
+                    bad = Some(j);
+                    break;
+                }
+            }
+            if let Some(mut hi) = bad {
+                while hi - good > 1 {
+                    let mid = good + (hi - good) / 2;
+                    if ok(i, mid) {
+                        good = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+            }
+            out.push((dense[good], target(i, good).max(0.0)));
+            i = good;
+        }
+        out
+    };
+    let in_class = |v: &[(Point, Real)]| {
+        rays.signature(&v.iter().map(|p| p.0).collect::<Vec<_>>()) == *signature
+    };
+    let fast = pull(false);
+    if in_class(&fast) {
+        return Some(fast);
+    }
+    let checked = pull(true);
+    in_class(&checked).then_some(checked)
+}
+
+/// Most passes of [`pull_taut`].
+const PULL_PASSES: usize = 6;
+
+/// The most clearance, in cells, a pulled chord must keep (less where the stretch it
+/// replaces keeps less).
+const PULL_MARGIN: Real = 1.0;
+
 /// Shortcuts tried at each end of a seed, farthest first.
 const SHORTCUT_TRIES: usize = 32;
 
-/// Whether the segment `ab` keeps at least `target` clearance: the model's bound on the
-/// whole segment, else on its halves, down to pieces of an eighth of a cell.
+/// Whether the segment `ab` keeps at least `target` clearance. First the model's bound on
+/// the whole segment; else a march from `a`: the clearance is 1-Lipschitz, so from a point
+/// `d` clear every point within `d - target` further on is at least `target` clear, and the
+/// march steps that far (at least an eighth of a cell, the step then certified by the
+/// model's bound on it) until it comes within `d(b) - target` of `b`. Each point's exact
+/// clearance is computed once. `false` when a point, or an eighth-of-a-cell step, is not
+/// certified.
 fn clear_at_least(
     model: &dyn ClearanceModel,
     a: Point,
@@ -592,14 +800,39 @@ fn clear_at_least(
     target: Real,
     cell: Real,
 ) -> bool {
-    if model.segment_clearance(&a, &b) >= target {
-        return true;
-    }
-    if (b - a).norm() <= 0.125 * cell {
+    let (da, db) = (model.exact_clearance(&a), model.exact_clearance(&b));
+    if da < target || db < target {
         return false;
     }
-    let m = Point::from((a.coords + b.coords) * 0.5);
-    clear_at_least(model, a, m, target, cell) && clear_at_least(model, m, b, target, cell)
+    if model.segment_clearance_between(&a, &b, da, db) >= target {
+        return true;
+    }
+    let len = (b - a).norm();
+    let dir = (b - a) / len;
+    let end = len - (db - target);
+    let min_step = 0.125 * cell;
+    let (mut s, mut p, mut d) = (0.0, a, da);
+    loop {
+        if s + (d - target) >= end {
+            return true;
+        }
+        if d - target >= min_step {
+            s += d - target;
+            p = a + dir * s;
+            d = model.exact_clearance(&p);
+            if d < target {
+                return false;
+            }
+        } else {
+            let next = (s + min_step).min(len);
+            let q = a + dir * next;
+            let dq = model.exact_clearance(&q);
+            if dq < target || model.segment_clearance_between(&p, &q, d, dq) < target {
+                return false;
+            }
+            (s, p, d) = (next, q, dq);
+        }
+    }
 }
 
 /// The graph's edges run along cell sides, so in a passage one cell wide a class path can lie
@@ -978,3 +1211,74 @@ fn optimise_class(
 
 /// Candidates searched per class wanted when the selection limits overlap.
 pub const DIVERSE_CANDIDATES: usize = 4;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use homospline_geom::Circle;
+    use homospline_spline::CircleModel;
+    use proptest::prelude::*;
+
+    /// The least exact clearance over `n` evenly spaced points of `ab`, ends included.
+    fn sampled(model: &CircleModel, a: Point, b: Point, n: usize) -> Real {
+        (0..=n)
+            .map(|k| model.exact_clearance(&(a + (b - a) * (k as Real / n as Real))))
+            .fold(Real::INFINITY, Real::min)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// The march never certifies a segment that a dense sampling finds less clear than
+        /// the target, and does certify one whose every point keeps the target with room.
+        #[test]
+        fn clear_at_least_is_sound(
+            circles in prop::collection::vec((0.0..40.0f64, 0.0..40.0f64, 0.3..4.0f64), 1..12),
+            ax in 0.0..40.0f64, ay in 0.0..40.0f64, bx in 0.0..40.0f64, by in 0.0..40.0f64,
+            target in 0.0..2.0f64,
+        ) {
+            let model = CircleModel::new(circles.iter().map(|&(x, y, r)| Circle::new(x, y, r)).collect());
+            let (a, b) = (Point::new(ax, ay), Point::new(bx, by));
+            let dense = sampled(&model, a, b, 4000);
+            if clear_at_least(&model, a, b, target, 0.25) {
+                prop_assert!(dense >= target - 1e-9, "certified at {target} but {dense}");
+            }
+            // The circle model's segment distance is exact: a segment clear by a margin
+            // is certified.
+            if model.segment_clearance(&a, &b) >= target + 1e-6 {
+                prop_assert!(clear_at_least(&model, a, b, target, 0.25));
+            }
+        }
+
+        /// Pulled class paths of random scenes keep their ends and their class, are no
+        /// longer than the graph's path, and every chord is clear of the circles.
+        #[test]
+        fn pulled_seeds_keep_their_class_and_are_clear_and_shorter(seed in 0u64..1_000) {
+            let scene = homospline_testkit::random_scene("pull", seed, 60.0, 10, 3);
+            let (_, _, graph) = homospline_voronoi::build(&scene, 4.0).unwrap();
+            let rays = Rays::for_scene(&scene);
+            let model = CircleModel::new(scene.circles());
+            let search = SearchConfig { k: 4, ..SearchConfig::default() };
+            let length = |p: &[Point]| -> Real { p.windows(2).map(|w| (w[1] - w[0]).norm()).sum() };
+            for c in k_best_classes(&graph, &rays, &search).unwrap().classes {
+                let mut poly = c.polyline.clone();
+                poly[0] = scene.start;
+                let last = poly.len() - 1;
+                poly[last] = scene.goal;
+                // Only paths that are clear to begin with are pulled taut.
+                if poly.windows(2).any(|w| sampled(&model, w[0], w[1], 50) <= 0.0) {
+                    continue;
+                }
+                let pulled = pull_taut(&poly, &model, &rays, 0.25, &c.signature);
+                prop_assert_eq!(pulled[0], scene.start);
+                prop_assert_eq!(pulled[pulled.len() - 1], scene.goal);
+                prop_assert_eq!(rays.signature(&pulled), c.signature.clone());
+                prop_assert!(length(&pulled) <= length(&poly) + 1e-9);
+                for w in pulled.windows(2) {
+                    let d = sampled(&model, w[0], w[1], 400);
+                    prop_assert!(d > 0.0, "a chord comes {d} from the circles");
+                }
+            }
+        }
+    }
+}

@@ -489,6 +489,7 @@ fn bench_scen(
         shard,
         classes,
         time_limit,
+        weights: Vec::new(),
     };
     let (rows, _) = py
         .detach(|| homospline_cli::bench::run_files(&job, |_, _| {}))

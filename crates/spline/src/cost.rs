@@ -855,11 +855,22 @@ fn refine_min_clearance(
     let (tb, fb) = [(ta, f(ta)), (tz, f(tz))]
         .into_iter()
         .fold((tb, fb), |best, e| if e.1 < best.1 { e } else { best });
-    if fb < worst.clearance {
+    let (tb, fb) = if fb < worst.clearance {
         (tb, fb)
     } else {
         (t0, worst.clearance)
-    }
+    };
+    // `m(C)` is the least clearance over all of `[0, 1]`, the ends included. The quadrature
+    // nodes do not reach the ends, and a curve that leaves a start next to a wall quickly
+    // (a long curve, its parameter spread thin) put its first node farther from the wall than
+    // a short curve's: `D` favoured long detours from such a start. The ends are fixed, so
+    // where one of them is the least clear, `D` is the same for every curve.
+    [
+        (0.0, model.clearance(&spline.position(0.0)).0),
+        (1.0, model.clearance(&spline.position(1.0)).0),
+    ]
+    .into_iter()
+    .fold((tb, fb), |best, e| if e.1 < best.1 { e } else { best })
 }
 
 /// Step 5: the line-of-sight shares (start and goal visibility, shelter from hazards).
@@ -973,6 +984,31 @@ fn run(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_least_clearance_includes_the_ends_of_the_curve() {
+        // A long curve leaving a start 0.5 from a circle: its first quadrature node is far
+        // from the start, where the circle is farther; m(C) is still the start's 0.5, and D
+        // is the same as a short curve's from that start.
+        let model = crate::CircleModel::new(vec![homospline_geom::Circle::new(0.0, 0.0, 1.0)]);
+        let start = Point::new(1.5, 0.0);
+        let cfg = CostConfig::paper_voronoi();
+        for far in [5.0, 50.0, 500.0] {
+            let sp = Spline::natural(&[
+                start,
+                Point::new(1.5 + far / 2.0, 0.0),
+                Point::new(1.5 + far, 0.0),
+            ])
+            .unwrap();
+            let t = evaluate(&sp, &model, &cfg);
+            assert!(
+                (t.min_clearance - 0.5).abs() < 1e-12,
+                "{far}: {}",
+                t.min_clearance
+            );
+            assert!((t.safety - cfg.omega.powf(cfg.dm - 0.5)).abs() < 1e-9);
+        }
+    }
 
     #[test]
     fn set_validates_and_keeps_the_old_value_on_error() {
