@@ -597,10 +597,16 @@ fn shortcut_ends(
 /// it (as at the ends) and at most [`PULL_MARGIN`] cells. A pass ([`pull_pass`]) puts a
 /// point every cell along the path and replaces it by chords between its points that keep
 /// the least margin of the stretch they replace. A chord's corners lie on the path it
-/// replaced (the ridge, at first), so passes are repeated on the result, its points
-/// carrying their chord's margin, until the length stops falling: the corners move in
-/// towards the walls, to the margin. The result keeps the class; the cost then decides how
-/// far from walls the curve ends up.
+/// replaced (the ridge, at first), and once every chord touches its margin no chord can
+/// move them; so before each further pass every corner is cut ([`cut_corners`]), and passes
+/// go on, the points carrying their chord's margin, until the length falls by less than
+/// 0.1 % (at most [`PULL_PASSES`]): the corners move in towards the walls, to the margin.
+///
+/// The passes run unchecked first and the class is tested once, on the result; if it left
+/// the class, they run again with every chord proven to keep it. Failing both, the ridge
+/// path is kept. The cost then decides how far from walls the curve ends up. Measured on
+/// the MovingAI maps (`bench-scen --sample 20`): the median length over the octile optimum
+/// fell from 1.03 to 1.22 to between 0.96 and 1.00.
 fn pull_taut(
     poly: &[Point],
     model: &dyn ClearanceModel,
@@ -614,29 +620,36 @@ fn pull_taut(
     let margin = |c: Real| (c - 0.5 * cell).max(0.5 * c).min(PULL_MARGIN * cell);
     let margins: Vec<Real> = poly.iter().map(|p| margin(model.clearance(p).0)).collect();
     // A vertex's margin applies to both its segments.
-    let mut path: Vec<(Point, Real)> = poly
+    let path: Vec<(Point, Real)> = poly
         .iter()
         .enumerate()
         .map(|(i, &p)| (p, margins[i].min(margins[i.saturating_sub(1)])))
         .collect();
     let length =
         |p: &[(Point, Real)]| -> Real { p.windows(2).map(|w| (w[1].0 - w[0].0).norm()).sum() };
-    for pass in 0..PULL_PASSES {
-        let cut = if pass == 0 {
-            path.clone()
-        } else {
-            cut_corners(&path, model, rays, cell)
-        };
-        let Some(next) = pull_pass(&cut, model, rays, cell, signature) else {
-            break;
-        };
-        let (before, after) = (length(&path), length(&next));
-        path = next;
-        if after > before * (1.0 - 1e-3) {
-            break;
+    // Unchecked first (the class is tested once, at the end); if the result left the class,
+    // again with every chord and cut proven to keep it.
+    for checked in [false, true] {
+        let mut path = path.clone();
+        for pass in 0..PULL_PASSES {
+            let cut = if pass == 0 {
+                path.clone()
+            } else {
+                cut_corners(&path, model, rays, cell)
+            };
+            let next = pull_pass(&cut, model, rays, cell, checked);
+            let (before, after) = (length(&path), length(&next));
+            path = next;
+            if after > before * (1.0 - 1e-3) {
+                break;
+            }
+        }
+        let pulled: Vec<Point> = path.into_iter().map(|(p, _)| p).collect();
+        if rays.signature(&pulled) == *signature {
+            return pulled;
         }
     }
-    path.into_iter().map(|(p, _)| p).collect()
+    poly.to_vec()
 }
 
 /// Cuts each corner `V` of `path` (between `A` and `B`) by the chord between `V + s (A - V)`
@@ -689,18 +702,22 @@ fn cut_corners(
     out
 }
 
+/// Probes of a long chord in [`clear_at_least`], less one.
+const PROBES: usize = 8;
+
 /// Halving steps of [`cut_corners`]' search.
 const CUT_STEPS: usize = 6;
 
 /// One pass of [`pull_taut`] over `path`, whose points carry the margin of the segment that
-/// ends at them. `None` when the result cannot be kept in the class.
+/// ends at them. `checked`: each chord must also enclose no obstacle with the stretch it
+/// replaces (their loop's word is empty), which proves that the pass keeps the class.
 fn pull_pass(
     path: &[(Point, Real)],
     model: &dyn ClearanceModel,
     rays: &Rays,
     cell: Real,
-    signature: &Signature,
-) -> Option<Vec<(Point, Real)>> {
+    checked: bool,
+) -> Vec<(Point, Real)> {
     // A point every cell, each with the least margin of the segments it is on.
     let mut dense = vec![path[0].0];
     let mut margin = vec![path.get(1).map_or(0.0, |p| p.1)];
@@ -726,7 +743,7 @@ fn pull_pass(
         rays.cross_segment(&dense[j], &dense[i], &mut w);
         w.is_identity()
     };
-    let pull = |checked: bool| -> Vec<(Point, Real)> {
+    let pull = || -> Vec<(Point, Real)> {
         let ok = |i: usize, j: usize| {
             j == i + 1
                 || (target(i, j) > 0.0
@@ -765,15 +782,7 @@ fn pull_pass(
         }
         out
     };
-    let in_class = |v: &[(Point, Real)]| {
-        rays.signature(&v.iter().map(|p| p.0).collect::<Vec<_>>()) == *signature
-    };
-    let fast = pull(false);
-    if in_class(&fast) {
-        return Some(fast);
-    }
-    let checked = pull(true);
-    in_class(&checked).then_some(checked)
+    pull()
 }
 
 /// Most passes of [`pull_taut`].
@@ -808,6 +817,14 @@ fn clear_at_least(
         return true;
     }
     let len = (b - a).norm();
+    // A long chord that fails mostly fails somewhere in its middle: a few probes find that
+    // before the march does.
+    if len > 2.0 * cell
+        && (1..PROBES)
+            .any(|k| model.exact_clearance(&(a + (b - a) * (k as Real / PROBES as Real))) < target)
+    {
+        return false;
+    }
     let dir = (b - a) / len;
     let end = len - (db - target);
     let min_step = 0.125 * cell;
