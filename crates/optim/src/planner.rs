@@ -702,9 +702,6 @@ fn cut_corners(
     out
 }
 
-/// Probes of a long chord in [`clear_at_least`], less one.
-const PROBES: usize = 8;
-
 /// Halving steps of [`cut_corners`]' search.
 const CUT_STEPS: usize = 6;
 
@@ -817,14 +814,6 @@ fn clear_at_least(
         return true;
     }
     let len = (b - a).norm();
-    // A long chord that fails mostly fails somewhere in its middle: a few probes find that
-    // before the march does.
-    if len > 2.0 * cell
-        && (1..PROBES)
-            .any(|k| model.exact_clearance(&(a + (b - a) * (k as Real / PROBES as Real))) < target)
-    {
-        return false;
-    }
     let dir = (b - a) / len;
     let end = len - (db - target);
     let min_step = 0.125 * cell;
