@@ -229,15 +229,34 @@ pub fn k_best_classes(
             }
         })
         .collect();
-    let mut adj: Vec<Vec<(usize, usize, bool)>> = vec![Vec::new(); n];
+    // Adjacency in one array (node k's neighbours are `links[first[k]..first[k + 1]]`, in
+    // edge order): a map's graph has tens of thousands of nodes, and a list each cost
+    // milliseconds per query.
+    let mut first = vec![0usize; n + 1];
     for (i, e) in graph.edges.iter().enumerate() {
         if allowed[i] {
-            adj[e.from].push((e.to, i, true));
+            first[e.from + 1] += 1;
             if e.from != e.to {
-                adj[e.to].push((e.from, i, false));
+                first[e.to + 1] += 1;
             }
         }
     }
+    for k in 0..n {
+        first[k + 1] += first[k];
+    }
+    let mut fill = first.clone();
+    let mut links = vec![(0usize, 0usize, false); first[n]];
+    for (i, e) in graph.edges.iter().enumerate() {
+        if allowed[i] {
+            links[fill[e.from]] = (e.to, i, true);
+            fill[e.from] += 1;
+            if e.from != e.to {
+                links[fill[e.to]] = (e.from, i, false);
+                fill[e.to] += 1;
+            }
+        }
+    }
+    let adj = |k: usize| &links[first[k]..first[k + 1]];
     // Exact distance to the goal (Dijkstra backwards; the graph is undirected).
     let mut h = vec![Real::INFINITY; n];
     h[goal] = 0.0;
@@ -250,7 +269,7 @@ pub fn k_best_classes(
         if f > h[id] {
             continue;
         }
-        for &(m, e, _) in &adj[id] {
+        for &(m, e, _) in adj(id) {
             let d = f + cost[e];
             if d < h[m] {
                 h[m] = d;
@@ -323,7 +342,7 @@ pub fn k_best_classes(
             on_path[arena[p].node] = expansions;
             p = arena[p].parent;
         }
-        for &(m, e, fwd) in &adj[node] {
+        for &(m, e, fwd) in adj(node) {
             if on_path[m] == expansions || !h[m].is_finite() {
                 continue;
             }
