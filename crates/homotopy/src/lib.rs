@@ -11,6 +11,6 @@ pub mod signature;
 
 pub use search::{
     ClassPath, EdgeCost, SearchConfig, SearchError, SearchResult, classes_through_edge, in_class,
-    k_best_classes,
+    k_best_classes, k_best_classes_each,
 };
 pub use signature::{Rays, Signature, h_distance, h_signature};

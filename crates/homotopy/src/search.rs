@@ -168,6 +168,17 @@ pub fn k_best_classes(
     rays: &Rays,
     cfg: &SearchConfig,
 ) -> Result<SearchResult, SearchError> {
+    k_best_classes_each(graph, rays, cfg, |_| {})
+}
+
+/// [`k_best_classes`], handing each class to `found` as soon as the search has it (best
+/// first), so that a caller can start on it while the search goes on.
+pub fn k_best_classes_each(
+    graph: &VoronoiGraph,
+    rays: &Rays,
+    cfg: &SearchConfig,
+    mut found: impl FnMut(&ClassPath),
+) -> Result<SearchResult, SearchError> {
     let start = graph.start.ok_or(SearchError::NotAttached("start"))?;
     let goal = graph.goal.ok_or(SearchError::NotAttached("goal"))?;
     if !(cfg.min_clearance.is_finite() && cfg.min_clearance >= 0.0) {
@@ -332,6 +343,7 @@ pub fn k_best_classes(
         if node == goal {
             if seen.insert(arena[id].word.clone()) {
                 classes.push(assemble(graph, &arena, id));
+                found(&classes[classes.len() - 1]);
             }
             continue;
         }

@@ -329,3 +329,30 @@ fn a_random_field_yields_its_classes() {
         found.expansions
     );
 }
+
+/// A map's classes are optimised while the class search goes on (each as soon as it is
+/// found): the plan must not depend on the thread count, nor on which class finished first.
+#[test]
+fn map_plans_are_the_same_for_any_thread_count() {
+    let map = movingai_map("Boston_0_256");
+    let prepared = homospline_maps::PreparedMap::new(&map).unwrap();
+    let (s, g) = (Point::new(40.5, 213.5), Point::new(243.5, 48.5));
+    let strip = |mut p: homospline_optim::Plan| {
+        p.timing = Default::default();
+        for c in &mut p.classes {
+            c.time_ms = 0.0;
+        }
+        p
+    };
+    let with = |threads| {
+        let cfg = PlanConfig {
+            threads: Some(threads),
+            ..homospline_maps::map_config()
+        };
+        strip(prepared.plan(s, g, &cfg).unwrap())
+    };
+    let one = with(1);
+    assert!(one.classes.len() >= 3);
+    assert_eq!(one, with(2));
+    assert_eq!(one, with(4));
+}

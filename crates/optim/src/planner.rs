@@ -9,7 +9,9 @@
 use std::time::Instant;
 
 use homospline_geom::{Bounds, Point, Real, Scene, Vector};
-use homospline_homotopy::{Rays, SearchConfig, SearchError, Signature, k_best_classes};
+use homospline_homotopy::{
+    ClassPath, Rays, SearchConfig, SearchError, Signature, k_best_classes, k_best_classes_each,
+};
 use homospline_spline::{
     CircleModel, ClearanceModel, CostTerms, EndCondition, Spline, is_collision_free, min_clearance,
 };
@@ -154,6 +156,10 @@ type SeedPath = (Vec<Point>, Option<Signature>, Real);
 
 /// The length of a class path on each graph edge it uses.
 type EdgeLengths = Vec<(usize, Real)>;
+
+/// Classes optimised while the search ran (by seed index), their seeds, and the time spent
+/// after the search ended, ms.
+type Streamed = (Vec<(usize, ClassPlan)>, Vec<SeedPath>, Real);
 
 /// Greedy limited-overlap selection: classes in cost order, each kept if what it shares with
 /// every class kept before it is at most `limit` of either's length, until `k` are kept. (The
@@ -324,8 +330,33 @@ pub fn plan_world(
     let t0 = Instant::now();
     let rays = &world.rays;
     let mut timing = Timing::default();
+    let pool = match cfg.threads {
+        Some(n) => Some(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n.max(1))
+                .build()
+                .map_err(|e| PlanError::Threads(e.to_string()))?,
+        ),
+        None => None,
+    };
+    let in_pool = |f: &(dyn Fn() + Sync)| match &pool {
+        Some(p) => p.install(f),
+        None => f(),
+    };
     // Each seed's graph path by edge (for overlaps), in seed order.
     let mut class_edges: Vec<EdgeLengths> = Vec::new();
+    // One class: a map's seed pulled taut in its class, then the growth loop.
+    let run_class = |(poly, sig, gcost): &SeedPath, cell: Option<Real>| -> ClassPlan {
+        let pulled = match (sig, cell) {
+            (Some(s), Some(cell)) if world.grid_is_exact => {
+                Some(pull_taut(poly, world.model, rays, cell, s))
+            }
+            _ => None,
+        };
+        let poly = pulled.as_deref().unwrap_or(poly);
+        optimise_class(world, poly, sig.as_ref(), *gcost, cfg, cell)
+    };
+    let mut streamed: Option<Streamed> = None;
     // Seeds: (seed polyline, class signature, graph cost).
     let (seeds, graph): (Vec<SeedPath>, Option<VoronoiGraph>) = match cfg.seed {
         Seed::Straight => {
@@ -338,14 +369,11 @@ pub fn plan_world(
             let graph = graph()?;
             timing.voronoi = ms(tv);
             let tc = Instant::now();
+            let cell = 1.0 / graph.resolution;
             // A passage narrower than one grid cell of a rasterised scene is below what the
             // grid can tell apart from a wall: it is not offered. On a map the cells are the
             // truth, and a one-cell door is a door.
-            let floor = if world.grid_is_exact {
-                0.0
-            } else {
-                1.0 / graph.resolution
-            };
+            let floor = if world.grid_is_exact { 0.0 } else { cell };
             let min_clearance = cfg.search.min_clearance.max(floor);
             // Avoided classes and the limited-overlap selection need more candidates.
             let extra = cfg.avoid.len();
@@ -358,8 +386,79 @@ pub fn plan_world(
                 min_clearance,
                 ..cfg.search.clone()
             };
-            let mut found = k_best_classes(&graph, rays, &search)?.classes;
-            found.retain(|c| !cfg.avoid.contains(&c.signature.to_string()));
+            let make_seed = |c: &ClassPath| -> SeedPath {
+                let mut poly = c.polyline.clone();
+                // The class path runs from the start node to the goal node, which sit at
+                // the start and goal.
+                poly[0] = world.start;
+                let last = poly.len() - 1;
+                poly[last] = world.goal;
+                // On a map the class path already runs along the ridge through free
+                // cells; a rasterised scene's runs along cell sides and is centred.
+                let poly = shortcut_ends(&poly, world.model, cell, |p| {
+                    rays.signature(p) == c.signature
+                });
+                // A map's seed is pulled taut in the class's own task.
+                let poly = if world.grid_is_exact {
+                    poly
+                } else {
+                    let centred = centre(&poly, world.model, cell);
+                    if rays.signature(&centred) == c.signature {
+                        centred
+                    } else {
+                        poly
+                    }
+                };
+                (poly, Some(c.signature.clone()), c.cost)
+            };
+            let taken = |c: &ClassPath| !cfg.avoid.contains(&c.signature.to_string());
+            let result = match cfg.diverse {
+                // Without the limited-overlap selection the classes to optimise are the
+                // first found: each is optimised as soon as the search has it, on another
+                // thread, while the search goes on. Each class is independent of the others
+                // and of when it ran, so this changes no result.
+                None => {
+                    let done = std::sync::Mutex::new(Vec::new());
+                    // The search's result, the seeds it handed out, and when it ended.
+                    let searched = std::sync::Mutex::new(None);
+                    in_pool(&|| {
+                        rayon::scope(|s| {
+                            let mut made = Vec::new();
+                            let r = k_best_classes_each(&graph, rays, &search, |c| {
+                                if made.len() >= cfg.classes || !taken(c) {
+                                    return;
+                                }
+                                let (i, seed, done) = (made.len(), make_seed(c), &done);
+                                made.push(seed.clone());
+                                s.spawn(move |_| {
+                                    let plan = run_class(&seed, Some(cell));
+                                    done.lock()
+                                        .unwrap_or_else(|e| e.into_inner())
+                                        .push((i, plan));
+                                });
+                            });
+                            *searched.lock().unwrap_or_else(|e| e.into_inner()) =
+                                Some((r, made, Instant::now()));
+                        })
+                    });
+                    let optimised = done.into_inner().unwrap_or_else(|e| e.into_inner());
+                    let Some((r, made, end)) =
+                        searched.into_inner().unwrap_or_else(|e| e.into_inner())
+                    else {
+                        return Err(PlanError::Config("the class search did not run".into()));
+                    };
+                    streamed = Some((
+                        optimised,
+                        made,
+                        ms(tc) - end.duration_since(tc).as_secs_f64() * 1e3,
+                    ));
+                    timing.classes = end.duration_since(tc).as_secs_f64() * 1e3;
+                    r
+                }
+                Some(_) => k_best_classes(&graph, rays, &search),
+            };
+            let mut found = result?.classes;
+            found.retain(|c| taken(c));
             let edge_lengths: Vec<EdgeLengths> = found
                 .iter()
                 .map(|c| {
@@ -376,91 +475,60 @@ pub fn plan_world(
                 }
                 None => (0..found.len().min(cfg.classes)).collect(),
             };
-            let mut picked = Vec::with_capacity(keep.len());
-            let mut picked_edges = Vec::with_capacity(keep.len());
-            for (i, c) in found.into_iter().enumerate() {
+            let mut seeds = Vec::with_capacity(keep.len());
+            for (i, c) in found.iter().enumerate() {
                 if keep.contains(&i) {
-                    picked.push(c);
-                    picked_edges.push(edge_lengths[i].clone());
+                    if streamed.is_none() {
+                        seeds.push(make_seed(c));
+                    }
+                    class_edges.push(edge_lengths[i].clone());
                 }
             }
-            class_edges = picked_edges;
-            timing.classes = ms(tc);
-            let seeds = picked
-                .into_iter()
-                .map(|c| {
-                    let mut poly = c.polyline;
-                    // The class path runs from the start node to the goal node, which sit at
-                    // the start and goal.
-                    poly[0] = world.start;
-                    let last = poly.len() - 1;
-                    poly[last] = world.goal;
-                    // On a map the class path already runs along the ridge through free
-                    // cells; a rasterised scene's runs along cell sides and is centred.
-                    let poly = shortcut_ends(&poly, world.model, 1.0 / graph.resolution, |p| {
-                        rays.signature(p) == c.signature
-                    });
-                    // A map's seed is pulled taut in the class's own task, below.
-                    let poly = if world.grid_is_exact {
-                        poly
-                    } else {
-                        let centred = centre(&poly, world.model, 1.0 / graph.resolution);
-                        if rays.signature(&centred) == c.signature {
-                            centred
-                        } else {
-                            poly
-                        }
-                    };
-                    (poly, Some(c.signature), c.cost)
-                })
-                .collect();
+            if let Some((_, made, _)) = &mut streamed {
+                seeds = std::mem::take(made);
+            } else {
+                timing.classes = ms(tc);
+            }
             (seeds, Some(graph))
         }
     };
     let graph_cell = graph.as_ref().map(|g| 1.0 / g.resolution);
     let to = Instant::now();
-    // Longest seeds first, one class per task: the classes' times differ by up to 3x, and a
-    // short class left for last would leave a thread idle while a long one runs. Each class
-    // is independent, so the order changes no result.
-    let mut order: Vec<usize> = (0..seeds.len()).collect();
-    let seed_length =
-        |i: usize| -> Real { seeds[i].0.windows(2).map(|w| (w[1] - w[0]).norm()).sum() };
-    order.sort_by(|&a, &b| seed_length(b).total_cmp(&seed_length(a)).then(a.cmp(&b)));
-    let run = || -> Vec<ClassPlan> {
-        let mut done: Vec<(usize, ClassPlan)> = order
-            .par_iter()
-            .with_max_len(1)
-            .map(|&i| {
-                let (poly, sig, gcost) = &seeds[i];
-                let pulled = match (sig, graph_cell) {
-                    (Some(s), Some(cell)) if world.grid_is_exact => {
-                        Some(pull_taut(poly, world.model, rays, cell, s))
-                    }
-                    _ => None,
-                };
-                let poly = pulled.as_deref().unwrap_or(poly);
-                (
-                    i,
-                    optimise_class(world, poly, sig.as_ref(), *gcost, cfg, graph_cell),
-                )
-            })
-            .collect();
-        done.sort_by_key(|(i, _)| *i);
-        done.into_iter().map(|(_, c)| c).collect()
-    };
     let seed_signatures: Vec<String> = seeds
         .iter()
         .map(|(_, s, _)| s.as_ref().map(|s| s.to_string()).unwrap_or_default())
         .collect();
-    let mut classes = match cfg.threads {
-        Some(n) => rayon::ThreadPoolBuilder::new()
-            .num_threads(n.max(1))
-            .build()
-            .map_err(|e| PlanError::Threads(e.to_string()))?
-            .install(run),
-        None => run(),
+    let mut optimise_ms = None;
+    let mut done: Vec<(usize, ClassPlan)> = match streamed {
+        Some((done, _, after_search)) => {
+            optimise_ms = Some(after_search);
+            done
+        }
+        None => {
+            // Longest seeds first, one class per task: the classes' times differ by up to
+            // 3x, and a short class left for last would leave a thread idle while a long one
+            // runs. Each class is independent, so the order changes no result.
+            let mut order: Vec<usize> = (0..seeds.len()).collect();
+            let seed_length =
+                |i: usize| -> Real { seeds[i].0.windows(2).map(|w| (w[1] - w[0]).norm()).sum() };
+            order.sort_by(|&a, &b| seed_length(b).total_cmp(&seed_length(a)).then(a.cmp(&b)));
+            let done = std::sync::Mutex::new(Vec::new());
+            in_pool(&|| {
+                let v: Vec<(usize, ClassPlan)> = order
+                    .par_iter()
+                    .with_max_len(1)
+                    .map(|&i| (i, run_class(&seeds[i], graph_cell)))
+                    .collect();
+                *done.lock().unwrap_or_else(|e| e.into_inner()) = v;
+            });
+            done.into_inner().unwrap_or_else(|e| e.into_inner())
+        }
     };
-    timing.optimize = ms(to);
+    done.sort_by_key(|(i, _)| *i);
+    let mut classes: Vec<ClassPlan> = done.into_iter().map(|(_, c)| c).collect();
+    // With the classes optimised during the search, the optimisation's own time is what
+    // came after the search ended (the stages overlap).
+    timing.optimize = optimise_ms.unwrap_or_else(|| ms(to));
     // Rank: collision-free and safe first, then collision-free, then the rest; within each,
     // by cost; ties by signature for determinism.
     let group = |c: &ClassPlan| match (c.collision_free, c.safe) {
