@@ -413,11 +413,13 @@ pub fn plan_world(
             };
             let taken = |c: &ClassPath| !cfg.avoid.contains(&c.signature.to_string());
             let result = match cfg.diverse {
-                // Without the limited-overlap selection the classes to optimise are the
-                // first found: each is optimised as soon as the search has it, on another
-                // thread, while the search goes on. Each class is independent of the others
-                // and of when it ran, so this changes no result.
-                None => {
+                // On a map, without the limited-overlap selection, the classes to optimise
+                // are the first found: each is optimised as soon as the search has it, on
+                // another thread, while the search goes on (a map's search takes a tenth of
+                // a plan). Each class is independent of the others and of when it ran, so
+                // this changes no result. A scene's search takes microseconds: there the
+                // classes are better run longest first, below.
+                None if world.grid_is_exact => {
                     let done = std::sync::Mutex::new(Vec::new());
                     // The search's result, the seeds it handed out, and when it ended.
                     let searched = std::sync::Mutex::new(None);
@@ -455,7 +457,7 @@ pub fn plan_world(
                     timing.classes = end.duration_since(tc).as_secs_f64() * 1e3;
                     r
                 }
-                Some(_) => k_best_classes(&graph, rays, &search),
+                _ => k_best_classes(&graph, rays, &search),
             };
             let mut found = result?.classes;
             found.retain(|c| taken(c));
