@@ -240,34 +240,8 @@ pub fn k_best_classes_each(
             }
         })
         .collect();
-    // Adjacency in one array (node k's neighbours are `links[first[k]..first[k + 1]]`, in
-    // edge order): a map's graph has tens of thousands of nodes, and a list each cost
-    // milliseconds per query.
-    let mut first = vec![0usize; n + 1];
-    for (i, e) in graph.edges.iter().enumerate() {
-        if allowed[i] {
-            first[e.from + 1] += 1;
-            if e.from != e.to {
-                first[e.to + 1] += 1;
-            }
-        }
-    }
-    for k in 0..n {
-        first[k + 1] += first[k];
-    }
-    let mut fill = first.clone();
-    let mut links = vec![(0usize, 0usize, false); first[n]];
-    for (i, e) in graph.edges.iter().enumerate() {
-        if allowed[i] {
-            links[fill[e.from]] = (e.to, i, true);
-            fill[e.from] += 1;
-            if e.from != e.to {
-                links[fill[e.to]] = (e.from, i, false);
-                fill[e.to] += 1;
-            }
-        }
-    }
-    let adj = |k: usize| &links[first[k]..first[k + 1]];
+    let adjacency = graph.adjacency(|i| allowed[i]);
+    let adj = |k: usize| adjacency.of(k);
     // Exact distance to the goal (Dijkstra backwards; the graph is undirected).
     let mut h = vec![Real::INFINITY; n];
     h[goal] = 0.0;

@@ -137,6 +137,23 @@ pub enum GraphError {
     Version(u32),
 }
 
+/// The edges at each node in one array: node `k`'s are `links[first[k]..first[k + 1]]`, as
+/// `(other end, edge, walked from -> to)`, in edge order (a loop once, at its node). A graph
+/// of a whole map has tens of thousands of nodes, and a list each cost more than the search
+/// or the pruning that used it.
+#[derive(Clone, Debug, Default)]
+pub struct Adjacency {
+    first: Vec<usize>,
+    links: Vec<(usize, usize, bool)>,
+}
+
+impl Adjacency {
+    /// Node `k`'s links.
+    pub fn of(&self, k: usize) -> &[(usize, usize, bool)] {
+        &self.links[self.first[k]..self.first[k + 1]]
+    }
+}
+
 impl VoronoiGraph {
     /// The graph of `field` over `grid`; start and goal attached when given.
     pub fn build(
@@ -199,6 +216,36 @@ impl VoronoiGraph {
             parent[x] = y;
         }
         find_root(&mut parent, a) == find_root(&mut parent, b)
+    }
+
+    /// The adjacency of the edges that `keep` accepts.
+    pub fn adjacency(&self, keep: impl Fn(usize) -> bool) -> Adjacency {
+        let n = self.nodes.len();
+        let mut first = vec![0usize; n + 1];
+        for (i, e) in self.edges.iter().enumerate() {
+            if keep(i) {
+                first[e.from + 1] += 1;
+                if e.from != e.to {
+                    first[e.to + 1] += 1;
+                }
+            }
+        }
+        for k in 0..n {
+            first[k + 1] += first[k];
+        }
+        let mut fill = first.clone();
+        let mut links = vec![(0usize, 0usize, false); first[n]];
+        for (i, e) in self.edges.iter().enumerate() {
+            if keep(i) {
+                links[fill[e.from]] = (e.to, i, true);
+                fill[e.from] += 1;
+                if e.from != e.to {
+                    links[fill[e.to]] = (e.from, i, false);
+                    fill[e.to] += 1;
+                }
+            }
+        }
+        Adjacency { first, links }
     }
 
     /// Independent cycles: `E - V + C` (loops count one each).

@@ -36,7 +36,7 @@ mod trace;
 
 pub use attach::{MapGraph, build_complete, complete_graph};
 pub use field::{DistanceField, UpdateError};
-pub use graph::{Edge, GraphError, GridObstacle, Node, NodeKind, VoronoiGraph};
+pub use graph::{Adjacency, Edge, GraphError, GridObstacle, Node, NodeKind, VoronoiGraph};
 pub use grid::{Grid, GridError};
 
 use homospline_geom::{Real, Scene};

@@ -75,32 +75,12 @@ impl VoronoiGraph {
     pub fn prune_dead_ends(&mut self, removable: impl Fn(&VoronoiGraph, usize, usize) -> bool) {
         let n = self.nodes.len();
         let mut degree = vec![0usize; n];
-        // Incident edges in one array (node k's are `adj[first[k]..first[k + 1]]`): a graph
-        // of a whole map has tens of thousands of nodes, and a list each cost more than the
-        // pruning.
-        let mut first = vec![0usize; n + 1];
         for e in &self.edges {
             degree[e.from] += 1;
             degree[e.to] += 1;
-            first[e.from + 1] += 1;
-            if e.to != e.from {
-                first[e.to + 1] += 1;
-            }
         }
-        for k in 0..n {
-            first[k + 1] += first[k];
-        }
-        let mut fill = first.clone();
-        let mut adj = vec![0usize; first[n]];
-        for (k, e) in self.edges.iter().enumerate() {
-            adj[fill[e.from]] = k;
-            fill[e.from] += 1;
-            if e.to != e.from {
-                adj[fill[e.to]] = k;
-                fill[e.to] += 1;
-            }
-        }
-        let incident = |k: usize| &adj[first[k]..first[k + 1]];
+        let adjacency = self.adjacency(|_| true);
+        let incident = |k: usize| adjacency.of(k).iter().map(|l| l.1);
         let had_edges: Vec<bool> = degree.iter().map(|&d| d > 0).collect();
         let protected = |k: usize, g: &VoronoiGraph| {
             matches!(g.nodes[k].kind, NodeKind::Start | NodeKind::Goal)
@@ -114,7 +94,7 @@ impl VoronoiGraph {
             if degree[leaf] != 1 {
                 continue;
             }
-            let Some(&e) = incident(leaf).iter().find(|&&e| alive[e]) else {
+            let Some(e) = incident(leaf).find(|&e| alive[e]) else {
                 continue;
             };
             let edge = &self.edges[e];
