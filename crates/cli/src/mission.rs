@@ -15,11 +15,32 @@ fn who(r: Robot) -> String {
     }
 }
 
+/// A class name as the event lines print it. On a map a name can run to hundreds of letters
+/// (one per ray crossed); past 48 characters it is cut to its head and tail, with its letter
+/// count and a short hash (FNV-1a) that tells apart names with the same ends. The JSON keeps
+/// names whole.
+fn label(name: &str) -> String {
+    if name.chars().count() <= 48 {
+        return name.to_owned();
+    }
+    let chars: Vec<char> = name.chars().collect();
+    let head: String = chars[..20].iter().collect();
+    let tail: String = chars[chars.len() - 12..].iter().collect();
+    let letters = name.matches(['+', '-']).count();
+    let hash = name.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    });
+    format!("{head}..{tail} ({letters} letters, #{:04x})", hash & 0xffff)
+}
+
 /// One line per event.
 fn describe(kind: &EventKind) -> String {
     match kind {
         EventKind::Planned { classes, class } => {
-            format!("planned on the prior map: {classes} collision-free classes, driving {class}")
+            format!(
+                "planned on the prior map: {classes} collision-free classes, driving {}",
+                label(class)
+            )
         }
         EventKind::Discovered {
             obstacle,
@@ -32,17 +53,24 @@ fn describe(kind: &EventKind) -> String {
                 format!("{} sees that obstacle '{obstacle}' is gone", who(*by))
             }
         }
-        EventKind::ClassClosed { class } => format!("class {class} is blocked (an alternative)"),
-        EventKind::Blocked { class } => format!("the UGV's path (class {class}) is blocked"),
+        EventKind::ClassClosed { class } => {
+            format!("class {} is blocked (an alternative)", label(class))
+        }
+        EventKind::Blocked { class } => {
+            format!("the UGV's path (class {}) is blocked", label(class))
+        }
         EventKind::Replanned {
             forced,
             classes,
             class,
         } => format!(
-            "re-planned ({}): {classes} collision-free classes, driving {class}",
-            if *forced { "blocked" } else { "map changed" }
+            "re-planned ({}): {classes} collision-free classes, driving {}",
+            if *forced { "blocked" } else { "map changed" },
+            label(class)
         ),
-        EventKind::Switched { from, to } => format!("switched class {from} -> {to}"),
+        EventKind::Switched { from, to } => {
+            format!("switched class {} -> {}", label(from), label(to))
+        }
         EventKind::TurnedAround => {
             "the new path leaves off the heading: the UGV turns on the spot".into()
         }
@@ -526,4 +554,26 @@ fn svg_with(
     );
     s.push_str("</svg>\n");
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::label;
+
+    #[test]
+    fn long_class_names_are_cut_but_told_apart() {
+        assert_eq!(label("-1+2"), "-1+2");
+        let a: String = (1..=60).map(|i| format!("-{i}")).collect();
+        let b = a.replacen("-30", "+30", 1);
+        let (la, lb) = (label(&a), label(&b));
+        assert!(
+            la.starts_with("-1-2-3-4-5-6-7-8-9-1..-57-58-59-60 (60 letters, #"),
+            "{la}"
+        );
+        assert!(la.len() < 70);
+        assert_ne!(
+            la, lb,
+            "names that differ in the middle keep different labels"
+        );
+    }
 }
