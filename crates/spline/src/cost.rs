@@ -672,14 +672,22 @@ fn query_field(
     model: &dyn ClearanceModel,
     samples: &Samples,
     roughness: Real,
+    knot_clearance: Real,
     cfg: &CostConfig,
 ) -> Vec<FieldSample> {
     let mut field = vec![FieldSample::default(); samples.points.len()];
     // Left-out potential per unit length <= allowance, so the topology term loses at most
-    // allowance * L = tolerance * (g2 R + g3 L) <= tolerance * total.
+    // allowance * L = tolerance * (g2 R + g3 L + g4 D_knots) <= tolerance * total, where
+    // D_knots = omega^(dm - least knot clearance) <= D, since m(C) is at most the clearance
+    // at any knot (and m(C) takes in the knots).
     let length = samples.length;
+    let safety_floor = if cfg.w_safety > 0.0 && knot_clearance.is_finite() {
+        cfg.w_safety * cfg.omega.powf(cfg.dm - knot_clearance)
+    } else {
+        0.0
+    };
     let allowance = if cfg.w_topology > 0.0 && length > 0.0 {
-        cfg.tolerance * (cfg.w_roughness * roughness + cfg.w_length * length)
+        cfg.tolerance * (cfg.w_roughness * roughness + cfg.w_length * length + safety_floor)
             / (cfg.w_topology * length)
     } else {
         0.0
@@ -820,6 +828,7 @@ fn refine_min_clearance(
     model: &dyn ClearanceModel,
     samples: &Samples,
     worst: Worst,
+    knot_clear: &[(Real, Real)],
 ) -> (Real, Real) {
     let knots = spline.knots();
     let t_of = |i: usize| knots[samples.nodes[i].seg] + samples.nodes[i].s;
@@ -860,17 +869,27 @@ fn refine_min_clearance(
     } else {
         (t0, worst.clearance)
     };
-    // `m(C)` is the least clearance over all of `[0, 1]`, the ends included. The quadrature
-    // nodes do not reach the ends, and a curve that leaves a start next to a wall quickly
-    // (a long curve, its parameter spread thin) put its first node farther from the wall than
-    // a short curve's: `D` favoured long detours from such a start. The ends are fixed, so
-    // where one of them is the least clear, `D` is the same for every curve.
-    [
-        (0.0, model.clearance(&spline.position(0.0)).0),
-        (1.0, model.clearance(&spline.position(1.0)).0),
-    ]
-    .into_iter()
-    .fold((tb, fb), |best, e| if e.1 < best.1 { e } else { best })
+    // `m(C)` is the least clearance over all of `[0, 1]`: the knots are taken in (all of
+    // them where the safety term weighs, else the ends). The quadrature nodes do not reach
+    // the ends, and a curve that leaves a start next to a wall quickly (a long curve, its
+    // parameter spread thin) put its first node farther from the wall than a short curve's:
+    // `D` favoured long detours from such a start. The ends are fixed, so where one of them
+    // is the least clear, `D` is the same for every curve. With the knots in, `m(C)` is at
+    // most the least knot clearance, which the truncation's allowance counts on.
+    knot_clear
+        .iter()
+        .copied()
+        .fold((tb, fb), |best, e| if e.1 < best.1 { e } else { best })
+}
+
+/// Each knot's parameter and clearance.
+fn knot_clearances(spline: &Spline, model: &dyn ClearanceModel) -> Vec<(Real, Real)> {
+    spline
+        .knots()
+        .iter()
+        .zip(spline.points())
+        .map(|(&t, p)| (t, model.clearance(p).0))
+        .collect()
 }
 
 /// Step 5: the line-of-sight shares (start and goal visibility, shelter from hazards).
@@ -951,14 +970,25 @@ fn run(
             });
         }
     }
+    // Every knot's clearance where the safety term weighs (its allowance counts on them);
+    // else only the ends', which `m(C)` always takes in.
+    let knots = match (needs.clearance, cfg.w_safety > 0.0) {
+        (false, _) => Vec::new(),
+        (true, true) => knot_clearances(spline, model),
+        (true, false) => [0.0, 1.0]
+            .iter()
+            .map(|&t| (t, model.clearance(&spline.position(t)).0))
+            .collect(),
+    };
+    let least_knot = knots.iter().map(|k| k.1).fold(Real::INFINITY, Real::min);
     let field = if needs.field {
-        query_field(model, &samples, t.roughness, cfg)
+        query_field(model, &samples, t.roughness, least_knot, cfg)
     } else {
         Vec::new()
     };
     let worst = integrate(&samples, &field, cfg, needs, &mut t, grad.as_deref_mut());
     if let Some(worst) = worst.filter(|w| w.clearance.is_finite()) {
-        let (tm, m) = refine_min_clearance(spline, model, &samples, worst);
+        let (tm, m) = refine_min_clearance(spline, model, &samples, worst, &knots);
         t.min_clearance = m;
         t.safety = cfg.omega.powf(cfg.dm - m);
         if let Some(g) = grad {

@@ -260,13 +260,23 @@ fn default_quadrature_is_within_1e_6_of_a_dense_reference() {
             "{name}: {a} vs dense {b}"
         );
     }
-    // The far circles' potential left out is bounded by tolerance * (g2 R + g3 L).
-    let budget = cfg.tolerance * (cfg.w_roughness * fast.roughness + cfg.w_length * fast.length);
+    // The far circles' potential left out is bounded by tolerance * (g2 R + g3 L + g4 D_knots),
+    // D_knots = omega^(dm - least knot clearance) <= D: at most tolerance * total.
+    let least_knot = s
+        .points()
+        .iter()
+        .map(|p| model.clearance(p).0)
+        .fold(Real::INFINITY, Real::min);
+    assert!(fast.min_clearance <= least_knot, "m(C) takes in the knots");
+    let d_knots = cfg.omega.powf(cfg.dm - least_knot);
+    let budget = cfg.tolerance
+        * (cfg.w_roughness * fast.roughness + cfg.w_length * fast.length + cfg.w_safety * d_knots);
     let left_out = exact.topology - fast.topology;
     assert!(
         (0.0..=budget).contains(&left_out),
         "left out {left_out}, budget {budget}"
     );
+    assert!(left_out <= cfg.tolerance * fast.total);
     assert!(
         left_out > 0.0,
         "the bench scene should exercise the truncation"
