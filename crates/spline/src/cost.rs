@@ -77,7 +77,8 @@ pub struct CostConfig {
     /// Pieces per spline segment.
     pub pieces: usize,
     /// Relative truncation allowed in the topology term: the potential of far circles may be
-    /// left out as long as what is left out is at most `tolerance * (g2 R + g3 L)`, a lower
+    /// left out as long as what is left out is at most `tolerance * (g2 R + g3 L + g4 D_knots)`
+    /// (`D_knots`: `D` at the least knot clearance, at most `D`), a lower
     /// bound of the total times `tolerance`. 0 keeps every circle whose potential exceeds
     /// `2 exp(-30)` per unit length; reports use 0.
     pub tolerance: Real,
