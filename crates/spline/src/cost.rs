@@ -871,7 +871,7 @@ fn refine_min_clearance(
         (t0, worst.clearance)
     };
     // `m(C)` is the least clearance over all of `[0, 1]`: the knots are taken in (all of
-    // them where the safety term weighs, else the ends). The quadrature nodes do not reach
+    // them where the safety term weighs and the model truncates, else the ends). The quadrature nodes do not reach
     // the ends, and a curve that leaves a start next to a wall quickly (a long curve, its
     // parameter spread thin) put its first node farther from the wall than a short curve's:
     // `D` favoured long detours from such a start. The ends are fixed, so where one of them
@@ -971,9 +971,9 @@ fn run(
             });
         }
     }
-    // Every knot's clearance where the safety term weighs (its allowance counts on them);
-    // else only the ends', which `m(C)` always takes in.
-    let knots = match (needs.clearance, cfg.w_safety > 0.0) {
+    // Every knot's clearance where the safety term weighs and the model truncates (the
+    // allowance counts on them); else only the ends', which `m(C)` always takes in.
+    let knots = match (needs.clearance, cfg.w_safety > 0.0 && model.truncates()) {
         (false, _) => Vec::new(),
         (true, true) => knot_clearances(spline, model),
         (true, false) => [0.0, 1.0]

@@ -127,6 +127,13 @@ pub trait ClearanceModel: Send + Sync {
         None
     }
 
+    /// Whether [`ClearanceModel::field_batch`] leaves out potential within its `allowance`:
+    /// the cost then spends a clearance query per knot to raise the allowance by the safety
+    /// term's lower bound. By default not.
+    fn truncates(&self) -> bool {
+        false
+    }
+
     /// The clearance that collision checks trust, at one point: the same function that
     /// `segment_clearance` bounds from below. By default the cost's clearance.
     fn exact_clearance(&self, p: &Point) -> Real {
@@ -166,6 +173,10 @@ impl CircleModel {
 }
 
 impl ClearanceModel for CircleModel {
+    fn truncates(&self) -> bool {
+        true
+    }
+
     fn clearance(&self, p: &Point) -> (Real, Vector) {
         match self.set.clearance(p) {
             Some(c) => (c.distance, c.gradient),
