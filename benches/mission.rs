@@ -72,7 +72,7 @@ fn bench(c: &mut Criterion) {
             .filter_map(|s| homospline_testkit::random_world(s, 2))
             .take(20),
     );
-    let mut warm: Vec<f64> = Vec::new();
+    let mut in_missions: Vec<f64> = Vec::new();
     for _ in 0..3 {
         for w in &worlds {
             for policy in Policy::ALL {
@@ -80,17 +80,13 @@ fn bench(c: &mut Criterion) {
                     policy,
                     ..MissionConfig::default()
                 };
-                warm.extend(simulate(w, &c).expect("a mission").replan_ms);
+                in_missions.extend(simulate(w, &c).expect("a mission").replan_ms);
             }
         }
     }
-    warm.sort_by(f64::total_cmp);
-    eprintln!(
-        "re-plan latency in the missions (every policy, 3 runs; map update and plan): {} re-plans, p50 {:.2} ms, p99 {:.2} ms, max {:.2} ms",
-        warm.len(),
-        percentile(&warm, 0.5),
-        percentile(&warm, 0.99),
-        warm.last().copied().unwrap_or(f64::NAN)
+    report(
+        "re-plan latency in the missions (every policy, 3 runs; map update and plan)",
+        &mut in_missions,
     );
     let problems: Vec<(Scene, Vector)> = worlds.iter().flat_map(|w| replans(w, &cfg)).collect();
     eprintln!(
@@ -163,12 +159,17 @@ fn bench(c: &mut Criterion) {
         })
     });
     g.finish();
+    report("replayed re-plan latency", &mut times);
+}
+
+/// Prints the count, p50, p99 and maximum of `times` (ms), sorting them.
+fn report(what: &str, times: &mut [f64]) {
     times.sort_by(f64::total_cmp);
     eprintln!(
-        "replayed re-plan latency over {} timed re-plans: p50 {:.2} ms, p99 {:.2} ms, max {:.2} ms",
+        "{what}: {} re-plans, p50 {:.2} ms, p99 {:.2} ms, max {:.2} ms",
         times.len(),
-        percentile(&times, 0.5),
-        percentile(&times, 0.99),
+        percentile(times, 0.5),
+        percentile(times, 0.99),
         times.last().copied().unwrap_or(f64::NAN)
     );
 }
