@@ -339,10 +339,6 @@ pub fn plan_world(
         ),
         None => None,
     };
-    let in_pool = |f: &(dyn Fn() + Sync)| match &pool {
-        Some(p) => p.install(f),
-        None => f(),
-    };
     // Each seed's graph path by edge (for overlaps), in seed order.
     let mut class_edges: Vec<EdgeLengths> = Vec::new();
     // One class: a map's seed pulled taut in its class, then the growth loop.
@@ -422,8 +418,7 @@ pub fn plan_world(
                 None if world.grid_is_exact => {
                     let done = std::sync::Mutex::new(Vec::new());
                     // The search's result, the seeds it handed out, and when it ended.
-                    let searched = std::sync::Mutex::new(None);
-                    in_pool(&|| {
+                    let (r, made, end) = in_pool(pool.as_ref(), || {
                         rayon::scope(|s| {
                             let mut made = Vec::new();
                             let r = k_best_classes_each(&graph, rays, &search, |c| {
@@ -439,21 +434,11 @@ pub fn plan_world(
                                         .push((i, plan));
                                 });
                             });
-                            *searched.lock().unwrap_or_else(|e| e.into_inner()) =
-                                Some((r, made, Instant::now()));
+                            (r, made, Instant::now())
                         })
                     });
                     let optimised = done.into_inner().unwrap_or_else(|e| e.into_inner());
-                    let Some((r, made, end)) =
-                        searched.into_inner().unwrap_or_else(|e| e.into_inner())
-                    else {
-                        return Err(PlanError::Config("the class search did not run".into()));
-                    };
-                    streamed = Some((
-                        optimised,
-                        made,
-                        ms(tc) - end.duration_since(tc).as_secs_f64() * 1e3,
-                    ));
+                    streamed = Some((optimised, made, ms(end)));
                     timing.classes = end.duration_since(tc).as_secs_f64() * 1e3;
                     r
                 }
@@ -514,16 +499,13 @@ pub fn plan_world(
             let seed_length =
                 |i: usize| -> Real { seeds[i].0.windows(2).map(|w| (w[1] - w[0]).norm()).sum() };
             order.sort_by(|&a, &b| seed_length(b).total_cmp(&seed_length(a)).then(a.cmp(&b)));
-            let done = std::sync::Mutex::new(Vec::new());
-            in_pool(&|| {
-                let v: Vec<(usize, ClassPlan)> = order
+            in_pool(pool.as_ref(), || {
+                order
                     .par_iter()
                     .with_max_len(1)
                     .map(|&i| (i, run_class(&seeds[i], graph_cell)))
-                    .collect();
-                *done.lock().unwrap_or_else(|e| e.into_inner()) = v;
-            });
-            done.into_inner().unwrap_or_else(|e| e.into_inner())
+                    .collect()
+            })
         }
     };
     done.sort_by_key(|(i, _)| *i);
@@ -656,6 +638,14 @@ fn shortcut_ends(
         out.reverse();
     }
     out
+}
+
+/// Runs `f` on `pool`, or on rayon's global pool when there is none.
+fn in_pool<R: Send>(pool: Option<&rayon::ThreadPool>, f: impl FnOnce() -> R + Send) -> R {
+    match pool {
+        Some(p) => p.install(f),
+        None => f(),
+    }
 }
 
 /// String pulling on a map's class path, which runs along the ridge of free space: through

@@ -871,12 +871,13 @@ fn refine_min_clearance(
         (t0, worst.clearance)
     };
     // `m(C)` is the least clearance over all of `[0, 1]`: the knots are taken in (all of
-    // them where the safety term weighs and the model truncates, else the ends). The quadrature nodes do not reach
-    // the ends, and a curve that leaves a start next to a wall quickly (a long curve, its
-    // parameter spread thin) put its first node farther from the wall than a short curve's:
-    // `D` favoured long detours from such a start. The ends are fixed, so where one of them
-    // is the least clear, `D` is the same for every curve. With the knots in, `m(C)` is at
-    // most the least knot clearance, which the truncation's allowance counts on.
+    // them where the safety term weighs and the model truncates, else the ends). The
+    // quadrature nodes do not reach the ends, and a curve that leaves a start next to a wall
+    // quickly (a long curve, its parameter spread thin) put its first node farther from the
+    // wall than a short curve's: `D` favoured long detours from such a start. The ends are
+    // fixed, so where one of them is the least clear, `D` is the same for every curve. With
+    // the knots in, `m(C)` is at most the least knot clearance, which the truncation's
+    // allowance counts on.
     knot_clear
         .iter()
         .copied()
