@@ -802,10 +802,12 @@ fn pull_pass(
     };
     let pull = || -> Vec<(Point, Real)> {
         let ok = |i: usize, j: usize| {
-            j == i + 1
-                || (target(i, j) > 0.0
-                    && clear_at_least(model, dense[i], dense[j], target(i, j), cell)
-                    && (!checked || loop_is_trivial(i, j)))
+            j == i + 1 || {
+                let t = target(i, j);
+                t > 0.0
+                    && clear_at_least(model, dense[i], dense[j], t, cell)
+                    && (!checked || loop_is_trivial(i, j))
+            }
         };
         let last = dense.len() - 1;
         let mut out = vec![(dense[0], 0.0)];
