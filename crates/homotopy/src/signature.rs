@@ -54,7 +54,12 @@ impl Buckets {
             }
         }
         let (wx, wy) = ((hi.x - lo.x).max(1e-9), (hi.y - lo.y).max(1e-9));
-        let side = (wx * wy / n.max(1) as Real).sqrt().max(wx.max(wy) / 4096.0);
+        // About one origin per bucket; on origins (nearly) on a line the area is ~0 and the
+        // side is set by the line's length instead, else a query would walk thousands of
+        // empty rows.
+        let side = (wx * wy / n.max(1) as Real)
+            .sqrt()
+            .max(wx.max(wy) / n.clamp(1, 4096) as Real);
         let inv = 1.0 / side;
         let nx = ((wx * inv) as usize + 1).min(4096);
         let ny = ((wy * inv) as usize + 1).min(4096);

@@ -59,6 +59,9 @@ pub fn map_config() -> PlanConfig {
     cfg.growth.max_evaluations_per_round = MAX_EVALUATIONS_PER_ROUND;
     cfg.growth.budget_segments = BUDGET_SEGMENTS;
     cfg.growth.min_evaluations_per_round = MIN_EVALUATIONS_PER_ROUND;
+    // A map's doors and corners are a cell or two wide: `dm` stays a penalty there, and a
+    // hard margin is the user's `--clearance-floor`.
+    cfg.dm_rule = false;
     cfg
 }
 

@@ -10,6 +10,12 @@
 //! 2/1, 1/0, 2/2, 2/0, 0/0, 1/1, 2/2, 2/1, 2/0. Where both switch twice (4.125, 4.625) a
 //! discovery moves a cost by more than the margin, and the second switch is the hysteresis
 //! doing its job; 4.25 tempts (two crossings within the margin) and is the world tested.
+//! Once the dm rule held each curve at `dm` from the bumps, that world tempted no more (no
+//! switch at any radius). A scan of the bumps' height (upper centres at y 46 to 51 in steps
+//! of 1, the lower ones mirrored about the island's axis y 40) and radius (2.5 to 6.5 in steps
+//! of 1/4) found switches without hysteresis at 22 settings, twice at 5; of those, height 48
+//! and radius 4.25 tempts (2 without hysteresis, 1 with the default), the world tested now;
+//! at the other four both runs switch twice (a discovery moves a cost beyond the margin).
 
 use homospline_geom::{Bounds, Circle, Obstacle, Point, Scene};
 use homospline_mission::{
@@ -28,11 +34,13 @@ fn obstacle(name: &str, circles: &[(f64, f64, f64)]) -> Obstacle {
 
 /// A corridor 10 wide along y = 40 from the start (x 5) to x 60 keeps the UGV's heading on
 /// the axis; an island (x 84 to 136, radius 6) then splits the way into an upper and a lower
-/// class of nearly equal cost. Each side has two mapped bumps on the island (radius 4.25) that
-/// are gone in truth, on alternating sides (upper at x 100 and 120, lower at 110 and 130):
+/// class of nearly equal cost. Each side has two mapped bumps on the island (radius 4.25, at
+/// y 48 and 32) that are gone in truth, on alternating sides (upper at x 100 and 120, lower
+/// at 110 and 130):
 /// each one a scout finds gone makes its side cheaper. One scout (speed 6, range 8) verifies
 /// the alternative while the UGV (speed 0.5) is still in the corridor.
 fn tempting_world() -> MissionWorld {
+    let (bump, up) = (4.25, 48.0);
     let mut obstacles = Vec::new();
     for (name, y) in [("wall-up", 48.0), ("wall-down", 32.0)] {
         let circles: Vec<_> = (0..=15).map(|i| (4.0 * i as f64, y, 3.0)).collect();
@@ -45,13 +53,13 @@ fn tempting_world() -> MissionWorld {
         .collect();
     obstacles.push(obstacle("island", &island));
     let bumps = [
-        ("a1", 100.0, 48.5),
-        ("a2", 120.0, 48.5),
-        ("b1", 110.0, 31.5),
-        ("b2", 130.0, 31.5),
+        ("a1", 100.0, up),
+        ("a2", 120.0, up),
+        ("b1", 110.0, 80.0 - up),
+        ("b2", 130.0, 80.0 - up),
     ];
     for (name, x, y) in bumps {
-        obstacles.push(obstacle(name, &[(x, y, 4.25)]));
+        obstacles.push(obstacle(name, &[(x, y, bump)]));
     }
     let prior = Scene {
         name: "tempting".into(),

@@ -108,6 +108,13 @@ pub struct Guard<'a> {
     /// it as a ratchet: while the current curve is below the floor, a candidate may not fall
     /// below the current curve's clearance, so a seed below the floor can still climb to it.
     pub clearance_floor: Real,
+    /// A clearance to reach and keep (the dm rule; `-inf`: none). A candidate below it is
+    /// not rejected: it ranks after every candidate that keeps it, by how far it falls short
+    /// (then by its cost). From a seed below it the optimiser first climbs to it, then keeps
+    /// it while it lowers the cost: the cost is minimised under the constraint
+    /// `m(C) >= target` (an extreme barrier once it holds). Nelder-Mead compares values
+    /// only, so the ranking is all it needs; L-BFGS takes it as a ratchet like the floor.
+    pub clearance_target: Real,
     /// The guard's own memory: the samples of the last candidate found in the class (start
     /// with `Default::default()`). A candidate whose straight-line sweep from it meets no
     /// obstacle's representative is in the class without its signature being computed
@@ -122,9 +129,17 @@ impl Guard<'_> {
         if !admissible(spline, self, cfg.guard_samples) {
             return Real::INFINITY;
         }
-        let terms = evaluate(spline, model, &cfg.cost);
-        if self.rejects(terms.min_clearance) {
+        self.value(&evaluate(spline, model, &cfg.cost))
+    }
+
+    /// The value of a candidate of cost terms `terms`: `+inf` when rejected, above
+    /// [`SHORT_OF_TARGET`] when below the clearance target, else its cost.
+    pub fn value(&self, terms: &CostTerms) -> Real {
+        let m = terms.min_clearance;
+        if self.rejects(m) {
             Real::INFINITY
+        } else if m < self.clearance_target {
+            SHORT_OF_TARGET * (1.0 + (self.clearance_target - m)) + terms.total
         } else {
             terms.total
         }
@@ -144,6 +159,10 @@ impl Guard<'_> {
         g
     }
 }
+
+/// The value of a candidate below the clearance target is more than this; every cost is
+/// far less (the largest seen, on maps, are in the tens of thousands).
+pub const SHORT_OF_TARGET: Real = 1e9;
 
 /// One round's outcome.
 #[derive(Clone, Debug, PartialEq)]
@@ -225,6 +244,15 @@ pub fn stays_in_bounds(spline: &Spline, bounds: &Bounds) -> bool {
             .all(|(_, p)| bounds.contains(p))
 }
 
+/// The curve before a growth whose grown curve fell below the floor, and the floor the
+/// next round must regain.
+struct Probation {
+    points: Vec<Point>,
+    spline: Spline,
+    cost: Real,
+    floor: Real,
+}
+
 /// Runs the growth loop from `seed` (`S`, initial via-points, `T`).
 pub fn grow(
     seed: &[Point],
@@ -255,6 +283,7 @@ pub fn grow(
     // Clearance of the current curve, for the floor's ratchet.
     let mut current = evaluate(&spline, model, &cfg.cost).min_clearance;
     let mut best_cost = outer.ratchet(current).cost(&spline, model, cfg);
+    let mut probation: Option<Probation> = None;
     for round in 0..cfg.max_rounds.max(1) {
         let round_guard = outer.ratchet(current);
         let guard = &round_guard;
@@ -306,7 +335,8 @@ pub fn grow(
                     match build(&pts, end) {
                         Some(sp) if admissible(&sp, guard, cfg.guard_samples) => {
                             let (terms, g) = gradient(&sp, model, &cfg.cost);
-                            if guard.rejects(terms.min_clearance) {
+                            let m = terms.min_clearance;
+                            if guard.rejects(m) || m < guard.clearance_target.min(current) {
                                 (Real::INFINITY, vec![0.0; x.len()])
                             } else {
                                 (terms.total, g.iter().flat_map(|v| [v.x, v.y]).collect())
@@ -343,6 +373,19 @@ pub fn grow(
             evaluations: count,
         });
         let improved = improved && best_cost < before;
+        if let Some(p) = probation.take()
+            && current < p.floor
+        {
+            // The round after a growth on probation did not regain the floor.
+            points = p.points;
+            spline = p.spline;
+            best_cost = p.cost;
+            if let Some(r) = rounds.last_mut() {
+                r.via_points = points.len() - 2;
+                r.cost = best_cost;
+            }
+            break;
+        }
         if !improved && round > 0 {
             break;
         }
@@ -351,39 +394,90 @@ pub fn grow(
         }
         // One more via-point on the current curve, where it helps most: in the segment that
         // holds the point of least clearance (the path is most threatened there), else the
-        // longest segment.
+        // longest segment. The curve through one more point of itself is nearly the same
+        // curve, but not quite: the knots move, and a short curve can shift by a unit. It is
+        // kept if it is still admissible and no less clear than the floor's ratchet allows.
+        // A curve held at the floor (the dm rule) often fails that, so the other segments
+        // are tried (longest first), then the curve resampled at the new knots. If none
+        // keeps the floor, the clearest admissible one seeds the next round on probation:
+        // that round must bring the curve back to the floor, or the loop ends on the curve
+        // before the growth.
         let sp = &spline;
         let clear = min_clearance(sp, model, 1e-3);
-        let seg = if clear.upper < cfg.cost.dm {
-            sp.locate(clear.at).0
-        } else {
-            (0..sp.segments())
-                .max_by(|&a, &b| sp.segment_length(a).total_cmp(&sp.segment_length(b)))
-                .unwrap_or(0)
-        };
-        let k = sp.knots();
-        let mid = sp.position(0.5 * (k[seg] + k[seg + 1]));
-        let mut grown = points.clone();
-        grown.insert(seg + 1, mid);
-        // The curve through one more point of itself is nearly the same curve; keep it only
-        // if it is still admissible (and no less clear than the floor's ratchet allows now).
-        let grown_end = fixed_end(&grown);
-        let grown_guard = outer.ratchet(current);
-        match build(&grown, grown_end) {
-            Some(sp2)
-                if grown_guard.cost(&sp2, model, cfg).is_finite()
-                    && (!guard.collision_free || is_collision_free(&sp2, model))
-                    && stays_in_bounds(&sp2, &guard.bounds) =>
-            {
-                let terms = evaluate(&sp2, model, &cfg.cost);
-                best_cost = terms.total;
-                current = terms.min_clearance;
-                points = grown;
-                spline = sp2;
-                end = grown_end;
-            }
-            _ => break,
+        let mut order: Vec<usize> = (0..sp.segments()).collect();
+        order.sort_by(|&a, &b| sp.segment_length(b).total_cmp(&sp.segment_length(a)));
+        if clear.upper < cfg.cost.dm {
+            let worst = sp.locate(clear.at).0;
+            order.retain(|&i| i != worst);
+            order.insert(0, worst);
         }
+        let k = sp.knots();
+        let n = points.len();
+        let inserted = order.iter().map(|&seg| {
+            let mut grown = points.clone();
+            grown.insert(seg + 1, sp.position(0.5 * (k[seg] + k[seg + 1])));
+            grown
+        });
+        let resampled = (0..=n)
+            .map(|i| match i {
+                0 => s,
+                i if i == n => t,
+                i => sp.position(i as Real / n as Real),
+            })
+            .collect::<Vec<_>>();
+        // A grown curve must keep the ratchet's floor, and the target if the curve keeps it.
+        let floor = outer.ratchet(current).clearance_floor;
+        let target = guard.clearance_target;
+        let need = if current >= target { target } else { floor };
+        let unfloored = Guard {
+            clearance_floor: Real::NEG_INFINITY,
+            ..guard.clone()
+        };
+        // Without a floor or a target (maps) only the first choice is tried, as the paper
+        // does.
+        let tries = if need.is_finite() { usize::MAX } else { 1 };
+        let mut clearest: Option<(Vec<Point>, EndCondition, Spline, CostTerms)> = None;
+        let mut kept = None;
+        for grown in inserted.chain(std::iter::once(resampled)).take(tries) {
+            let grown_end = fixed_end(&grown);
+            let Some(sp2) = build(&grown, grown_end) else {
+                continue;
+            };
+            if !(admissible(&sp2, &unfloored, cfg.guard_samples)
+                && (!guard.collision_free || is_collision_free(&sp2, model))
+                && stays_in_bounds(&sp2, &guard.bounds))
+            {
+                continue;
+            }
+            let terms = evaluate(&sp2, model, &cfg.cost);
+            let m = terms.min_clearance;
+            if (guard.collision_free && m <= 0.0) || m < floor {
+                continue;
+            }
+            if m >= need {
+                kept = Some((grown, grown_end, sp2, terms));
+                break;
+            }
+            if clearest.as_ref().is_none_or(|c| m > c.3.min_clearance) {
+                clearest = Some((grown, grown_end, sp2, terms));
+            }
+        }
+        let Some((grown, grown_end, sp2, terms)) = kept.or_else(|| {
+            probation = clearest.is_some().then(|| Probation {
+                points: points.clone(),
+                spline: spline.clone(),
+                cost: best_cost,
+                floor: need,
+            });
+            clearest
+        }) else {
+            break;
+        };
+        best_cost = guard.value(&terms);
+        current = terms.min_clearance;
+        points = grown;
+        spline = sp2;
+        end = grown_end;
     }
     // The reported terms leave nothing out (no truncation of far circles' potential).
     let exact = CostConfig {

@@ -41,6 +41,19 @@ impl Seed {
     }
 }
 
+/// The dm rule's target in a class whose graph path is less clear than `dm` (a passage
+/// narrower than `2 dm`), as a share of that path's least clearance: the graph path runs
+/// midway between obstacles, the most a path of the class can keep, and a smooth curve
+/// through the passage keeps somewhat less.
+pub const DM_RULE_SHARE: Real = 0.9;
+
+/// The least clearance of a class's graph path (at its vertices).
+fn bottleneck(poly: &[Point], model: &dyn ClearanceModel) -> Real {
+    poly.iter()
+        .map(|p| model.clearance(p).0)
+        .fold(Real::INFINITY, Real::min)
+}
+
 /// Settings of [`plan`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct PlanConfig {
@@ -62,6 +75,15 @@ pub struct PlanConfig {
     /// [`Guard::clearance_floor`]), and the chosen class must be certified at least this
     /// clear. 0 (default): only collisions are rejected.
     pub clearance_floor: Real,
+    /// The paper's rule that a path must keep `dm` (method.md, note after (10)), applied
+    /// inside the optimiser as a constraint ([`Guard::clearance_target`]): each class's
+    /// curve first climbs to `dm` (or, in a passage narrower than `2 dm`, to
+    /// [`DM_RULE_SHARE`] of its graph path's clearance), then lowers its cost while keeping
+    /// it. Without it `dm` acts only through the penalty `D`, which at the paper's weights
+    /// trades clearance for roughness and length (chosen paths at 0.7 to 0.95 dm). On
+    /// (default) for scenes; off on maps, whose one-cell doors and corners sit far below
+    /// any `dm` (see `homospline_maps::map_config`).
+    pub dm_rule: bool,
     /// The robot's heading at the start, when it is moving (a re-plan on the way): curves
     /// leave along it, unless their class path starts backwards (the robot turns on the
     /// spot: it is omni-directional).
@@ -85,6 +107,7 @@ impl Default for PlanConfig {
             threads: None,
             certify_tolerance: 1e-3,
             clearance_floor: 0.0,
+            dm_rule: true,
             start_heading: None,
             avoid: Vec::new(),
             diverse: None,
@@ -1169,6 +1192,13 @@ fn optimise_class(
             cfg.clearance_floor
         } else {
             Real::NEG_INFINITY
+        },
+        clearance_target: match signature {
+            Some(_) if cfg.dm_rule => growth
+                .cost
+                .dm
+                .min(DM_RULE_SHARE * bottleneck(seed_poly, model)),
+            _ => Real::NEG_INFINITY,
         },
         proven: Default::default(),
     };

@@ -75,10 +75,15 @@ fn every_voronoi_class_of_every_fixture_is_collision_free_and_in_its_class() {
             scene.name
         );
         assert_eq!(p.best, Some(1));
+        // Ranked collision-free and safe first, then collision-free, then the rest; by cost
+        // within each group.
+        let group = |c: &homospline_optim::ClassPlan| (!c.collision_free, !c.safe);
         assert!(
             p.classes
                 .windows(2)
-                .all(|w| w[0].cost.total <= w[1].cost.total)
+                .all(|w| (group(&w[0]), w[0].cost.total) <= (group(&w[1]), w[1].cost.total)),
+            "{}: ranking",
+            scene.name
         );
         assert!(!p.pareto.is_empty());
     }
