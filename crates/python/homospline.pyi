@@ -102,8 +102,9 @@ def plan(
     roughness: Optional[str] = None,
     clearance_floor: float = 0.0,
     graph: Optional[Graph] = None,
+    soft_dm: bool = False,
 ) -> Plan:
-    """Plans a scene (the `plan` command)."""
+    """Plans a scene (the `plan` command); `soft_dm` turns the dm rule off."""
 
 def plan_map(
     occupancy: npt.NDArray[np.bool_],

@@ -550,6 +550,12 @@ struct PlanArgs {
     /// class must be certified at least this clear (default 0: only collisions).
     #[arg(long, value_name = "X", default_value_t = 0.0)]
     clearance_floor: f64,
+    /// Let `dm` act only through the safety penalty D, as in the paper's cost alone. By
+    /// default on scenes each class's curve first climbs to dm (0.9 of its graph path's
+    /// clearance in a narrower passage) and keeps it while the cost falls (the dm rule; maps
+    /// never apply it)
+    #[arg(long)]
+    soft_dm: bool,
     /// Write the plan result (formats.md) here.
     #[arg(long, value_name = "FILE")]
     json: Option<PathBuf>,
@@ -695,6 +701,7 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
         max_via: a.max_via,
         rounds: a.rounds,
         clearance_floor: a.clearance_floor,
+        soft_dm: a.soft_dm,
         avoid: a.avoid.clone(),
         diverse: a.diverse,
     };

@@ -30,6 +30,8 @@ pub struct PlanOptions {
     pub rounds: Option<usize>,
     /// Hard clearance margin.
     pub clearance_floor: f64,
+    /// `dm` as a penalty only: the dm rule off (maps never apply it).
+    pub soft_dm: bool,
     /// Classes to leave out.
     pub avoid: Vec<String>,
     /// Limited overlap.
@@ -50,6 +52,7 @@ impl Default for PlanOptions {
             max_via: None,
             rounds: None,
             clearance_floor: 0.0,
+            soft_dm: false,
             avoid: Vec::new(),
             diverse: None,
         }
@@ -142,6 +145,7 @@ pub fn plan_config(o: &PlanOptions, scene: Option<&Scene>) -> Result<PlanConfig,
         },
         threads: o.threads,
         clearance_floor: o.clearance_floor,
+        dm_rule: base.dm_rule && !o.soft_dm,
         avoid: o.avoid.clone(),
         diverse: o.diverse,
         ..base

@@ -499,6 +499,43 @@ mod tests {
     use super::*;
 
     #[test]
+    fn a_candidate_short_of_the_target_ranks_after_every_one_that_keeps_it() {
+        let guard = Guard {
+            class: None,
+            bounds: Bounds {
+                min: Point::new(0.0, 0.0),
+                max: Point::new(1.0, 1.0),
+            },
+            collision_free: true,
+            clearance_floor: Real::NEG_INFINITY,
+            clearance_target: 3.0,
+            proven: Default::default(),
+        };
+        let at = |m: Real, total: Real| CostTerms {
+            min_clearance: m,
+            total,
+            ..CostTerms::default()
+        };
+        let keeps = guard.value(&at(3.0, 1e6));
+        let short = guard.value(&at(2.999, 1.0));
+        let shorter = guard.value(&at(2.5, 1.0));
+        assert_eq!(keeps, 1e6);
+        assert!(keeps < short && short < shorter && shorter.is_finite());
+        // Equally short: the cost decides.
+        assert!(guard.value(&at(2.5, 1.0)) < guard.value(&at(2.5, 2.0)));
+        assert_eq!(guard.value(&at(0.0, 1.0)), Real::INFINITY);
+        let floored = Guard {
+            clearance_floor: 2.0,
+            ..guard.clone()
+        };
+        assert_eq!(floored.value(&at(1.9, 1.0)), Real::INFINITY);
+        assert_eq!(
+            floored.ratchet(1.5).value(&at(1.9, 1.0)),
+            guard.value(&at(1.9, 1.0))
+        );
+    }
+
+    #[test]
     fn long_curves_get_a_proportionally_smaller_budget_down_to_the_floor() {
         let cfg = GrowthConfig {
             max_evaluations_per_round: 800,

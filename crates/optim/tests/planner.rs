@@ -175,3 +175,31 @@ fn lbfgs_option_gives_collision_free_classes_too() {
         );
     }
 }
+
+/// The dm rule (method.md, note after (10)): on every paper scene the chosen class is
+/// certified at least `dm` clear; without the rule the penalty `D` alone leaves some below.
+#[test]
+fn the_dm_rule_keeps_the_chosen_class_of_every_paper_scene_at_dm() {
+    let mut below_without = Vec::new();
+    for scene in fixture_scenes() {
+        let ruled = plan(&scene, &PlanConfig::default()).unwrap();
+        let best = &ruled.classes[ruled.best.unwrap() - 1];
+        let dm = PlanConfig::default().growth.cost.dm;
+        assert!(
+            best.safe && best.certified_clearance >= dm,
+            "{}: class {} at {}",
+            scene.name,
+            best.signature,
+            best.certified_clearance
+        );
+        let soft = PlanConfig {
+            dm_rule: false,
+            ..PlanConfig::default()
+        };
+        let p = plan(&scene, &soft).unwrap();
+        if !p.classes[p.best.unwrap() - 1].safe {
+            below_without.push(scene.name.clone());
+        }
+    }
+    assert!(!below_without.is_empty(), "the rule changes nothing");
+}

@@ -316,7 +316,7 @@ fn weights_of(weights: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, f64)
 /// Plans a scene: the k best homotopy classes, each optimised and checked (the `plan`
 /// command). `weights` maps names (`safety`, `dm`, ...) to values.
 #[pyfunction]
-#[pyo3(signature = (scene, classes=5, preset="paper-voronoi", weights=None, optimizer=None, seed="voronoi", roughness=None, clearance_floor=0.0, graph=None))]
+#[pyo3(signature = (scene, classes=5, preset="paper-voronoi", weights=None, optimizer=None, seed="voronoi", roughness=None, clearance_floor=0.0, graph=None, soft_dm=false))]
 #[allow(clippy::too_many_arguments)]
 fn plan(
     py: Python<'_>,
@@ -329,6 +329,7 @@ fn plan(
     roughness: Option<String>,
     clearance_floor: f64,
     graph: Option<&PyGraph>,
+    soft_dm: bool,
 ) -> PyResult<PyPlan> {
     let options = PlanOptions {
         seed: seed.to_owned(),
@@ -338,6 +339,7 @@ fn plan(
         optimizer,
         roughness,
         clearance_floor,
+        soft_dm,
         ..PlanOptions::default()
     };
     let cfg = plan_config(&options, Some(&scene.inner)).map_err(bad)?;

@@ -46,6 +46,16 @@ def test_plan_equals_the_cli_plan(scene, tmp_path):
     assert timeless(ours) == timeless(theirs)
 
 
+def test_soft_dm_equals_the_cli_flag(tmp_path):
+    path = ROOT / "fixtures/scenes/field.yaml"
+    scene = homospline.Scene.from_file(path)
+    ruled = homospline.plan(scene).to_dict()
+    soft = homospline.plan(scene, soft_dm=True).to_dict()
+    assert timeless(soft) == timeless(cli_json(["plan", str(path), "--soft-dm"], tmp_path))
+    best = lambda p: p["classes"][p["best"] - 1]
+    assert best(ruled)["safe"] and not best(soft)["safe"]
+
+
 def movingai_array(path):
     rows = path.read_text().splitlines()[4:]
     return np.array([[c not in ".G" for c in r] for r in rows if r], dtype=bool)
