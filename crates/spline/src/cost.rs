@@ -302,7 +302,7 @@ impl CostConfig {
             lateral_accel: 0.5,
             nodes: 5,
             pieces: 2,
-            tolerance: 1e-7,
+            tolerance: 1e-6,
             danger_points: Vec::new(),
             critical_points: Vec::new(),
             hazards: Vec::new(),
@@ -886,12 +886,9 @@ fn refine_min_clearance(
 
 /// Each knot's parameter and clearance.
 fn knot_clearances(spline: &Spline, model: &dyn ClearanceModel) -> Vec<(Real, Real)> {
-    spline
-        .knots()
-        .iter()
-        .zip(spline.points())
-        .map(|(&t, p)| (t, model.clearance(p).0))
-        .collect()
+    let mut d = vec![0.0; spline.points().len()];
+    model.clearances(spline.points(), &mut d);
+    spline.knots().iter().copied().zip(d).collect()
 }
 
 /// Step 5: the line-of-sight shares (start and goal visibility, shelter from hazards).

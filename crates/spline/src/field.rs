@@ -92,6 +92,14 @@ pub trait ClearanceModel: Send + Sync {
     /// gradient stay exact.
     fn field_batch(&self, pts: &[Point], alpha: Real, allowance: Real, out: &mut [FieldSample]);
 
+    /// The clearance at each point of `pts`, written to `out`: the same values as
+    /// [`ClearanceModel::clearance`], without the gradients (a model may batch them).
+    fn clearances(&self, pts: &[Point], out: &mut [Real]) {
+        for (p, o) in pts.iter().zip(out.iter_mut()) {
+            *o = self.clearance(p).0;
+        }
+    }
+
     /// Whether the segment `[a, b]` is free of obstacles.
     fn line_of_sight(&self, a: &Point, b: &Point) -> bool;
 
@@ -181,6 +189,12 @@ impl ClearanceModel for CircleModel {
         match self.set.clearance(p) {
             Some(c) => (c.distance, c.gradient),
             None => (Real::INFINITY, Vector::zeros()),
+        }
+    }
+
+    fn clearances(&self, pts: &[Point], out: &mut [Real]) {
+        for (p, o) in pts.iter().zip(out.iter_mut()) {
+            *o = least_distance(&self.xs, &self.ys, &self.rs, self.r_max, p.x, p.y);
         }
     }
 
@@ -374,6 +388,32 @@ impl Default for Lanes {
 /// Branch-free over the lanes so that it vectorises; compiled for AVX2 too and chosen at run
 /// time. No fused multiply-add is enabled, and every operation is an IEEE one, so the AVX2
 /// and the baseline versions give bit-identical results.
+/// `min_k |(x, y) - (xs_k, ys_k)| - rs_k` over circles sorted by `xs` (+inf for none),
+/// computed as [`homospline_geom::Circle::signed_distance`] does, so equal to
+/// `CircleSet::clearance`'s distance. The scan starts at the point's `x` and walks out both
+/// ways until `|dx| - r_max` cannot beat the best: a few circles instead of all.
+fn least_distance(xs: &[Real], ys: &[Real], rs: &[Real], r_max: Real, x: Real, y: Real) -> Real {
+    let mut best = Real::INFINITY;
+    let at = |k: usize| {
+        let (dx, dy) = (x - xs[k], y - ys[k]);
+        (dx * dx + dy * dy).sqrt() - rs[k]
+    };
+    let mid = xs.partition_point(|&cx| cx < x);
+    for (k, &cx) in xs.iter().enumerate().skip(mid) {
+        if cx - x - r_max > best {
+            break;
+        }
+        best = best.min(at(k));
+    }
+    for (k, &cx) in xs[..mid].iter().enumerate().rev() {
+        if x - cx - r_max > best {
+            break;
+        }
+        best = best.min(at(k));
+    }
+    best
+}
+
 #[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq+avx2", "x86_64+avx2"))]
 fn potential_block(
     lanes: &mut Lanes,
@@ -432,6 +472,24 @@ mod tests {
                 Circle::new((t * 7.3) % w, (t * 3.1) % h, 0.5 + (i % 4) as Real * 0.4)
             })
             .collect()
+    }
+
+    #[test]
+    fn batched_clearances_equal_the_single_queries_exactly() {
+        for n in [0, 1, 7, 60, 300] {
+            let model = CircleModel::new(scattered(n, 90.0, 66.0));
+            let pts: Vec<Point> = (0..500)
+                .map(|i| {
+                    let t = i as Real;
+                    Point::new((t * 1.37) % 110.0 - 10.0, (t * 0.73) % 86.0 - 10.0)
+                })
+                .collect();
+            let mut got = vec![0.0; pts.len()];
+            model.clearances(&pts, &mut got);
+            for (p, g) in pts.iter().zip(&got) {
+                assert_eq!(*g, model.clearance(p).0, "{n} circles at {p}");
+            }
+        }
     }
 
     #[test]
