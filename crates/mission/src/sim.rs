@@ -935,7 +935,12 @@ fn run_mission<K: Known>(
                 },
             );
             replans += 1;
-            let routes = run.routes_from(pos, Some(heading), &ugv_track.samples);
+            let mut routes = run.routes_from(pos, Some(heading), &ugv_track.samples);
+            if routes.is_empty() {
+                // No curve leaving along the heading clears what was just found (a blockage
+                // close ahead): the UGV stops and plans from a standstill, turning on the spot.
+                routes = run.routes_from(pos, None, &ugv_track.samples);
+            }
             let Some(best) = routes.first() else {
                 run.event(
                     t,

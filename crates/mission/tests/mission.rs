@@ -229,3 +229,27 @@ fn world_files_are_checked_with_file_line_field_and_problem() {
         "w.yaml: the file is empty (expected a world)"
     );
 }
+
+/// Generated world 41: both blockages are found a quarter second after the start, close
+/// ahead of the UGV. No curve leaving along its heading clears them (every class collides), so
+/// the UGV stops and plans from a standstill, turning on the spot; it was stuck before.
+#[test]
+fn a_blockage_close_ahead_is_left_from_a_standstill() {
+    let w = random_world(41, 2).unwrap();
+    for policy in [Policy::None, Policy::Ahead, Policy::Alternatives] {
+        let r = run(&w, policy);
+        assert!(r.reached, "{policy:?}: {:#?}", r.events);
+        let blocked = r
+            .events
+            .iter()
+            .position(|e| matches!(e.kind, EventKind::Blocked { .. }))
+            .expect("the chosen class is blocked");
+        assert!(
+            r.events[blocked..]
+                .iter()
+                .any(|e| matches!(e.kind, EventKind::TurnedAround)),
+            "{policy:?}: {:#?}",
+            r.events
+        );
+    }
+}
