@@ -457,17 +457,22 @@ fn free_bfs<T>(
     mut stop: impl FnMut(usize, usize) -> Option<T>,
 ) -> Option<(Vec<(usize, usize)>, T)> {
     let (w, h) = (grid.width(), grid.height());
-    let mut parent = FxHashMap::default();
+    // Parents by raster index (a dense array: the search may sweep most of the grid, where a
+    // hash map spent more time growing than searching).
+    const UNSEEN: u32 = u32::MAX;
+    let mut parent = vec![UNSEEN; w * h];
+    let at = |(i, j): (usize, usize)| j * w + i;
+    let cell = |k: usize| (k % w, k / w);
     let mut queue = std::collections::VecDeque::new();
-    parent.insert(start, start);
+    parent[at(start)] = at(start) as u32;
     queue.push_back(start);
     while let Some((ci, cj)) = queue.pop_front() {
         if let Some(answer) = stop(ci, cj) {
             let mut path = vec![(ci, cj)];
-            let mut cur = (ci, cj);
-            while parent[&cur] != cur {
-                cur = parent[&cur];
-                path.push(cur);
+            let mut cur = at((ci, cj));
+            while parent[cur] as usize != cur {
+                cur = parent[cur] as usize;
+                path.push(cell(cur));
             }
             path.reverse();
             return Some((path, answer));
@@ -478,8 +483,8 @@ fn free_bfs<T>(
                 continue;
             }
             let n = (ni as usize, nj as usize);
-            if !grid.occupied(n.0, n.1) && !parent.contains_key(&n) {
-                parent.insert(n, (ci, cj));
+            if !grid.occupied(n.0, n.1) && parent[at(n)] == UNSEEN {
+                parent[at(n)] = at((ci, cj)) as u32;
                 queue.push_back(n);
             }
         }
