@@ -6,7 +6,7 @@ use homospline_geom::{Bounds, Point, Real};
 use homospline_homotopy::{Rays, Signature};
 use homospline_spline::{
     ClearanceModel, CostConfig, CostTerms, EndCondition, Parametrization, Spline, SplineError,
-    evaluate, gradient, is_collision_free, min_clearance,
+    evaluate, evaluate_weighted, gradient, is_collision_free, min_clearance,
 };
 use std::cell::RefCell;
 
@@ -129,7 +129,7 @@ impl Guard<'_> {
         if !admissible(spline, self, cfg.guard_samples) {
             return Real::INFINITY;
         }
-        self.value(&evaluate(spline, model, &cfg.cost))
+        self.value(&evaluate_weighted(spline, model, &cfg.cost))
     }
 
     /// The value of a candidate of cost terms `terms`: `+inf` when rejected, above

@@ -468,9 +468,19 @@ struct NodePartial {
     ga: Vector,
 }
 
-/// The cost of `spline` against `model`.
+/// The cost of `spline` against `model`: every term, weighted or not.
 pub fn evaluate(spline: &Spline, model: &dyn ClearanceModel, cfg: &CostConfig) -> CostTerms {
-    run(spline, model, cfg, None)
+    run(spline, model, cfg, None, true)
+}
+
+/// The cost of `spline` as an optimiser needs it: the same `total` and `min_clearance` as
+/// [`evaluate`], but the terms whose weight is 0 are not computed (they read 0).
+pub fn evaluate_weighted(
+    spline: &Spline,
+    model: &dyn ClearanceModel,
+    cfg: &CostConfig,
+) -> CostTerms {
+    run(spline, model, cfg, None, false)
 }
 
 /// The cost and its gradient with respect to the inner via-points (`points[1..n-1]`).
@@ -511,7 +521,7 @@ pub fn gradient(
         return (terms, g);
     }
     let mut partials = Vec::new();
-    let terms = run(spline, model, cfg, Some(&mut partials));
+    let terms = run(spline, model, cfg, Some(&mut partials), false);
     // dC/d(a, b, c, d) per segment, then reverse mode through the spline (O(n), exact).
     let mut coef = vec![[Vector::zeros(); 4]; spline.segments()];
     for p in &partials {
@@ -707,20 +717,17 @@ struct Worst {
 /// What [`run`] must compute beyond what the weights need.
 #[derive(Clone, Copy)]
 struct Needs {
-    /// Every term's value (an evaluation reports them all; a gradient only what it weighs).
+    /// Every term's value (a report needs them all; an optimiser only what it weighs). The
+    /// field and `m(C)` are always computed: the optimiser's guard rejects candidates by
+    /// `m(C)`, whatever the weights.
     all: bool,
-    field: bool,
-    clearance: bool,
     line_of_sight: bool,
 }
 
 impl Needs {
-    fn of(cfg: &CostConfig, gradient: bool) -> Self {
-        let all = !gradient;
+    fn of(cfg: &CostConfig, all: bool) -> Self {
         Self {
             all,
-            field: all || cfg.w_topology > 0.0 || cfg.w_safety > 0.0 || cfg.w_max_clearance > 0.0,
-            clearance: all || cfg.w_safety > 0.0 || cfg.w_max_clearance > 0.0,
             line_of_sight: cfg.w_start_visibility > 0.0
                 || cfg.w_goal_visibility > 0.0
                 || (cfg.w_sheltered > 0.0 && !cfg.hazards.is_empty()),
@@ -747,28 +754,22 @@ fn integrate(
         } else {
             Vector::zeros()
         };
-        let (u, du) = if needs.field {
-            (field[idx].potential, field[idx].potential_grad)
-        } else {
-            (0.0, Vector::zeros())
-        };
+        let (u, du) = (field[idx].potential, field[idx].potential_grad);
         t.topology += wq * u * speed;
         let mut gq = du * (cfg.w_topology * wq * speed);
         let mut gv = vhat * (cfg.w_length + cfg.w_topology * u) * wq;
         let mut ga = Vector::zeros();
-        if needs.clearance {
-            let (d, dd) = (field[idx].clearance, field[idx].clearance_grad);
-            if worst.is_none_or(|w| d < w.clearance) {
-                worst = Some(Worst {
-                    clearance: d,
-                    index: idx,
-                });
-            }
-            if d > cfg.d_max {
-                t.max_clearance += wq * (d - cfg.d_max) * speed;
-                gq += dd * (cfg.w_max_clearance * wq * speed);
-                gv += vhat * (cfg.w_max_clearance * wq * (d - cfg.d_max));
-            }
+        let (d, dd) = (field[idx].clearance, field[idx].clearance_grad);
+        if worst.is_none_or(|w| d < w.clearance) {
+            worst = Some(Worst {
+                clearance: d,
+                index: idx,
+            });
+        }
+        if d > cfg.d_max && (needs.all || cfg.w_max_clearance > 0.0) {
+            t.max_clearance += wq * (d - cfg.d_max) * speed;
+            gq += dd * (cfg.w_max_clearance * wq * speed);
+            gv += vhat * (cfg.w_max_clearance * wq * (d - cfg.d_max));
         }
         for &(at, dmin) in &cfg.danger_points {
             let r = p - at;
@@ -933,15 +934,17 @@ fn line_of_sight_shares(
     }
 }
 
-/// Every term of the cost, and with `grad` the partial derivatives of the weighted total at
-/// each node (the safety term's at the point of least clearance).
+/// The terms of the cost (every one with `all`, else those weighed), and with `grad` the
+/// partial derivatives of the weighted total at each node (the safety term's at the point of
+/// least clearance).
 fn run(
     spline: &Spline,
     model: &dyn ClearanceModel,
     cfg: &CostConfig,
     mut grad: Option<&mut Vec<NodePartial>>,
+    all: bool,
 ) -> CostTerms {
-    let needs = Needs::of(cfg, grad.is_some());
+    let needs = Needs::of(cfg, all);
     let samples = sample(spline, cfg);
     let rough = roughness(spline, cfg.roughness, grad.is_some());
     let mut t = CostTerms {
@@ -971,20 +974,16 @@ fn run(
     }
     // Every knot's clearance where the safety term weighs and the model truncates (the
     // allowance counts on them); else only the ends', which `m(C)` always takes in.
-    let knots = match (needs.clearance, cfg.w_safety > 0.0 && model.truncates()) {
-        (false, _) => Vec::new(),
-        (true, true) => knot_clearances(spline, model),
-        (true, false) => [0.0, 1.0]
+    let knots = if cfg.w_safety > 0.0 && model.truncates() {
+        knot_clearances(spline, model)
+    } else {
+        [0.0, 1.0]
             .iter()
             .map(|&t| (t, model.clearance(&spline.position(t)).0))
-            .collect(),
+            .collect()
     };
     let least_knot = knots.iter().map(|k| k.1).fold(Real::INFINITY, Real::min);
-    let field = if needs.field {
-        query_field(model, &samples, t.roughness, least_knot, cfg)
-    } else {
-        Vec::new()
-    };
+    let field = query_field(model, &samples, t.roughness, least_knot, cfg);
     let worst = integrate(&samples, &field, cfg, needs, &mut t, grad.as_deref_mut());
     if let Some(worst) = worst.filter(|w| w.clearance.is_finite()) {
         let (tm, m) = refine_min_clearance(spline, model, &samples, worst, &knots);

@@ -35,6 +35,8 @@ pub mod quad;
 pub mod roughness;
 
 pub use certify::{CertifiedClearance, is_collision_free, min_clearance};
-pub use cost::{CostConfig, CostConfigError, CostTerms, RoughnessForm, evaluate, gradient};
+pub use cost::{
+    CostConfig, CostConfigError, CostTerms, RoughnessForm, evaluate, evaluate_weighted, gradient,
+};
 pub use curve::{EndCondition, Parametrization, Spline, SplineError};
 pub use field::{CircleModel, ClearanceModel};

@@ -394,3 +394,26 @@ fn minimal_clearance_at_the_goal_is_found_exactly() {
     let at_goal = model.clearance(&pts[2]).0;
     assert_eq!(t.min_clearance, at_goal);
 }
+
+/// The optimiser's evaluation skips the unweighted terms and changes nothing else: the same
+/// total and `m(C)` as the full report, to the bit, with and without the optional terms.
+#[test]
+fn the_weighted_evaluation_has_the_full_total_and_least_clearance() {
+    let (s, model) = field();
+    for cfg in [
+        CostConfig::paper_voronoi(),
+        CostConfig::paper_original(),
+        full_cfg(),
+    ] {
+        let (all, weighted) = (
+            evaluate(&s, &model, &cfg),
+            homospline_spline::evaluate_weighted(&s, &model, &cfg),
+        );
+        assert_eq!(all.total, weighted.total);
+        assert_eq!(all.min_clearance, weighted.min_clearance);
+    }
+    let cfg = CostConfig::paper_voronoi();
+    let weighted = homospline_spline::evaluate_weighted(&s, &model, &cfg);
+    assert_eq!(weighted.passing_time, 0.0, "an unweighted term is skipped");
+    assert!(evaluate(&s, &model, &cfg).passing_time > 0.0);
+}
