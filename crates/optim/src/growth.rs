@@ -244,8 +244,8 @@ pub fn stays_in_bounds(spline: &Spline, bounds: &Bounds) -> bool {
             .all(|(_, p)| bounds.contains(p))
 }
 
-/// The curve before a growth whose grown curve fell below the floor, and the floor the
-/// next round must regain.
+/// The curve before a growth whose grown curve fell short of the floor or the target, and
+/// the clearance the next round must regain.
 struct Probation {
     points: Vec<Point>,
     spline: Spline,
@@ -396,12 +396,12 @@ pub fn grow(
         // holds the point of least clearance (the path is most threatened there), else the
         // longest segment. The curve through one more point of itself is nearly the same
         // curve, but not quite: the knots move, and a short curve can shift by a unit. It is
-        // kept if it is still admissible and no less clear than the floor's ratchet allows.
-        // A curve held at the floor (the dm rule) often fails that, so the other segments
+        // kept if it is still admissible, no less clear than the floor's ratchet allows, and
+        // (if the curve keeps the dm rule's target) no less clear than the target. A curve
+        // held at the floor or the target often fails that by a hair, so the other segments
         // are tried (longest first), then the curve resampled at the new knots. If none
-        // keeps the floor, the clearest admissible one seeds the next round on probation:
-        // that round must bring the curve back to the floor, or the loop ends on the curve
-        // before the growth.
+        // keeps it, the clearest admissible one seeds the next round on probation: that
+        // round must bring the curve back, or the loop ends on the curve before the growth.
         let sp = &spline;
         let clear = min_clearance(sp, model, 1e-3);
         let mut order: Vec<usize> = (0..sp.segments()).collect();

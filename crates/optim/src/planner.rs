@@ -75,12 +75,12 @@ pub struct PlanConfig {
     /// [`Guard::clearance_floor`]), and the chosen class must be certified at least this
     /// clear. 0 (default): only collisions are rejected.
     pub clearance_floor: Real,
-    /// The paper's rule that a path must keep `dm` (method.md, note after (10)), applied
+    /// The paper's rule that a path must keep `dm` (docs/method.md, *Safety as a rule*), applied
     /// inside the optimiser as a constraint ([`Guard::clearance_target`]): each class's
     /// curve first climbs to `dm` (or, in a passage narrower than `2 dm`, to
     /// [`DM_RULE_SHARE`] of its graph path's clearance), then lowers its cost while keeping
     /// it. Without it `dm` acts only through the penalty `D`, which at the paper's weights
-    /// trades clearance for roughness and length (chosen paths at 0.7 to 0.95 dm). On
+    /// trades clearance for roughness and length (chosen paths at 0.8 to 1.0 dm). On
     /// (default) for scenes; off on maps, whose one-cell doors and corners sit far below
     /// any `dm` (see `homospline_maps::map_config`).
     pub dm_rule: bool,
