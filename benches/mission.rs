@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 use criterion::{Criterion, criterion_group, criterion_main};
 use homospline_geom::{Point, Scene, Vector};
 use homospline_mission::{EventKind, MissionConfig, MissionWorld, Policy, simulate};
-use homospline_optim::{PlanConfig, plan};
+use homospline_optim::plan;
 
 /// The re-plan problems of one mission: the known map, the UGV's position and heading.
 fn replans(world: &MissionWorld, cfg: &MissionConfig) -> Vec<(Scene, Vector)> {
@@ -100,11 +100,7 @@ fn bench(c: &mut Criterion) {
         .iter()
         .enumerate()
         .map(|(i, (scene, heading))| {
-            let pc = PlanConfig {
-                start_heading: Some(*heading),
-                classes: cfg.replan_classes,
-                ..cfg.plan.clone()
-            };
+            let pc = cfg.replan_config(*heading);
             let runs: Vec<(f64, homospline_optim::Plan)> = (0..5)
                 .map(|_| {
                     let t = Instant::now();
@@ -143,11 +139,7 @@ fn bench(c: &mut Criterion) {
             let mut total = Duration::ZERO;
             for i in 0..iters as usize {
                 let (scene, heading) = &problems[i % problems.len()];
-                let pc = PlanConfig {
-                    start_heading: Some(*heading),
-                    classes: cfg.replan_classes,
-                    ..cfg.plan.clone()
-                };
+                let pc = cfg.replan_config(*heading);
                 let t = Instant::now();
                 let p = plan(scene, &pc).expect("a plan");
                 let dt = t.elapsed();

@@ -64,6 +64,26 @@ pub struct MissionConfig {
     /// the UGV's next class and the alternatives the scouts may verify. Fewer classes, a
     /// shorter stop.
     pub replan_classes: usize,
+    /// A re-plan on the move stops each L-BFGS round when an iteration improves the cost by
+    /// less than this, relatively (`GrowthConfig::lbfgs_value_tolerance`; the offline plan
+    /// runs to its budget). 1e-5 cut the p99 re-plan latency from 12.2 to 8.9 ms with the
+    /// distances over the optimum within 0.004 of the full budget's (README, *Missions*).
+    pub replan_value_tolerance: Real,
+}
+
+impl MissionConfig {
+    /// The planner's settings for a re-plan from a UGV on the move along `heading`: the
+    /// curves leave along it, with [`MissionConfig::replan_classes`] classes and
+    /// [`MissionConfig::replan_value_tolerance`].
+    pub fn replan_config(&self, heading: Vector) -> PlanConfig {
+        let mut cfg = PlanConfig {
+            start_heading: Some(heading),
+            classes: self.replan_classes.clamp(1, self.plan.classes),
+            ..self.plan.clone()
+        };
+        cfg.growth.lbfgs_value_tolerance = self.replan_value_tolerance;
+        cfg
+    }
 }
 
 impl Default for MissionConfig {
@@ -83,6 +103,7 @@ impl Default for MissionConfig {
             min_switch_interval: 10.0,
             max_time: None,
             replan_classes: 3,
+            replan_value_tolerance: 1e-5,
         }
     }
 }
@@ -528,13 +549,9 @@ impl<K: Known> Run<'_, K> {
         heading: Option<Vector>,
         track: &[(Real, Point)],
     ) -> Vec<Route> {
-        let cfg = PlanConfig {
-            start_heading: heading,
-            classes: match heading {
-                Some(_) => self.cfg.replan_classes.clamp(1, self.cfg.plan.classes),
-                None => self.cfg.plan.classes,
-            },
-            ..self.cfg.plan.clone()
+        let cfg = match heading {
+            Some(h) => self.cfg.replan_config(h),
+            None => self.cfg.plan.clone(),
         };
         let t0 = Instant::now();
         let p: Option<Plan> = self.known.plan_from(from, &cfg);
@@ -687,6 +704,12 @@ fn check_config(cfg: &MissionConfig) -> Result<(), MissionError> {
         return Err(MissionError::Config(format!(
             "switch margin must be >= 0, got {}",
             cfg.switch_margin
+        )));
+    }
+    if !(cfg.replan_value_tolerance.is_finite() && cfg.replan_value_tolerance >= 0.0) {
+        return Err(MissionError::Config(format!(
+            "re-plan value tolerance must be a finite number >= 0, got {}",
+            cfg.replan_value_tolerance
         )));
     }
     if !(cfg.min_switch_interval.is_finite() && cfg.min_switch_interval >= 0.0) {

@@ -56,6 +56,9 @@ pub struct GrowthConfig {
     pub step_fraction: Real,
     /// Samples per spline segment for the class and bounds checks of each candidate.
     pub guard_samples: usize,
+    /// L-BFGS stops when an iteration improves the value by less than this, relatively
+    /// (default 1e-10: in practice it runs to its budget; a mission's re-plans take 1e-5).
+    pub lbfgs_value_tolerance: Real,
 }
 
 impl GrowthConfig {
@@ -89,6 +92,7 @@ impl Default for GrowthConfig {
             optimizer: Optimizer::NelderMead,
             step_fraction: 0.1,
             guard_samples: 8,
+            lbfgs_value_tolerance: 1e-10,
         }
     }
 }
@@ -327,6 +331,7 @@ pub fn grow(
             Optimizer::Lbfgs => {
                 let lb = Lbfgs {
                     max_evaluations: budget.max(4) / 4,
+                    value_tolerance: cfg.lbfgs_value_tolerance,
                     ..Lbfgs::default()
                 };
                 let mut fg = |x: &[Real]| -> (Real, Vec<Real>) {
