@@ -253,3 +253,16 @@ fn a_blockage_close_ahead_is_left_from_a_standstill() {
         );
     }
 }
+
+#[test]
+fn a_bad_re_plan_tolerance_is_refused() {
+    let w = &fixture_worlds()[0];
+    for bad in [f64::NAN, -1e-5, f64::INFINITY] {
+        let cfg = MissionConfig {
+            replan_value_tolerance: bad,
+            ..MissionConfig::default()
+        };
+        let e = simulate(w, &cfg).expect_err("refused").to_string();
+        assert!(e.contains("re-plan value tolerance"), "{e}");
+    }
+}
