@@ -3,9 +3,10 @@
 //! runs, each timed whole in the simulation (map update, classes, optimisation); prints p50
 //! and p99. Replayed: each event of the `ahead` missions planned again on the known map as
 //! the UGV knew it then, from its position and heading, timed by criterion; prints p50, p99
-//! and the slowest events' stages. On the 512 x 512 map world (`fixtures/worlds/maps/16room-blocked.yaml`): the missions of every policy,
-//! each re-plan timed whole (map update and plan) with the map update's parts, and the full
-//! rebuild of the brushfire and of the graph for comparison.
+//! and the slowest events' stages. On the 512 x 512 map world
+//! (`fixtures/worlds/maps/16room-blocked.yaml`): the missions of every policy, each re-plan
+//! timed whole (map update and plan) with the map update's parts, and the full rebuild of
+//! the brushfire and of the graph for comparison.
 
 use std::time::{Duration, Instant};
 

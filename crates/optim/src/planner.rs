@@ -823,48 +823,45 @@ fn pull_pass(
         rays.cross_segment(&dense[j], &dense[i], &mut w);
         w.is_identity()
     };
-    let pull = || -> Vec<(Point, Real)> {
-        let ok = |i: usize, j: usize| {
-            j == i + 1 || {
-                let t = target(i, j);
-                t > 0.0
-                    && clear_at_least(model, dense[i], dense[j], t, cell)
-                    && (!checked || loop_is_trivial(i, j))
-            }
-        };
-        let last = dense.len() - 1;
-        let mut out = vec![(dense[0], 0.0)];
-        let mut i = 0;
-        while i < last {
-            // Doubling while the chord is admissible, then halving between the last
-            // admissible and the first refused.
-            let (mut good, mut step, mut bad) = (i + 1, 2, None);
-            while good < last {
-                let j = (i + step).min(last);
-                if ok(i, j) {
-                    good = j;
-                    step *= 2;
-                } else {
-                    bad = Some(j);
-                    break;
-                }
-            }
-            if let Some(mut hi) = bad {
-                while hi - good > 1 {
-                    let mid = good + (hi - good) / 2;
-                    if ok(i, mid) {
-                        good = mid;
-                    } else {
-                        hi = mid;
-                    }
-                }
-            }
-            out.push((dense[good], target(i, good).max(0.0)));
-            i = good;
+    let ok = |i: usize, j: usize| {
+        j == i + 1 || {
+            let t = target(i, j);
+            t > 0.0
+                && clear_at_least(model, dense[i], dense[j], t, cell)
+                && (!checked || loop_is_trivial(i, j))
         }
-        out
     };
-    pull()
+    let last = dense.len() - 1;
+    let mut out = vec![(dense[0], 0.0)];
+    let mut i = 0;
+    while i < last {
+        // Doubling while the chord is admissible, then halving between the last
+        // admissible and the first refused.
+        let (mut good, mut step, mut bad) = (i + 1, 2, None);
+        while good < last {
+            let j = (i + step).min(last);
+            if ok(i, j) {
+                good = j;
+                step *= 2;
+            } else {
+                bad = Some(j);
+                break;
+            }
+        }
+        if let Some(mut hi) = bad {
+            while hi - good > 1 {
+                let mid = good + (hi - good) / 2;
+                if ok(i, mid) {
+                    good = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+        }
+        out.push((dense[good], target(i, good).max(0.0)));
+        i = good;
+    }
+    out
 }
 
 /// Most passes of [`pull_taut`].

@@ -383,11 +383,6 @@ impl Default for Lanes {
     }
 }
 
-/// Adds the potential of the circles `kept` at every lane and tracks the nearest circle.
-///
-/// Branch-free over the lanes so that it vectorises; compiled for AVX2 too and chosen at run
-/// time. No fused multiply-add is enabled, and every operation is an IEEE one, so the AVX2
-/// and the baseline versions give bit-identical results.
 /// `min_k |(x, y) - (xs_k, ys_k)| - rs_k` over circles sorted by `xs` (+inf for none),
 /// computed as [`homospline_geom::Circle::signed_distance`] does, so equal to
 /// `CircleSet::clearance`'s distance. The scan starts at the point's `x` and walks out both
@@ -414,6 +409,11 @@ fn least_distance(xs: &[Real], ys: &[Real], rs: &[Real], r_max: Real, x: Real, y
     best
 }
 
+/// Adds the potential of the circles `kept` at every lane and tracks the nearest circle.
+///
+/// Branch-free over the lanes so that it vectorises; compiled for AVX2 too and chosen at run
+/// time. No fused multiply-add is enabled, and every operation is an IEEE one, so the AVX2
+/// and the baseline versions give bit-identical results.
 #[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq+avx2", "x86_64+avx2"))]
 fn potential_block(
     lanes: &mut Lanes,
