@@ -1101,22 +1101,27 @@ fn grade(params: &mut Vec<Real>) {
 /// The reported path of a certified curve: its arc-length samples, with curve points added
 /// (by halving the parameter interval, up to 16 times) wherever the chord between two samples
 /// is not clear although the curve is, as where a curve passes a corner at a small clearance:
-/// the path that is checked segment by segment and reported is then clear too.
+/// the path that is checked segment by segment and reported is then clear too. With the
+/// path, the least clearance of its segments (`ClearanceModel::polyline_clearance`), from
+/// the same checks.
 fn refine_samples(
     sp: &Spline,
     model: &dyn ClearanceModel,
     samples: &[(Real, Point)],
-) -> Vec<Point> {
+) -> (Vec<Point>, Real) {
     let mut out = Vec::with_capacity(samples.len());
+    let mut least = Real::INFINITY;
     let Some(&(_, first)) = samples.first() else {
-        return out;
+        return (out, least);
     };
     out.push(first);
     let mut stack = Vec::new();
     for w in samples.windows(2) {
         stack.push((w[0], w[1], 0u32));
         while let Some(((ta, pa), (tb, pb), depth)) = stack.pop() {
-            if depth >= 16 || model.segment_clearance(&pa, &pb) > 0.0 {
+            let d = model.segment_clearance(&pa, &pb);
+            if depth >= 16 || d > 0.0 {
+                least = least.min(d);
                 out.push(pb);
                 continue;
             }
@@ -1126,7 +1131,7 @@ fn refine_samples(
             stack.push(((ta, pa), (tm, pm), depth + 1));
         }
     }
-    out
+    (out, least)
 }
 
 /// Longest gap between a map seed's first via-points, cells.
@@ -1253,12 +1258,13 @@ fn optimise_class(
                 cert = min_clearance(sp, model, 1e-9_f64.max(1e-6 * cert.upper));
             }
             let samples = sp.sample_by_arc_length(crate::growth::report_spacing(length));
-            let path = if cert.collision_free() {
+            let (path, min_clear) = if cert.collision_free() {
                 refine_samples(sp, model, &samples)
             } else {
-                samples.into_iter().map(|(_, p)| p).collect()
+                let path: Vec<Point> = samples.into_iter().map(|(_, p)| p).collect();
+                let least = model.polyline_clearance(&path);
+                (path, least)
             };
-            let min_clear = model.polyline_clearance(&path);
             let inside = path.iter().all(|p| world.bounds.contains(p));
             let in_class = signature.is_none_or(|s| &rays.signature(&path) == s);
             (
@@ -1374,6 +1380,25 @@ mod tests {
                     prop_assert!(d > 0.0, "a chord comes {d} from the circles");
                 }
             }
+        }
+
+        /// The reported path's least clearance comes from the same checks that refine it:
+        /// it is the model's polyline clearance of the path, bit for bit.
+        #[test]
+        fn refined_paths_report_their_polyline_clearance(
+            circles in prop::collection::vec((0.0..40.0f64, 0.0..40.0f64, 0.3..4.0f64), 1..12),
+            via in prop::collection::vec((0.0..40.0f64, 0.0..40.0f64), 1..5),
+            spacing in 0.2..2.0f64,
+        ) {
+            let model = CircleModel::new(circles.iter().map(|&(x, y, r)| Circle::new(x, y, r)).collect());
+            let mut pts = vec![Point::new(-1.0, -1.0)];
+            pts.extend(via.iter().map(|&(x, y)| Point::new(x, y)));
+            pts.push(Point::new(41.0, 41.0));
+            let Ok(sp) = Spline::new(&pts, homospline_spline::Parametrization::Uniform, EndCondition::Natural) else {
+                return Ok(());
+            };
+            let (path, least) = refine_samples(&sp, &model, &sp.sample_by_arc_length(spacing));
+            prop_assert_eq!(least.to_bits(), model.polyline_clearance(&path).to_bits());
         }
     }
 }

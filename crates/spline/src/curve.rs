@@ -356,14 +356,17 @@ impl Spline {
                 })
                 .collect();
             while let Some((a, b)) = stack.pop() {
-                // The Bezier control polygon of the piece bounds its length from above: when
-                // it is short enough, so is the piece, and the quadrature is skipped.
+                // The Bezier control polygon of the piece bounds its length from above and the
+                // chord from below: the quadrature is needed only when the spacing lies
+                // between them.
                 let (pa, va, _) = self.eval_segment(i, a);
                 let (pb, vb, _) = self.eval_segment(i, b);
                 let third = (b - a) / 3.0;
                 let (c1, c2) = (pa + va * third, pb - vb * third);
                 let polygon = (c1 - pa).norm() + (c2 - c1).norm() + (pb - c2).norm();
-                if polygon > spacing && self.arc_length(i, a, b) > spacing && b - a > 1e-12 {
+                let longer = polygon > spacing
+                    && ((pb - pa).norm() > spacing || self.arc_length(i, a, b) > spacing);
+                if longer && b - a > 1e-12 {
                     let m = 0.5 * (a + b);
                     stack.push((m, b));
                     stack.push((a, m));
