@@ -35,7 +35,8 @@ fn segment_clearance(a: &Point, b: &Point, circles: &CircleSet) -> Real {
 }
 
 /// Appends the points after `a` up to `b` to `out`, halving `ab` (pushed out) until every
-/// piece keeps out of the circles; `false` if that fails within `depth` halvings.
+/// piece keeps out of the circles; `false` if that fails within `depth` halvings. `least`
+/// takes in the clearance of every piece appended.
 fn refine(
     a: Point,
     b: Point,
@@ -43,9 +44,12 @@ fn refine(
     margin: Real,
     depth: u32,
     out: &mut Vec<Point>,
+    least: &mut Real,
 ) -> bool {
-    if segment_clearance(&a, &b, circles) >= 0.0 {
+    let d = segment_clearance(&a, &b, circles);
+    if d >= 0.0 {
         out.push(b);
+        *least = least.min(d);
         return true;
     }
     if depth == 0 {
@@ -54,7 +58,8 @@ fn refine(
     let Some(m) = push_out(Point::from((a.coords + b.coords) * 0.5), circles, margin) else {
         return false;
     };
-    refine(a, m, circles, margin, depth - 1, out) && refine(m, b, circles, margin, depth - 1, out)
+    refine(a, m, circles, margin, depth - 1, out, least)
+        && refine(m, b, circles, margin, depth - 1, out, least)
 }
 
 /// Makes every edge of `graph` keep out of `circles` (`margin` is the clearance a moved
@@ -85,6 +90,8 @@ pub(crate) fn keep_out_of_circles(graph: &mut VoronoiGraph, circles: &CircleSet,
         let to = Point::new(nodes[e.to].at[0], nodes[e.to].at[1]);
         let n = e.polyline.len();
         let mut pts = vec![from];
+        // The least clearance of the segments of `pts`, each appended by `refine`.
+        let mut exact = Real::INFINITY;
         let mut ok = true;
         for (k, q) in e.polyline.iter().enumerate().skip(1) {
             let q = if k + 1 == n {
@@ -97,7 +104,7 @@ pub(crate) fn keep_out_of_circles(graph: &mut VoronoiGraph, circles: &CircleSet,
                 break;
             };
             let a = *pts.last().expect("the first point");
-            ok &= refine(a, q, circles, margin, 6, &mut pts);
+            ok &= refine(a, q, circles, margin, 6, &mut pts, &mut exact);
             if !ok {
                 break;
             }
@@ -116,10 +123,6 @@ pub(crate) fn keep_out_of_circles(graph: &mut VoronoiGraph, circles: &CircleSet,
         }
         e.polyline = pts.iter().map(|p| [p.x, p.y]).collect();
         e.length = pts.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
-        let exact = pts
-            .windows(2)
-            .map(|w| segment_clearance(&w[0], &w[1], circles))
-            .fold(Real::INFINITY, Real::min);
         e.min_clearance = e.min_clearance.min(exact);
         e.mean_clearance = e.mean_clearance.max(e.min_clearance);
         true

@@ -17,6 +17,8 @@
 
 use thiserror::Error;
 
+use rayon::prelude::*;
+
 use crate::find_root;
 use crate::grid::Grid;
 
@@ -147,28 +149,91 @@ fn keys_and_boxes(grid: &Grid) -> (Vec<u32>, Boxes) {
 /// row: `key_row(y, out)` writes the keys of window row `y` (`u32::MAX` where there is no
 /// source). Returns packed values row-major over the window (`NONE` where no source is in
 /// the window) and the largest squared distance among the rows that have a source.
+///
+/// Both passes run in parallel (rayon) on large windows: the column pass by strips of
+/// columns, the row pass by rows. Each strip and each row is computed alone, so the result is
+/// the same for any number of threads.
 fn transform(
     i0: usize,
     i1: usize,
     j0: usize,
     j1: usize,
-    key_row: impl Fn(usize, &mut [u32]),
+    key_row: impl Fn(usize, &mut [u32]) + Sync,
 ) -> (Vec<i64>, i64) {
     let (w, h) = (i1 - i0, j1 - j0);
+    if w == 0 || h == 0 {
+        return (Vec::new(), 0);
+    }
+    // Strips of columns for the column pass: one per thread's share of the work, and none on
+    // a small window (the threads' start-up would cost more than they save).
+    let parallel = w * h >= PARALLEL_CELLS;
+    let strips = if parallel {
+        rayon::current_num_threads().clamp(1, w.div_ceil(STRIP_MIN))
+    } else {
+        1
+    };
+    let bounds: Vec<(usize, usize)> = (0..strips)
+        .map(|s| (w * s / strips, w * (s + 1) / strips))
+        .collect();
+    let column_pass = |&(c0, c1): &(usize, usize)| column_strip(w, h, c0, c1, &key_row);
+    let columns: Vec<Vec<i64>> = if strips > 1 {
+        bounds.par_iter().map(column_pass).collect()
+    } else {
+        bounds.iter().map(column_pass).collect()
+    };
+    // Row pass: each row gathered from the strips, then its lower envelope in place.
+    let mut g: Vec<i64> = vec![0; w * h];
+    let row_pass = |(y, row): (usize, &mut [i64]), scratch: &mut Envelope| -> i64 {
+        for (&(c0, c1), strip) in bounds.iter().zip(&columns) {
+            let sw = c1 - c0;
+            row[c0..c1].copy_from_slice(&strip[y * sw..(y + 1) * sw]);
+        }
+        scratch.apply(row)
+    };
+    let max_d2 = if parallel {
+        g.par_chunks_mut(w)
+            .enumerate()
+            .map_init(|| Envelope::new(w), |scratch, yr| row_pass(yr, scratch))
+            .reduce(|| 0, i64::max)
+    } else {
+        let mut scratch = Envelope::new(w);
+        g.chunks_mut(w)
+            .enumerate()
+            .map(|yr| row_pass(yr, &mut scratch))
+            .fold(0, i64::max)
+    };
+    (g, max_d2)
+}
+
+/// Windows of at least this many cells are transformed in parallel.
+const PARALLEL_CELLS: usize = 1 << 14;
+
+/// The narrowest strip of columns worth a thread of its own.
+const STRIP_MIN: usize = 64;
+
+/// The column pass over columns `[c0, c1)` of a `w x h` window, as two row-major sweeps
+/// (nearest source above, then below, in each column, lexicographic in `(dy^2, key)`):
+/// values row-major over the strip.
+fn column_strip(
+    w: usize,
+    h: usize,
+    c0: usize,
+    c1: usize,
+    key_row: &(impl Fn(usize, &mut [u32]) + Sync),
+) -> Vec<i64> {
+    let sw = c1 - c0;
     let k = 1i64 << KEY_BITS;
-    // Filled row by row by the first sweep (no separate initialisation pass).
-    let mut g: Vec<i64> = Vec::with_capacity(w * h);
-    // Column pass, as two row-major sweeps: nearest source above, then below, in each column,
-    // lexicographic in (dy^2, key). Per column: the row of the last source seen (-1: none
-    // yet) and its key. Each sweep asks for the rows' keys.
+    let mut g: Vec<i64> = Vec::with_capacity(sw * h);
+    // Per column: the row of the last source seen (-1: none yet) and its key.
     let mut krow = vec![u32::MAX; w];
-    let mut last_y = vec![-1i64; w];
-    let mut last_k = vec![0i64; w];
+    let mut last_y = vec![-1i64; sw];
+    let mut last_k = vec![0i64; sw];
     for y in 0..h {
         key_row(y, &mut krow);
         let yy = y as i64;
         g.extend(
-            krow.iter()
+            krow[c0..c1]
+                .iter()
                 .zip(last_y.iter_mut())
                 .zip(last_k.iter_mut())
                 .map(|((&kk, ly), lk)| {
@@ -183,11 +248,11 @@ fn transform(
     last_y.iter_mut().for_each(|l| *l = -1);
     for y in (0..h).rev() {
         key_row(y, &mut krow);
-        let row = &mut g[y * w..(y + 1) * w];
+        let row = &mut g[y * sw..(y + 1) * sw];
         let yy = y as i64;
         for (((slot, &kk), ly), lk) in row
             .iter_mut()
-            .zip(krow.iter())
+            .zip(krow[c0..c1].iter())
             .zip(last_y.iter_mut())
             .zip(last_k.iter_mut())
         {
@@ -199,16 +264,34 @@ fn transform(
             *slot = (*slot).min(below);
         }
     }
-    // Row pass: lower envelope of f_q(x) = K (x - q)^2 + G(q), in place row by row. Piece
-    // `t` of the envelope is parabola `v[t]` (with `F = G + K q^2` in `fv[t]`), starting at
-    // `s_t = zn[t] / (2 K zq[t])` (piece 0 starts at -inf).
-    let mut max_d2 = 0;
-    let mut v = vec![0usize; w];
-    let mut fv = vec![0i64; w];
-    let mut zn = vec![0i64; w];
-    let mut zq = vec![0i64; w];
-    for y in 0..h {
-        let row = &mut g[y * w..(y + 1) * w];
+    g
+}
+
+/// The row pass's scratch: the lower envelope of `f_q(x) = K (x - q)^2 + G(q)`. Piece `t` of
+/// the envelope is parabola `v[t]` (with `F = G + K q^2` in `fv[t]`), starting at
+/// `s_t = zn[t] / (2 K zq[t])` (piece 0 starts at -inf).
+struct Envelope {
+    v: Vec<usize>,
+    fv: Vec<i64>,
+    zn: Vec<i64>,
+    zq: Vec<i64>,
+}
+
+impl Envelope {
+    fn new(w: usize) -> Self {
+        Self {
+            v: vec![0; w],
+            fv: vec![0; w],
+            zn: vec![0; w],
+            zq: vec![0; w],
+        }
+    }
+
+    /// Replaces the column pass's values of `row` by the transform's, in place; returns the
+    /// row's largest squared distance (0 for a row without a source).
+    fn apply(&mut self, row: &mut [i64]) -> i64 {
+        let k = 1i64 << KEY_BITS;
+        let Self { v, fv, zn, zq } = self;
         let mut top = 0usize;
         for (q, &gq) in row.iter().enumerate() {
             if gq == NONE {
@@ -235,7 +318,7 @@ fn transform(
             top += 1;
         }
         if top == 0 {
-            continue;
+            return 0;
         }
         // In place: a piece's G(q) is F(q) - K q^2, so the row is no longer read.
         let mut idx = 0;
@@ -250,9 +333,8 @@ fn transform(
             *o = k * dx * dx + (fv[idx] - k * q * q);
             row_max = row_max.max(*o >> KEY_BITS);
         }
-        max_d2 = max_d2.max(row_max);
+        row_max
     }
-    (g, max_d2)
 }
 
 /// `a / b <= c / d` for `b, d > 0`, exactly: in `i64` while the products fit (grids up to

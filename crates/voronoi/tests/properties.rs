@@ -36,6 +36,47 @@ proptest! {
         }
     }
 
+    /// Grids large enough for the parallel transform: the same field with 1 and 3 threads
+    /// (strips of columns and rows split differently), and exact against brute force at
+    /// sampled cells.
+    #[test]
+    fn parallel_brushfire_is_exact_and_the_same_for_any_thread_count(
+        w in 130usize..260, h in 126usize..200,
+        obstacles in prop::collection::vec((0usize..260, 0usize..200, 0usize..4), 1..40),
+        probes in prop::collection::vec((0usize..260, 0usize..200), 64),
+    ) {
+        let mut bits = vec![false; w * h];
+        for &(ci, cj, r) in &obstacles {
+            for j in cj.saturating_sub(r)..(cj + r + 1).min(h) {
+                for i in ci.saturating_sub(r)..(ci + r + 1).min(w) {
+                    bits[j * w + i] = true;
+                }
+            }
+        }
+        let grid = random_grid(w, h, &bits);
+        prop_assume!(w * h >= 1 << 14);
+        let in_pool = |n: usize| {
+            rayon::ThreadPoolBuilder::new().num_threads(n).build().unwrap().install(|| DistanceField::build(&grid))
+        };
+        let one = in_pool(1);
+        prop_assert!(one == in_pool(3), "1 and 3 threads differ");
+        prop_assert!(one == DistanceField::build(&grid), "the global pool differs");
+        let keys = obstacle_keys(&grid);
+        for &(pi, pj) in &probes {
+            let (i, j) = (pi % w, pj % h);
+            let mut best = (i64::MAX, u32::MAX);
+            for b in 0..h {
+                for a in 0..w {
+                    if grid.occupied(a, b) {
+                        let d = (a as i64 - i as i64).pow(2) + (b as i64 - j as i64).pow(2);
+                        best = best.min((d, keys[b * w + a]));
+                    }
+                }
+            }
+            prop_assert_eq!((one.d2(i, j), one.nearest(i, j)), best, "cell ({}, {})", i, j);
+        }
+    }
+
     /// Obstacle keys are the 8-connected components, each keyed by its smallest raster index.
     #[test]
     fn obstacle_keys_are_8_connected_components(w in 3usize..30, h in 3usize..30, bits in prop::collection::vec(prop::bool::weighted(0.4), 900)) {
