@@ -349,7 +349,7 @@ impl Known for MapKnown<'_> {
         self.world.goal
     }
 
-    fn plan_from(&self, from: Point, cfg: &PlanConfig) -> Option<Plan> {
+    fn plan_from(&self, from: Point, cfg: &PlanConfig, _online: bool) -> Option<Plan> {
         let plan_on = |graph: &MapGraph, rays: &Rays, cfg: &PlanConfig| {
             let world = World {
                 name: self.world.name.clone(),

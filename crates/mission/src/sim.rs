@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use homospline_geom::{Point, Real, Scene, Vector};
 use homospline_homotopy::Rays;
-use homospline_optim::{GrowthConfig, Optimizer, Plan, PlanConfig, plan};
+use homospline_optim::{GrowthConfig, Optimizer, Plan, PlanConfig, default_resolution, plan};
 use homospline_spline::{CircleModel, ClearanceModel, EndCondition, Spline, evaluate};
 use thiserror::Error;
 
@@ -70,6 +70,13 @@ pub struct MissionConfig {
     /// 8.75 ms with the distances over the optimum within 0.007 of the full budget's
     /// (README, *Missions*).
     pub replan_value_tolerance: Real,
+    /// On scene worlds, a re-plan's Voronoi graph is this many times coarser than the
+    /// offline plan's (its resolution divided by it; 1: the same graph). Half the cells
+    /// across (the default, 2) cut the graph's time about sevenfold and the seeds' via-points
+    /// with it; a re-plan whose coarse graph offers no collision-free class is planned again
+    /// on the full one, so a passage narrower than a coarse cell is still found when it is
+    /// the way left (README, *Missions*). Maps keep their own grid.
+    pub replan_coarsening: Real,
 }
 
 impl MissionConfig {
@@ -85,6 +92,36 @@ impl MissionConfig {
         cfg.growth.lbfgs_value_tolerance = self.replan_value_tolerance;
         cfg
     }
+
+    /// The resolution of a re-plan's graph on `scene` (cells per unit), when it is coarser
+    /// than the offline plan's ([`MissionConfig::replan_coarsening`] above 1).
+    pub fn replan_resolution(&self, scene: &Scene) -> Option<Real> {
+        (self.replan_coarsening > 1.0).then(|| {
+            self.plan
+                .resolution
+                .unwrap_or_else(|| default_resolution(scene))
+                / self.replan_coarsening
+        })
+    }
+}
+
+/// A re-plan on `scene` as a mission makes it, with the planner's settings `cfg`: on the
+/// graph of resolution `coarse` when given, and on `cfg`'s own when that one has no
+/// collision-free class (or when `coarse` is `None`).
+pub fn replan_scene(scene: &Scene, cfg: &PlanConfig, coarse: Option<Real>) -> Option<Plan> {
+    if let Some(r) = coarse {
+        let quick = PlanConfig {
+            resolution: Some(r),
+            ..cfg.clone()
+        };
+        let p = plan(scene, &quick).ok();
+        if p.as_ref()
+            .is_some_and(|p| p.classes.iter().any(|c| c.collision_free))
+        {
+            return p;
+        }
+    }
+    plan(scene, cfg).ok()
 }
 
 impl Default for MissionConfig {
@@ -103,8 +140,9 @@ impl Default for MissionConfig {
             switch_margin: 0.1,
             min_switch_interval: 10.0,
             max_time: None,
-            replan_classes: 3,
+            replan_classes: 2,
             replan_value_tolerance: 1e-5,
+            replan_coarsening: 2.0,
         }
     }
 }
@@ -411,8 +449,9 @@ pub(crate) trait Known {
     fn start(&self) -> Point;
     /// The goal.
     fn goal(&self) -> Point;
-    /// A plan from `from` to the goal on the known world (`None`: no plan).
-    fn plan_from(&self, from: Point, cfg: &PlanConfig) -> Option<Plan>;
+    /// A plan from `from` to the goal on the known world (`None`: no plan); `online`: a
+    /// re-plan during the mission (not the offline plan).
+    fn plan_from(&self, from: Point, cfg: &PlanConfig, online: bool) -> Option<Plan>;
     /// The clearance model of the known world.
     fn model(&self) -> &dyn ClearanceModel;
     /// What a robot at `p` seeing `range` discovers now: `(name, hidden)` for each
@@ -433,6 +472,8 @@ struct SceneKnown<'w> {
     model: CircleModel,
     known_hidden: Vec<String>,
     known_cleared: Vec<String>,
+    /// The re-plans' coarser graph resolution ([`MissionConfig::replan_resolution`]).
+    replan_resolution: Option<Real>,
 }
 
 impl Known for SceneKnown<'_> {
@@ -444,13 +485,13 @@ impl Known for SceneKnown<'_> {
         self.world.prior.goal
     }
 
-    fn plan_from(&self, from: Point, cfg: &PlanConfig) -> Option<Plan> {
+    fn plan_from(&self, from: Point, cfg: &PlanConfig, online: bool) -> Option<Plan> {
         let mut scene = self.known.clone();
         scene.start = from;
         if scene.validate("mission").is_err() {
             return None;
         }
-        plan(&scene, cfg).ok()
+        replan_scene(&scene, cfg, self.replan_resolution.filter(|_| online))
     }
 
     fn model(&self) -> &dyn ClearanceModel {
@@ -543,11 +584,13 @@ impl<K: Known> Run<'_, K> {
         switched
     }
 
-    /// The collision-free classes of a plan from `from` on the known map, best first.
+    /// The collision-free classes of a plan from `from` on the known map, best first
+    /// (`online`: a re-plan during the mission, not the offline plan).
     fn routes_from(
         &mut self,
         from: Point,
         heading: Option<Vector>,
+        online: bool,
         track: &[(Real, Point)],
     ) -> Vec<Route> {
         let cfg = match heading {
@@ -555,7 +598,7 @@ impl<K: Known> Run<'_, K> {
             None => self.cfg.plan.clone(),
         };
         let t0 = Instant::now();
-        let p: Option<Plan> = self.known.plan_from(from, &cfg);
+        let p: Option<Plan> = self.known.plan_from(from, &cfg, online);
         let ms = t0.elapsed().as_secs_f64() * 1e3 + std::mem::take(&mut self.pending_ms);
         self.replan_ms.push(ms);
         let driven: Vec<Point> = track.iter().map(|&(_, p)| p).collect();
@@ -644,6 +687,7 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
         model: CircleModel::new(world.prior.circles()),
         known_hidden: Vec::new(),
         known_cleared: Vec::new(),
+        replan_resolution: cfg.replan_resolution(&world.prior),
     };
     let rays = Rays::for_scene(&world.prior);
     let (result, _) = run_mission(known, rays, &world.name, &world.team, hindsight_length, cfg)?;
@@ -711,6 +755,12 @@ fn check_config(cfg: &MissionConfig) -> Result<(), MissionError> {
         return Err(MissionError::Config(format!(
             "re-plan value tolerance must be a finite number >= 0, got {}",
             cfg.replan_value_tolerance
+        )));
+    }
+    if !(cfg.replan_coarsening.is_finite() && cfg.replan_coarsening >= 1.0) {
+        return Err(MissionError::Config(format!(
+            "re-plan coarsening must be a finite number >= 1, got {}",
+            cfg.replan_coarsening
         )));
     }
     if !(cfg.min_switch_interval.is_finite() && cfg.min_switch_interval >= 0.0) {
@@ -786,7 +836,7 @@ fn run_mission<K: Known>(
     let (mut driven, mut abandoned) = (0.0, 0.0);
     let mut last_switch = Real::NEG_INFINITY;
     // Offline: the classes on the prior map.
-    let offline = run.routes_from(start, None, &ugv_track.samples);
+    let offline = run.routes_from(start, None, false, &ugv_track.samples);
     run.replan_ms.clear();
     let finish = |run: Run<'_, K>,
                   reached: bool,
@@ -862,24 +912,31 @@ fn run_mission<K: Known>(
         ugv.sensor_range,
     );
     let mut reached = false;
+    // The robots look around before anyone moves: a blockage within sensor range of the start
+    // is known before the UGV drives into it.
+    let mut standing = true;
     while t < max_time {
-        t += cfg.dt;
-        // Move.
-        let step = ugv.speed * cfg.dt;
-        let left = route.line.length() - s;
-        let moved = step.min(left);
-        s += moved;
-        driven += moved;
+        if !standing {
+            t += cfg.dt;
+            // Move.
+            let step = ugv.speed * cfg.dt;
+            let left = route.line.length() - s;
+            let moved = step.min(left);
+            s += moved;
+            driven += moved;
+            let (pos, _) = route.line.at(s);
+            ugv_track.samples.push((t, pos));
+            for sc in &mut scouts {
+                sc.step(cfg.dt, t);
+            }
+            if left <= step {
+                reached = true;
+                run.event(t, pos, EventKind::Reached);
+                break;
+            }
+        }
+        standing = false;
         let (pos, _) = route.line.at(s);
-        ugv_track.samples.push((t, pos));
-        for sc in &mut scouts {
-            sc.step(cfg.dt, t);
-        }
-        if left <= step {
-            reached = true;
-            run.event(t, pos, EventKind::Reached);
-            break;
-        }
         // Sense.
         let mut found_hidden = false;
         let mut found_cleared = false;
@@ -959,11 +1016,11 @@ fn run_mission<K: Known>(
                 },
             );
             replans += 1;
-            let mut routes = run.routes_from(pos, Some(heading), &ugv_track.samples);
+            let mut routes = run.routes_from(pos, Some(heading), true, &ugv_track.samples);
             if routes.is_empty() {
                 // No curve leaving along the heading clears what was just found (a blockage
                 // close ahead): the UGV stops and plans from a standstill, turning on the spot.
-                routes = run.routes_from(pos, None, &ugv_track.samples);
+                routes = run.routes_from(pos, None, true, &ugv_track.samples);
             }
             let Some(best) = routes.first() else {
                 run.event(
@@ -1011,7 +1068,7 @@ fn run_mission<K: Known>(
             // (a mapped obstacle gone) or the current one may have become worse (a new
             // obstacle near it). Switch only through the hysteresis. (A re-plan that finds no
             // class leaves the valid path as it is and is not counted.)
-            let routes = run.routes_from(pos, Some(heading), &ugv_track.samples);
+            let routes = run.routes_from(pos, Some(heading), true, &ugv_track.samples);
             if let Some(best) = routes.first() {
                 replans += 1;
                 // The price of staying: the rest of the current path, or the current class

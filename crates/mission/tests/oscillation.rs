@@ -17,8 +17,11 @@
 //! twice without hysteresis and at most once with it, each alone among its neighbours:
 //! the temptation is a knife edge by construction (two crossings within the margin), and any
 //! change to the cost moves it. Height 47.5 and radius 4.75 (2 without, 1 with the default)
-//! is the world tested; 5 others switch twice with the default too, where a discovery moves
-//! a cost beyond the margin.
+//! was the world tested; 5 others switched twice with the default too, where a discovery
+//! moves a cost beyond the margin. When re-plans moved to a coarser graph and two classes it
+//! moved once more; the same scan now finds 4 tempting worlds (2/1 at height 46.5 radius
+//! 5.75, at 48.5 radius 3.75 and at 50.5 radius 4.5; 2/0 at 49 radius 4) and 5 that switch
+//! twice with the default too. Height 49 and radius 4 is the world tested.
 
 use homospline_geom::{Bounds, Circle, Obstacle, Point, Scene};
 use homospline_mission::{
@@ -37,13 +40,13 @@ fn obstacle(name: &str, circles: &[(f64, f64, f64)]) -> Obstacle {
 
 /// A corridor 10 wide along y = 40 from the start (x 5) to x 60 keeps the UGV's heading on
 /// the axis; an island (x 84 to 136, radius 6) then splits the way into an upper and a lower
-/// class of nearly equal cost. Each side has two mapped bumps on the island (radius 4.75, at
-/// y 47.5 and 32.5) that are gone in truth, on alternating sides (upper at x 100 and 120, lower
+/// class of nearly equal cost. Each side has two mapped bumps on the island (radius 4, at
+/// y 49 and 31) that are gone in truth, on alternating sides (upper at x 100 and 120, lower
 /// at 110 and 130):
 /// each one a scout finds gone makes its side cheaper. One scout (speed 6, range 8) verifies
 /// the alternative while the UGV (speed 0.5) is still in the corridor.
 fn tempting_world() -> MissionWorld {
-    tempting_world_at(4.75, 47.5)
+    tempting_world_at(4.0, 49.0)
 }
 
 fn tempting_world_at(bump: f64, up: f64) -> MissionWorld {

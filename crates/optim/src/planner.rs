@@ -1210,6 +1210,9 @@ fn optimise_class(
         clearance_floor: Real::NEG_INFINITY,
         ..guard.clone()
     };
+    // Whether the seed is the last resort of a scene's class (no via-point set was
+    // admissible).
+    let mut resorted = false;
     let seed = match (signature, graph_cell) {
         (Some(_), Some(cell)) if world.grid_is_exact => {
             subdivided_seed(seed_poly, model, &seed_guard, growth, cell)
@@ -1220,7 +1223,10 @@ fn optimise_class(
             .then(|| seed_points(seed_poly, model, &guard, growth))
             .flatten()
             .or_else(|| seed_points(seed_poly, model, &seed_guard, growth))
-            .unwrap_or_else(|| last_resort(seed_poly, growth)),
+            .unwrap_or_else(|| {
+                resorted = true;
+                last_resort(seed_poly, growth)
+            }),
         (None, _) => seed_poly.to_vec(),
     };
     // On a map the via-points follow the path (hundreds on a long one), and with uniform
@@ -1237,7 +1243,25 @@ fn optimise_class(
     } else {
         growth
     };
-    let grown: Option<Grown> = grow(&seed, model, growth, &guard).ok();
+    let mut grown: Option<Grown> = grow(&seed, model, growth, &guard).ok();
+    // A last-resort seed that the optimiser could not bring clear of the obstacles (a winding
+    // passage too narrow for a spline through `max_via_points` via-points; L-BFGS cannot
+    // even start from a colliding seed): the via-points follow the graph's path instead, as
+    // on a map, as many as it takes, if the path is clear. Kept only if it comes out clear.
+    if resorted
+        && grown
+            .as_ref()
+            .is_none_or(|g| !is_collision_free(&g.spline, model))
+        && let Some(cell) = graph_cell.filter(|_| model.polyline_clearance(seed_poly) > 0.0)
+    {
+        let dense = subdivided_seed(seed_poly, model, &seed_guard, growth, cell);
+        if let Ok(mut g) = grow(&dense, model, growth, &guard)
+            && is_collision_free(&g.spline, model)
+        {
+            g.evaluations += grown.as_ref().map_or(0, |first| first.evaluations);
+            grown = Some(g);
+        }
+    }
     let (via_points, spline, terms, iterations, evaluations) = match grown {
         Some(g) => (
             g.points,

@@ -70,7 +70,16 @@ pub fn build(
 ) -> Result<(Grid, DistanceField, VoronoiGraph), BuildError> {
     let grid = Grid::from_scene(scene, resolution)?;
     let field = DistanceField::build(&grid);
-    let mut graph = VoronoiGraph::build(&grid, &field, Some(scene.start), Some(scene.goal))?;
+    let mut graph = match VoronoiGraph::build(&grid, &field, Some(scene.start), Some(scene.goal)) {
+        // The crack graph runs between *different* obstacles. Where free space runs between an
+        // obstacle and itself (one that touches the wall, two joined by a blockage) it has no
+        // crack, and it can come apart inside one free region. The complete graph (the ridge
+        // of free space, as on maps) joins start and goal whenever their region does.
+        Err(GraphError::DifferentRegions) => {
+            build_complete(&grid, &field, scene.start, scene.goal)?
+        }
+        other => other?,
+    };
     // A thousandth of a cell of clearance for every point moved out of a circle.
     exact::keep_out_of_circles(&mut graph, &scene.circle_set(), 1e-3 / resolution);
     Ok((grid, field, graph))

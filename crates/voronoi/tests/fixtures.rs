@@ -100,3 +100,28 @@ fn short_dead_end_spurs_are_pruned_and_long_ones_kept() {
     assert_eq!(g.nodes[t].kind, NodeKind::Goal);
     assert!(g.connected(s, t));
 }
+
+/// Generated world 452 with its blockage, from where the UGV found it: the blockage touches
+/// the wall, and the free space between the wall and itself has no crack, so the crack
+/// graph comes apart inside one free region (start and goal on different pieces). The scene's
+/// graph is then the complete graph, which joins them.
+#[test]
+fn a_crack_graph_that_comes_apart_inside_one_region_falls_back_to_the_complete_graph() {
+    use homospline_geom::Point;
+    use homospline_voronoi::{DistanceField, GraphError, Grid};
+    let w = homospline_testkit::random_world(452, 2).expect("world 452");
+    let mut scene = w.truth.clone();
+    scene.start = Point::new(11.55, 8.51);
+    let e = scene.bounds.extent();
+    let resolution = 256.0 / e.x.max(e.y);
+    let grid = Grid::from_scene(&scene, resolution).unwrap();
+    let field = DistanceField::build(&grid);
+    assert_eq!(
+        VoronoiGraph::build(&grid, &field, Some(scene.start), Some(scene.goal)),
+        Err(GraphError::DifferentRegions),
+        "the crack graph joins them: this test no longer exercises the fallback"
+    );
+    let (_, _, g) = build(&scene, resolution).expect("the complete graph");
+    let (s, t) = (g.start.expect("a start"), g.goal.expect("a goal"));
+    assert!(g.connected(s, t));
+}
