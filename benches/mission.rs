@@ -2,8 +2,9 @@
 //! generated worlds. As the missions run them: every re-plan event of every policy, three
 //! runs, each timed whole in the simulation (map update, classes, optimisation); prints p50
 //! and p99. Replayed: each event of the `ahead` missions planned again on the known map as
-//! the UGV knew it then, from its position and heading, timed by criterion; prints p50, p99
-//! and the slowest events' stages. On the 512 x 512 map world
+//! the UGV knew it then, from its position and heading, as the missions plan it (the
+//! coarser graph, the full one when that has no clear class: `replan_scene`), timed by
+//! criterion; prints p50, p99 and the slowest events' stages. On the 512 x 512 map world
 //! (`fixtures/worlds/maps/16room-blocked.yaml`): the missions of every policy, each re-plan
 //! timed whole (map update and plan) with the map update's parts, and the full rebuild of
 //! the brushfire and of the graph for comparison.
@@ -12,8 +13,7 @@ use std::time::{Duration, Instant};
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use homospline_geom::{Point, Scene, Vector};
-use homospline_mission::{EventKind, MissionConfig, MissionWorld, Policy, simulate};
-use homospline_optim::plan;
+use homospline_mission::{EventKind, MissionConfig, MissionWorld, Policy, replan_scene, simulate};
 
 /// The re-plan problems of one mission: the known map, the UGV's position and heading.
 fn replans(world: &MissionWorld, cfg: &MissionConfig) -> Vec<(Scene, Vector)> {
@@ -44,7 +44,14 @@ fn replans(world: &MissionWorld, cfg: &MissionConfig) -> Vec<(Scene, Vector)> {
             }
         }
         known.start = e.at;
-        let before = r.adopted.iter().rev().find(|a| a.t < e.t).expect("a plan");
+        // The plan driven before the event (the offline plan for one at 0 s: a blockage in
+        // sensor range of the start is seen before the UGV moves).
+        let before = r
+            .adopted
+            .iter()
+            .rev()
+            .find(|a| a.t < e.t)
+            .unwrap_or(&r.adopted[0]);
         let k = nearest(&before.path, &e.at).min(before.path.len() - 2);
         let heading = before.path[k + 1] - before.path[k];
         out.push((known, heading));
@@ -90,6 +97,8 @@ fn bench(c: &mut Criterion) {
         &mut in_missions,
     );
     let problems: Vec<(Scene, Vector)> = worlds.iter().flat_map(|w| replans(w, &cfg)).collect();
+    // As the missions plan them: on the coarser graph, the full one if that has no clear class.
+    let coarse = |scene: &Scene| cfg.replan_resolution(scene);
     eprintln!(
         "{} re-plan events from {} worlds",
         problems.len(),
@@ -105,7 +114,7 @@ fn bench(c: &mut Criterion) {
             let runs: Vec<(f64, homospline_optim::Plan)> = (0..5)
                 .map(|_| {
                     let t = Instant::now();
-                    let p = plan(scene, &pc).expect("a plan");
+                    let p = replan_scene(scene, &pc, coarse(scene)).expect("a plan");
                     (t.elapsed().as_secs_f64() * 1e3, p)
                 })
                 .collect();
@@ -142,7 +151,7 @@ fn bench(c: &mut Criterion) {
                 let (scene, heading) = &problems[i % problems.len()];
                 let pc = cfg.replan_config(*heading);
                 let t = Instant::now();
-                let p = plan(scene, &pc).expect("a plan");
+                let p = replan_scene(scene, &pc, coarse(scene)).expect("a plan");
                 let dt = t.elapsed();
                 std::hint::black_box(p);
                 times.push(dt.as_secs_f64() * 1e3);
