@@ -365,6 +365,18 @@ fn a_re_plan_falls_back_to_the_full_graph_when_the_coarse_one_has_no_clear_class
     }
 }
 
+/// Generated world 359: the second blockage stops the UGV where every way on is narrower than
+/// one cell of the graph's grid, which the class search did not offer, and the UGV was stuck.
+/// With no other way, those ways are offered (each curve's certification decides), and the
+/// goal is reached.
+#[test]
+fn a_tight_spot_whose_every_way_is_narrower_than_a_cell_is_left() {
+    let w = random_world(359, 2).unwrap();
+    let r = run(&w, Policy::None);
+    assert!(r.hindsight_length.is_some(), "the truth has a path");
+    assert!(r.reached, "{:#?}", r.events);
+}
+
 #[test]
 fn a_bad_re_plan_tolerance_is_refused() {
     let w = &fixture_worlds()[0];

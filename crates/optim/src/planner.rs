@@ -390,8 +390,8 @@ pub fn plan_world(
             let tc = Instant::now();
             let cell = 1.0 / graph.resolution;
             // A passage narrower than one grid cell of a rasterised scene is below what the
-            // grid can tell apart from a wall: it is not offered. On a map the cells are the
-            // truth, and a one-cell door is a door.
+            // grid can tell apart from a wall: it is not offered, unless there is no other
+            // way (below). On a map the cells are the truth, and a one-cell door is a door.
             let floor = if world.grid_is_exact { 0.0 } else { cell };
             let min_clearance = cfg.search.min_clearance.max(floor);
             // Avoided classes and the limited-overlap selection need more candidates.
@@ -465,7 +465,20 @@ pub fn plan_world(
                     timing.classes = end.duration_since(tc).as_secs_f64() * 1e3;
                     r
                 }
-                _ => k_best_classes(&graph, rays, &search),
+                // When every way is narrower than a cell (a robot that has driven into a
+                // tight spot), those ways are offered after all: the certification of each
+                // curve decides whether it is clear.
+                _ => k_best_classes(&graph, rays, &search).and_then(|r| {
+                    if r.classes.is_empty() && min_clearance > cfg.search.min_clearance {
+                        let below = SearchConfig {
+                            min_clearance: cfg.search.min_clearance,
+                            ..search.clone()
+                        };
+                        k_best_classes(&graph, rays, &below)
+                    } else {
+                        Ok(r)
+                    }
+                }),
             };
             let mut found = result?.classes;
             found.retain(|c| taken(c));
