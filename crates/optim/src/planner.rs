@@ -365,7 +365,9 @@ pub fn plan_world(
     // Each seed's graph path by edge (for overlaps), in seed order.
     let mut class_edges: Vec<EdgeLengths> = Vec::new();
     // One class: a map's seed pulled taut in its class, then the growth loop.
-    let run_class = |(poly, sig, gcost): &SeedPath, cell: Option<Real>| -> ClassPlan {
+    // `dense`: a scene's class whose seeds all stay in collision is tried again with dense
+    // via-points along its graph path.
+    let run_class = |(poly, sig, gcost): &SeedPath, cell: Option<Real>, dense: bool| {
         let pulled = match (sig, cell) {
             (Some(s), Some(cell)) if world.grid_is_exact => {
                 Some(pull_taut(poly, world.model, rays, cell, s))
@@ -373,7 +375,7 @@ pub fn plan_world(
             _ => None,
         };
         let poly = pulled.as_deref().unwrap_or(poly);
-        optimise_class(world, poly, sig.as_ref(), *gcost, cfg, cell)
+        optimise_class(world, poly, sig.as_ref(), *gcost, cfg, cell, dense)
     };
     let mut streamed: Option<Streamed> = None;
     // Seeds: (seed polyline, class signature, graph cost).
@@ -451,7 +453,7 @@ pub fn plan_world(
                                 let (i, seed, done) = (made.len(), make_seed(c), &done);
                                 made.push(seed.clone());
                                 s.spawn(move |_| {
-                                    let plan = run_class(&seed, Some(cell));
+                                    let plan = run_class(&seed, Some(cell), false);
                                     done.lock()
                                         .unwrap_or_else(|e| e.into_inner())
                                         .push((i, plan));
@@ -535,13 +537,29 @@ pub fn plan_world(
             let seed_length =
                 |i: usize| -> Real { seeds[i].0.windows(2).map(|w| (w[1] - w[0]).norm()).sum() };
             order.sort_by(|&a, &b| seed_length(b).total_cmp(&seed_length(a)).then(a.cmp(&b)));
-            in_pool(pool.as_ref(), || {
+            let mut done: Vec<(usize, ClassPlan)> = in_pool(pool.as_ref(), || {
                 order
                     .par_iter()
                     .with_max_len(1)
-                    .map(|&i| (i, run_class(&seeds[i], graph_cell)))
+                    .map(|&i| (i, run_class(&seeds[i], graph_cell, false)))
                     .collect()
-            })
+            });
+            // No class came out clear: those that could not start from a clear seed are tried
+            // again with dense via-points (a winding passage too narrow for a spline through
+            // `max_via_points` via-points may be the only way). Only then: dense seeds cost
+            // several times a class's usual time, and re-plans on the move wait for them.
+            if !done.iter().any(|(_, c)| c.collision_free) {
+                let again: Vec<usize> = done.iter().map(|(i, _)| *i).collect();
+                let retried: Vec<(usize, ClassPlan)> = in_pool(pool.as_ref(), || {
+                    again
+                        .par_iter()
+                        .with_max_len(1)
+                        .map(|&i| (i, run_class(&seeds[i], graph_cell, true)))
+                        .collect()
+                });
+                done = retried;
+            }
+            done
         }
     };
     done.sort_by_key(|(i, _)| *i);
@@ -1007,14 +1025,16 @@ fn last_resort(poly: &[Point], cfg: &GrowthConfig) -> Vec<Point> {
 /// via-points close in, the spline tends to the polyline, which has positive clearance, so
 /// this ends; it is also stopped at one via-point per quarter cell of path. The count follows
 /// the path: a long winding path gets many via-points, a straight one few. If the spline is
-/// certified but leaves its class or the bounds, every segment is halved.
+/// certified but leaves its class or the bounds, every segment is halved. With `max_points`,
+/// `None` once the points would be more than that (always `Some` without).
 fn subdivided_seed(
     poly: &[Point],
     model: &dyn ClearanceModel,
     guard: &Guard<'_>,
     cfg: &GrowthConfig,
     cell: Real,
-) -> Vec<Point> {
+    max_points: Option<usize>,
+) -> Option<Vec<Point>> {
     let mut cum = Vec::with_capacity(poly.len());
     let mut acc = 0.0;
     cum.push(0.0);
@@ -1055,20 +1075,24 @@ fn subdivided_seed(
     params.dedup();
     grade(&mut params);
     let cap = ((total / (0.25 * cell)).ceil() as usize).max(3);
+    let cap = max_points.map_or(cap, |m| cap.min(m));
     loop {
         let pts: Vec<Point> = params.iter().map(|&s| at(s)).collect();
+        if max_points.is_some_and(|m| pts.len() > m) {
+            return None;
+        }
         let Ok(sp) = Spline::new(&pts, cfg.parametrization, cfg.end) else {
-            return pts;
+            return Some(pts);
         };
         let mut bad = homospline_spline::certify::uncertified_segments(&sp, model);
         if bad.is_empty() {
             if guard.cost(&sp, model, cfg).is_finite() {
-                return pts;
+                return Some(pts);
             }
             bad = (0..sp.segments()).collect();
         }
         if params.len() + bad.len() > cap {
-            return pts;
+            return Some(pts);
         }
         let mut next = Vec::with_capacity(params.len() + bad.len());
         let mut b = bad.iter().peekable();
@@ -1147,6 +1171,10 @@ fn refine_samples(
     (out, least)
 }
 
+/// A scene's dense seed (a last resort that stayed in collision) has at most this many times
+/// the points of a normal one (`max_via_points` and the ends); past that it is not tried.
+pub const DENSE_SEED_SHARE: usize = 8;
+
 /// Longest gap between a map seed's first via-points, cells.
 pub const SEED_MAX_GAP: Real = 16.0;
 
@@ -1184,6 +1212,7 @@ fn optimise_class(
     graph_cost: Real,
     cfg: &PlanConfig,
     graph_cell: Option<Real>,
+    dense: bool,
 ) -> ClassPlan {
     let t = Instant::now();
     let (model, rays) = (world.model, &world.rays);
@@ -1228,7 +1257,8 @@ fn optimise_class(
     let mut resorted = false;
     let seed = match (signature, graph_cell) {
         (Some(_), Some(cell)) if world.grid_is_exact => {
-            subdivided_seed(seed_poly, model, &seed_guard, growth, cell)
+            subdivided_seed(seed_poly, model, &seed_guard, growth, cell, None)
+                .unwrap_or_else(|| seed_poly.to_vec())
         }
         (Some(_), _) => guard
             .clearance_floor
@@ -1257,23 +1287,30 @@ fn optimise_class(
         growth
     };
     let mut grown: Option<Grown> = grow(&seed, model, growth, &guard).ok();
-    // A last-resort seed that the optimiser could not bring clear of the obstacles (a winding
-    // passage too narrow for a spline through `max_via_points` via-points; L-BFGS cannot
-    // even start from a colliding seed): the via-points follow the graph's path instead, as
-    // on a map, as many as it takes, if the path is clear. Kept only if it comes out clear.
-    if resorted
+    // With `dense` (the second pass, when no class came out clear), a last-resort seed that
+    // the optimiser could not bring clear of the obstacles (a winding passage too narrow for a
+    // spline through `max_via_points` via-points; L-BFGS cannot even start from a colliding
+    // seed): the via-points follow the graph's path instead, as on a map, up to
+    // `DENSE_SEED_SHARE` times as many, if the path is clear. Kept only if it comes out clear.
+    if dense
+        && resorted
         && grown
             .as_ref()
             .is_none_or(|g| !is_collision_free(&g.spline, model))
         && let Some(cell) = graph_cell.filter(|_| model.polyline_clearance(seed_poly) > 0.0)
+        && let Some(dense) = subdivided_seed(
+            seed_poly,
+            model,
+            &seed_guard,
+            growth,
+            cell,
+            Some(DENSE_SEED_SHARE * (growth.max_via_points + 2)),
+        )
+        && let Ok(mut g) = grow(&dense, model, growth, &guard)
+        && is_collision_free(&g.spline, model)
     {
-        let dense = subdivided_seed(seed_poly, model, &seed_guard, growth, cell);
-        if let Ok(mut g) = grow(&dense, model, growth, &guard)
-            && is_collision_free(&g.spline, model)
-        {
-            g.evaluations += grown.as_ref().map_or(0, |first| first.evaluations);
-            grown = Some(g);
-        }
+        g.evaluations += grown.as_ref().map_or(0, |first| first.evaluations);
+        grown = Some(g);
     }
     let (via_points, spline, terms, iterations, evaluations) = match grown {
         Some(g) => (
