@@ -8,16 +8,17 @@ use homospline_geom::{CircleSet, Point, Real};
 use crate::graph::{NodeKind, VoronoiGraph};
 
 /// Pushes `p` out of the circles until its clearance is at least `margin` (along the
-/// clearance gradient, a few steps for points between circles); `None` if it cannot.
-fn push_out(p: Point, circles: &CircleSet, margin: Real) -> Option<Point> {
+/// clearance gradient, a few steps for points between circles), with that clearance; `None`
+/// if it cannot.
+fn push_out(p: Point, circles: &CircleSet, margin: Real) -> Option<(Point, Real)> {
     let mut p = p;
     for _ in 0..16 {
         let c = match circles.clearance(&p) {
-            None => return Some(p),
+            None => return Some((p, Real::INFINITY)),
             Some(c) => c,
         };
         if c.distance >= margin {
-            return Some(p);
+            return Some((p, c.distance));
         }
         if c.gradient == homospline_geom::Vector::zeros() {
             return None;
@@ -34,18 +35,39 @@ fn segment_clearance(a: &Point, b: &Point, circles: &CircleSet) -> Real {
         .map_or(Real::INFINITY, |(d, _)| d)
 }
 
+/// The clearance of `p`.
+fn clearance_of(p: &Point, circles: &CircleSet) -> Real {
+    circles.clearance(p).map_or(Real::INFINITY, |c| c.distance)
+}
+
+/// A segment and its ends' clearances.
+struct Piece {
+    a: Point,
+    da: Real,
+    b: Point,
+    db: Real,
+}
+
 /// Appends the points after `a` up to `b` to `out`, halving `ab` (pushed out) until every
 /// piece keeps out of the circles; `false` if that fails within `depth` halvings. `least`
-/// takes in the clearance of every piece appended.
+/// takes in the clearance of every piece appended whose clearance could be below `floor`:
+/// a piece whose ends' clearances `da`, `db` prove it clear by at least `floor` (the
+/// clearance is 1-Lipschitz, so it is at least `(da + db - |ab|) / 2` along the piece) is
+/// appended without its exact clearance.
 fn refine(
-    a: Point,
-    b: Point,
+    piece: Piece,
     circles: &CircleSet,
-    margin: Real,
+    (margin, floor): (Real, Real),
     depth: u32,
     out: &mut Vec<Point>,
     least: &mut Real,
 ) -> bool {
+    let Piece { a, da, b, db } = piece;
+    let lower = 0.5 * (da + db - (b - a).norm());
+    if lower > 0.0 && lower > floor + 1e-9 * (1.0 + floor.abs()) {
+        out.push(b);
+        return true;
+    }
     let d = segment_clearance(&a, &b, circles);
     if d >= 0.0 {
         out.push(b);
@@ -55,11 +77,25 @@ fn refine(
     if depth == 0 {
         return false;
     }
-    let Some(m) = push_out(Point::from((a.coords + b.coords) * 0.5), circles, margin) else {
+    let Some((m, dm)) = push_out(Point::from((a.coords + b.coords) * 0.5), circles, margin) else {
         return false;
     };
-    refine(a, m, circles, margin, depth - 1, out, least)
-        && refine(m, b, circles, margin, depth - 1, out, least)
+    let (first, second) = (
+        Piece {
+            a,
+            da,
+            b: m,
+            db: dm,
+        },
+        Piece {
+            a: m,
+            da: dm,
+            b,
+            db,
+        },
+    );
+    refine(first, circles, (margin, floor), depth - 1, out, least)
+        && refine(second, circles, (margin, floor), depth - 1, out, least)
 }
 
 /// Makes every edge of `graph` keep out of `circles` (`margin` is the clearance a moved
@@ -76,7 +112,7 @@ pub(crate) fn keep_out_of_circles(graph: &mut VoronoiGraph, circles: &CircleSet,
         if matches!(node.kind, NodeKind::Start | NodeKind::Goal) {
             continue;
         }
-        if let Some(p) = push_out(Point::new(node.at[0], node.at[1]), circles, margin) {
+        if let Some((p, _)) = push_out(Point::new(node.at[0], node.at[1]), circles, margin) {
             node.at = [p.x, p.y];
         }
     }
@@ -90,21 +126,31 @@ pub(crate) fn keep_out_of_circles(graph: &mut VoronoiGraph, circles: &CircleSet,
         let to = Point::new(nodes[e.to].at[0], nodes[e.to].at[1]);
         let n = e.polyline.len();
         let mut pts = vec![from];
-        // The least clearance of the segments of `pts`, each appended by `refine`.
+        // The least clearance of the segments of `pts` that could bring the edge's below
+        // the raster's, each appended by `refine`.
         let mut exact = Real::INFINITY;
+        let floor = e.min_clearance;
         let mut ok = true;
+        let mut last = clearance_of(&from, circles);
         for (k, q) in e.polyline.iter().enumerate().skip(1) {
             let q = if k + 1 == n {
-                Some(to)
+                Some((to, clearance_of(&to, circles)))
             } else {
                 push_out(Point::new(q[0], q[1]), circles, margin)
             };
-            let Some(q) = q else {
+            let Some((q, dq)) = q else {
                 ok = false;
                 break;
             };
             let a = *pts.last().expect("the first point");
-            ok &= refine(a, q, circles, margin, 6, &mut pts, &mut exact);
+            let piece = Piece {
+                a,
+                da: last,
+                b: q,
+                db: dq,
+            };
+            ok &= refine(piece, circles, (margin, floor), 6, &mut pts, &mut exact);
+            last = dq;
             if !ok {
                 break;
             }
