@@ -6,6 +6,22 @@ use homospline_voronoi::field::obstacle_keys;
 use homospline_voronoi::{DistanceField, GraphError, Grid, VoronoiGraph};
 use proptest::prelude::*;
 
+/// The lexicographic minimum of (squared distance, obstacle key) from cell `(i, j)` over
+/// every occupied cell, by brute force.
+fn brute_nearest(grid: &Grid, keys: &[u32], i: usize, j: usize) -> (i64, u32) {
+    let (w, h) = (grid.width(), grid.height());
+    let mut best = (i64::MAX, u32::MAX);
+    for b in 0..h {
+        for a in 0..w {
+            if grid.occupied(a, b) {
+                let d = (a as i64 - i as i64).pow(2) + (b as i64 - j as i64).pow(2);
+                best = best.min((d, keys[b * w + a]));
+            }
+        }
+    }
+    best
+}
+
 fn random_grid(w: usize, h: usize, bits: &[bool]) -> Grid {
     Grid::from_occupancy(w, h, Point::origin(), 1.0, bits[..w * h].to_vec()).unwrap()
 }
@@ -22,15 +38,7 @@ proptest! {
         let keys = obstacle_keys(&grid);
         for j in 0..h {
             for i in 0..w {
-                let mut best = (i64::MAX, u32::MAX);
-                for b in 0..h {
-                    for a in 0..w {
-                        if grid.occupied(a, b) {
-                            let d = (a as i64 - i as i64).pow(2) + (b as i64 - j as i64).pow(2);
-                            best = best.min((d, keys[b * w + a]));
-                        }
-                    }
-                }
+                let best = brute_nearest(&grid, &keys, i, j);
                 prop_assert_eq!((field.d2(i, j), field.nearest(i, j)), best, "cell ({}, {})", i, j);
             }
         }
@@ -64,15 +72,7 @@ proptest! {
         let keys = obstacle_keys(&grid);
         for &(pi, pj) in &probes {
             let (i, j) = (pi % w, pj % h);
-            let mut best = (i64::MAX, u32::MAX);
-            for b in 0..h {
-                for a in 0..w {
-                    if grid.occupied(a, b) {
-                        let d = (a as i64 - i as i64).pow(2) + (b as i64 - j as i64).pow(2);
-                        best = best.min((d, keys[b * w + a]));
-                    }
-                }
-            }
+            let best = brute_nearest(&grid, &keys, i, j);
             prop_assert_eq!((one.d2(i, j), one.nearest(i, j)), best, "cell ({}, {})", i, j);
         }
     }
