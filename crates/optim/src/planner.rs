@@ -548,8 +548,13 @@ pub fn plan_world(
             // again with dense via-points (a winding passage too narrow for a spline through
             // `max_via_points` via-points may be the only way). Only then: dense seeds cost
             // several times a class's usual time, and re-plans on the move wait for them.
-            if !done.iter().any(|(_, c)| c.collision_free) {
-                let again: Vec<usize> = done.iter().map(|(i, _)| *i).collect();
+            // (The straight seed has no class to follow: it is not tried again.)
+            let again: Vec<usize> = done
+                .iter()
+                .map(|(i, _)| *i)
+                .filter(|&i| seeds[i].1.is_some())
+                .collect();
+            if !again.is_empty() && !done.iter().any(|(_, c)| c.collision_free) {
                 let retried: Vec<(usize, ClassPlan)> = in_pool(pool.as_ref(), || {
                     again
                         .par_iter()
@@ -557,7 +562,11 @@ pub fn plan_world(
                         .map(|&i| (i, run_class(&seeds[i], graph_cell, true)))
                         .collect()
                 });
-                done = retried;
+                for (i, c) in retried {
+                    if let Some(slot) = done.iter_mut().find(|(j, _)| *j == i) {
+                        slot.1 = c;
+                    }
+                }
             }
             done
         }
