@@ -175,31 +175,39 @@ fn transform(
     let bounds: Vec<(usize, usize)> = (0..strips)
         .map(|s| (w * s / strips, w * (s + 1) / strips))
         .collect();
-    let column_pass = |&(c0, c1): &(usize, usize)| column_strip(w, h, c0, c1, &key_row);
-    let columns: Vec<Vec<i64>> = if strips > 1 {
-        bounds.par_iter().map(column_pass).collect()
-    } else {
-        bounds.iter().map(column_pass).collect()
-    };
-    // Row pass: each row gathered from the strips, then its lower envelope in place.
     let mut g: Vec<i64> = vec![0; w * h];
-    let row_pass = |(y, row): (usize, &mut [i64]), scratch: &mut Envelope| -> i64 {
-        for (&(c0, c1), strip) in bounds.iter().zip(&columns) {
-            let sw = c1 - c0;
-            row[c0..c1].copy_from_slice(&strip[y * sw..(y + 1) * sw]);
+    {
+        // Each strip's piece of every row, so that the strips are written in place.
+        let mut pieces: Vec<Vec<&mut [i64]>> = (0..strips).map(|_| Vec::with_capacity(h)).collect();
+        for row in g.chunks_mut(w) {
+            let mut rest = row;
+            for (strip, &(c0, c1)) in pieces.iter_mut().zip(&bounds) {
+                let (piece, tail) = rest.split_at_mut(c1 - c0);
+                strip.push(piece);
+                rest = tail;
+            }
         }
-        scratch.apply(row)
-    };
+        let column_pass = |(rows, &(c0, c1)): (Vec<&mut [i64]>, &(usize, usize))| {
+            column_strip(rows, w, c0, c1, &key_row)
+        };
+        if strips > 1 {
+            pieces
+                .into_par_iter()
+                .zip(bounds.par_iter())
+                .for_each(column_pass);
+        } else {
+            pieces.into_iter().zip(bounds.iter()).for_each(column_pass);
+        }
+    }
+    // Row pass: each row's lower envelope in place.
     let max_d2 = if parallel {
         g.par_chunks_mut(w)
-            .enumerate()
-            .map_init(|| Envelope::new(w), |scratch, yr| row_pass(yr, scratch))
+            .map_init(|| Envelope::new(w), |scratch, row| scratch.apply(row))
             .reduce(|| 0, i64::max)
     } else {
         let mut scratch = Envelope::new(w);
         g.chunks_mut(w)
-            .enumerate()
-            .map(|yr| row_pass(yr, &mut scratch))
+            .map(|row| scratch.apply(row))
             .fold(0, i64::max)
     };
     (g, max_d2)
@@ -211,44 +219,41 @@ const PARALLEL_CELLS: usize = 1 << 14;
 /// The narrowest strip of columns worth a thread of its own.
 const STRIP_MIN: usize = 64;
 
-/// The column pass over columns `[c0, c1)` of a `w x h` window, as two row-major sweeps
-/// (nearest source above, then below, in each column, lexicographic in `(dy^2, key)`):
-/// values row-major over the strip.
+/// The column pass over columns `[c0, c1)` of a window `w` wide, written into `rows` (the
+/// strip's piece of each window row), as two row-major sweeps (nearest source above, then
+/// below, in each column, lexicographic in `(dy^2, key)`).
 fn column_strip(
+    mut rows: Vec<&mut [i64]>,
     w: usize,
-    h: usize,
     c0: usize,
     c1: usize,
     key_row: &(impl Fn(usize, &mut [u32]) + Sync),
-) -> Vec<i64> {
+) {
     let sw = c1 - c0;
     let k = 1i64 << KEY_BITS;
-    let mut g: Vec<i64> = Vec::with_capacity(sw * h);
     // Per column: the row of the last source seen (-1: none yet) and its key.
     let mut krow = vec![u32::MAX; w];
     let mut last_y = vec![-1i64; sw];
     let mut last_k = vec![0i64; sw];
-    for y in 0..h {
+    for (y, row) in rows.iter_mut().enumerate() {
         key_row(y, &mut krow);
         let yy = y as i64;
-        g.extend(
-            krow[c0..c1]
-                .iter()
-                .zip(last_y.iter_mut())
-                .zip(last_k.iter_mut())
-                .map(|((&kk, ly), lk)| {
-                    let here = kk != u32::MAX;
-                    *ly = if here { yy } else { *ly };
-                    *lk = if here { kk as i64 } else { *lk };
-                    let d = yy - *ly;
-                    if *ly >= 0 { k * d * d + *lk } else { NONE }
-                }),
-        );
+        for (((slot, &kk), ly), lk) in row
+            .iter_mut()
+            .zip(krow[c0..c1].iter())
+            .zip(last_y.iter_mut())
+            .zip(last_k.iter_mut())
+        {
+            let here = kk != u32::MAX;
+            *ly = if here { yy } else { *ly };
+            *lk = if here { kk as i64 } else { *lk };
+            let d = yy - *ly;
+            *slot = if *ly >= 0 { k * d * d + *lk } else { NONE };
+        }
     }
     last_y.iter_mut().for_each(|l| *l = -1);
-    for y in (0..h).rev() {
+    for (y, row) in rows.iter_mut().enumerate().rev() {
         key_row(y, &mut krow);
-        let row = &mut g[y * sw..(y + 1) * sw];
         let yy = y as i64;
         for (((slot, &kk), ly), lk) in row
             .iter_mut()
@@ -264,7 +269,6 @@ fn column_strip(
             *slot = (*slot).min(below);
         }
     }
-    g
 }
 
 /// The row pass's scratch: the lower envelope of `f_q(x) = K (x - q)^2 + G(q)`. Piece `t` of
