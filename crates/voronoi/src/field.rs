@@ -229,44 +229,56 @@ fn column_strip(
     c1: usize,
     key_row: &(impl Fn(usize, &mut [u32]) + Sync),
 ) {
-    let sw = c1 - c0;
-    let k = 1i64 << KEY_BITS;
-    // Per column: the row of the last source seen (-1: none yet) and its key.
-    let mut krow = vec![u32::MAX; w];
-    let mut last_y = vec![-1i64; sw];
-    let mut last_k = vec![0i64; sw];
-    for (y, row) in rows.iter_mut().enumerate() {
-        key_row(y, &mut krow);
-        let yy = y as i64;
-        for (((slot, &kk), ly), lk) in row
-            .iter_mut()
-            .zip(krow[c0..c1].iter())
-            .zip(last_y.iter_mut())
-            .zip(last_k.iter_mut())
-        {
-            let here = kk != u32::MAX;
-            *ly = if here { yy } else { *ly };
-            *lk = if here { kk as i64 } else { *lk };
-            let d = yy - *ly;
-            *slot = if *ly >= 0 { k * d * d + *lk } else { NONE };
-        }
-    }
-    last_y.iter_mut().for_each(|l| *l = -1);
-    for (y, row) in rows.iter_mut().enumerate().rev() {
-        key_row(y, &mut krow);
-        let yy = y as i64;
-        for (((slot, &kk), ly), lk) in row
-            .iter_mut()
-            .zip(krow[c0..c1].iter())
-            .zip(last_y.iter_mut())
-            .zip(last_k.iter_mut())
-        {
-            let here = kk != u32::MAX;
-            *ly = if here { yy } else { *ly };
-            *lk = if here { kk as i64 } else { *lk };
-            let d = *ly - yy;
-            let below = if *ly >= 0 { k * d * d + *lk } else { NONE };
-            *slot = (*slot).min(below);
+    let h = rows.len();
+    let mut sweep = Sweep {
+        krow: vec![u32::MAX; w],
+        last_y: vec![-1; c1 - c0],
+        last_k: vec![0; c1 - c0],
+        c0,
+        c1,
+    };
+    sweep.run(&mut rows, 0..h, key_row, true);
+    sweep.last_y.iter_mut().for_each(|l| *l = -1);
+    sweep.run(&mut rows, (0..h).rev(), key_row, false);
+}
+
+/// One sweep of the column pass: per column of the strip, the row of the last source seen
+/// (-1: none yet) and its key.
+struct Sweep {
+    krow: Vec<u32>,
+    last_y: Vec<i64>,
+    last_k: Vec<i64>,
+    c0: usize,
+    c1: usize,
+}
+
+impl Sweep {
+    /// Visits `rows` in `order`; each slot takes the packed value of the nearest source seen
+    /// so far in its column (`first`: it is set, else it keeps the lesser of the two).
+    fn run(
+        &mut self,
+        rows: &mut [&mut [i64]],
+        order: impl Iterator<Item = usize>,
+        key_row: &(impl Fn(usize, &mut [u32]) + Sync),
+        first: bool,
+    ) {
+        let k = 1i64 << KEY_BITS;
+        for y in order {
+            key_row(y, &mut self.krow);
+            let yy = y as i64;
+            for (((slot, &kk), ly), lk) in rows[y]
+                .iter_mut()
+                .zip(self.krow[self.c0..self.c1].iter())
+                .zip(self.last_y.iter_mut())
+                .zip(self.last_k.iter_mut())
+            {
+                let here = kk != u32::MAX;
+                *ly = if here { yy } else { *ly };
+                *lk = if here { kk as i64 } else { *lk };
+                let d = yy - *ly;
+                let v = if *ly >= 0 { k * d * d + *lk } else { NONE };
+                *slot = if first { v } else { (*slot).min(v) };
+            }
         }
     }
 }
