@@ -431,7 +431,8 @@ pub fn grow(
             })
             .collect::<Vec<_>>();
         // A grown curve must keep the ratchet's floor, and the target if the curve keeps it.
-        let floor = outer.ratchet(current).clearance_floor;
+        let grown_guard = outer.ratchet(current);
+        let floor = grown_guard.clearance_floor;
         let target = guard.clearance_target;
         let need = if current >= target { target } else { floor };
         let unfloored = Guard {
@@ -456,7 +457,7 @@ pub fn grow(
             }
             let terms = evaluate(&sp2, model, &cfg.cost);
             let m = terms.min_clearance;
-            if (guard.collision_free && m <= 0.0) || m < floor {
+            if grown_guard.rejects(m) {
                 continue;
             }
             if m >= need {
