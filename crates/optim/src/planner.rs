@@ -6,6 +6,7 @@
 //! the thread count), checks every curve for collisions, ranks the classes by the user's
 //! weights and reports the Pareto set over (length, roughness, minimum clearance).
 
+use std::borrow::Cow;
 use std::time::Instant;
 
 use homospline_geom::{Bounds, Point, Real, Scene, Vector};
@@ -365,9 +366,7 @@ pub fn plan_world(
     // Each seed's graph path by edge (for overlaps), in seed order.
     let mut class_edges: Vec<EdgeLengths> = Vec::new();
     // One class: a map's seed pulled taut in its class, then the growth loop.
-    // `dense`: a scene's class whose seeds all stay in collision is tried again with dense
-    // via-points along its graph path.
-    let run_class = |(poly, sig, gcost): &SeedPath, cell: Option<Real>, dense: bool| {
+    let run_class = |(poly, sig, gcost): &SeedPath, cell: Option<Real>| {
         let pulled = match (sig, cell) {
             (Some(s), Some(cell)) if world.grid_is_exact => {
                 Some(pull_taut(poly, world.model, rays, cell, s))
@@ -375,7 +374,7 @@ pub fn plan_world(
             _ => None,
         };
         let poly = pulled.as_deref().unwrap_or(poly);
-        optimise_class(world, poly, sig.as_ref(), *gcost, cfg, cell, dense)
+        optimise_class(world, poly, sig.as_ref(), *gcost, cfg, cell)
     };
     let mut streamed: Option<Streamed> = None;
     // Seeds: (seed polyline, class signature, graph cost).
@@ -453,7 +452,7 @@ pub fn plan_world(
                                 let (i, seed, done) = (made.len(), make_seed(c), &done);
                                 made.push(seed.clone());
                                 s.spawn(move |_| {
-                                    let plan = run_class(&seed, Some(cell), false);
+                                    let (plan, _) = run_class(&seed, Some(cell));
                                     done.lock()
                                         .unwrap_or_else(|e| e.into_inner())
                                         .push((i, plan));
@@ -537,29 +536,45 @@ pub fn plan_world(
             let seed_length =
                 |i: usize| -> Real { seeds[i].0.windows(2).map(|w| (w[1] - w[0]).norm()).sum() };
             order.sort_by(|&a, &b| seed_length(b).total_cmp(&seed_length(a)).then(a.cmp(&b)));
-            let mut done: Vec<(usize, ClassPlan)> = in_pool(pool.as_ref(), || {
+            let runs: Vec<(usize, ClassRun)> = in_pool(pool.as_ref(), || {
                 order
                     .par_iter()
                     .with_max_len(1)
-                    .map(|&i| (i, run_class(&seeds[i], graph_cell, false)))
+                    .map(|&i| (i, run_class(&seeds[i], graph_cell)))
                     .collect()
             });
             // No class came out clear: those that could not start from a clear seed are tried
             // again with dense via-points (a winding passage too narrow for a spline through
             // `max_via_points` via-points may be the only way). Only then: dense seeds cost
             // several times a class's usual time, and re-plans on the move wait for them.
-            // (The straight seed has no class to follow: it is not tried again.)
-            let again: Vec<usize> = done
+            // The second pass starts from the dense seed; the first pass's curve stands
+            // unless the dense one comes out clear. (The straight seed has no class to
+            // follow: it is never marked.)
+            let again: Vec<usize> = runs
                 .iter()
+                .filter(|(_, (_, retry))| *retry)
                 .map(|(i, _)| *i)
-                .filter(|&i| seeds[i].1.is_some())
                 .collect();
+            let mut done: Vec<(usize, ClassPlan)> =
+                runs.into_iter().map(|(i, (c, _))| (i, c)).collect();
             if !again.is_empty() && !done.iter().any(|(_, c)| c.collision_free) {
                 let retried: Vec<(usize, ClassPlan)> = in_pool(pool.as_ref(), || {
-                    again
-                        .par_iter()
+                    done.par_iter()
                         .with_max_len(1)
-                        .map(|&i| (i, run_class(&seeds[i], graph_cell, true)))
+                        .filter(|(i, _)| again.contains(i))
+                        .filter_map(|(i, first)| {
+                            let (poly, sig, gcost) = &seeds[*i];
+                            let c = dense_class(
+                                world,
+                                poly,
+                                sig.as_ref(),
+                                *gcost,
+                                cfg,
+                                graph_cell,
+                                first,
+                            );
+                            c.map(|c| (*i, c))
+                        })
                         .collect()
                 });
                 for (i, c) in retried {
@@ -1214,31 +1229,24 @@ fn resample(poly: &[Point], inner: usize) -> Vec<Point> {
     out
 }
 
-fn optimise_class(
-    world: &World<'_>,
+/// A class's growth settings (with the robot's start heading, when it has one and the class
+/// does not start backwards) and its guard.
+fn class_setup<'w>(
+    world: &'w World<'_>,
     seed_poly: &[Point],
-    signature: Option<&Signature>,
-    graph_cost: Real,
-    cfg: &PlanConfig,
-    graph_cell: Option<Real>,
-    dense: bool,
-) -> ClassPlan {
-    let t = Instant::now();
-    let (model, rays) = (world.model, &world.rays);
-    let growth = &cfg.growth;
-    // A robot on the move leaves along its heading, unless its class starts backwards.
-    let headed;
+    signature: Option<&'w Signature>,
+    cfg: &'w PlanConfig,
+) -> (Cow<'w, GrowthConfig>, Guard<'w>) {
     let growth = match cfg.start_heading {
         Some(h) if seed_poly.len() > 1 && (seed_poly[1] - seed_poly[0]).dot(&h) > 0.0 => {
-            let mut g = growth.clone();
+            let mut g = cfg.growth.clone();
             g.end = EndCondition::StartHeading { direction: h };
-            headed = g;
-            &headed
+            Cow::Owned(g)
         }
-        _ => growth,
+        _ => Cow::Borrowed(&cfg.growth),
     };
     let guard = Guard {
-        class: signature.map(|s| (rays, s)),
+        class: signature.map(|s| (&world.rays, s)),
         bounds: world.bounds,
         collision_free: signature.is_some(),
         clearance_floor: if cfg.clearance_floor > 0.0 {
@@ -1250,17 +1258,42 @@ fn optimise_class(
             Some(_) if cfg.dm_rule => growth
                 .cost
                 .dm
-                .min(DM_RULE_SHARE * bottleneck(seed_poly, model)),
+                .min(DM_RULE_SHARE * bottleneck(seed_poly, world.model)),
             _ => Real::NEG_INFINITY,
         },
         proven: Default::default(),
     };
-    // A seed need only be collision-free: the growth loop's ratchet raises it to the floor.
-    // On scenes the first via-point set that already keeps the floor is preferred.
-    let seed_guard = Guard {
+    (growth, guard)
+}
+
+/// A guard that only keeps candidates in the class, in bounds and clear: a seed need only be
+/// collision-free (the growth loop's ratchet raises it to the floor).
+fn without_floor<'w>(guard: &Guard<'w>) -> Guard<'w> {
+    Guard {
         clearance_floor: Real::NEG_INFINITY,
         ..guard.clone()
-    };
+    }
+}
+
+/// One class optimised, and whether it is worth the dense second pass ([`dense_class`]): its
+/// seed was a scene's last resort (no via-point set was admissible) and the curve it gave
+/// is not proven clear.
+type ClassRun = (ClassPlan, bool);
+
+fn optimise_class(
+    world: &World<'_>,
+    seed_poly: &[Point],
+    signature: Option<&Signature>,
+    graph_cost: Real,
+    cfg: &PlanConfig,
+    graph_cell: Option<Real>,
+) -> ClassRun {
+    let t = Instant::now();
+    let model = world.model;
+    let (growth, guard) = class_setup(world, seed_poly, signature, cfg);
+    let growth = growth.as_ref();
+    // On scenes the first via-point set that already keeps the floor is preferred.
+    let seed_guard = without_floor(&guard);
     // Whether the seed is the last resort of a scene's class (no via-point set was
     // admissible).
     let mut resorted = false;
@@ -1295,32 +1328,82 @@ fn optimise_class(
     } else {
         growth
     };
-    let mut grown: Option<Grown> = grow(&seed, model, growth, &guard).ok();
-    // With `dense` (the second pass, when no class came out clear), a last-resort seed that
-    // the optimiser could not bring clear of the obstacles (a winding passage too narrow for a
-    // spline through `max_via_points` via-points; L-BFGS cannot even start from a colliding
-    // seed): the via-points follow the graph's path instead, as on a map, up to
-    // `DENSE_SEED_SHARE` times as many, if the path is clear. Kept only if it comes out clear.
-    if dense
-        && resorted
+    let grown: Option<Grown> = grow(&seed, model, growth, &guard).ok();
+    let retry = resorted
         && grown
             .as_ref()
-            .is_none_or(|g| !is_collision_free(&g.spline, model))
-        && let Some(cell) = graph_cell.filter(|_| model.polyline_clearance(seed_poly) > 0.0)
-        && let Some(dense) = subdivided_seed(
-            seed_poly,
-            model,
-            &seed_guard,
-            growth,
-            cell,
-            Some(DENSE_SEED_SHARE * (growth.max_via_points + 2)),
-        )
-        && let Ok(mut g) = grow(&dense, model, growth, &guard)
-        && is_collision_free(&g.spline, model)
-    {
-        g.evaluations += grown.as_ref().map_or(0, |first| first.evaluations);
-        grown = Some(g);
+            .is_none_or(|g| !is_collision_free(&g.spline, model));
+    let plan = report_class(world, seed_poly, signature, graph_cost, cfg, grown, seed);
+    (
+        ClassPlan {
+            time_ms: ms(t),
+            ..plan
+        },
+        retry,
+    )
+}
+
+/// The dense second pass of a class that [`optimise_class`] marked (it runs only when no
+/// class of the plan came out clear): the via-points follow the graph's path, as on a map,
+/// up to [`DENSE_SEED_SHARE`] times as many, if the path is clear (a winding passage too
+/// narrow for a spline through `max_via_points` via-points; L-BFGS cannot even start from a
+/// colliding seed). `Some` only if the curve comes out clear; its evaluations and time
+/// include the first pass's.
+fn dense_class(
+    world: &World<'_>,
+    seed_poly: &[Point],
+    signature: Option<&Signature>,
+    graph_cost: Real,
+    cfg: &PlanConfig,
+    graph_cell: Option<Real>,
+    first: &ClassPlan,
+) -> Option<ClassPlan> {
+    let t = Instant::now();
+    let model = world.model;
+    let (growth, guard) = class_setup(world, seed_poly, signature, cfg);
+    let growth = growth.as_ref();
+    let cell = graph_cell.filter(|_| model.polyline_clearance(seed_poly) > 0.0)?;
+    let dense = subdivided_seed(
+        seed_poly,
+        model,
+        &without_floor(&guard),
+        growth,
+        cell,
+        Some(DENSE_SEED_SHARE * (growth.max_via_points + 2)),
+    )?;
+    let mut grown = grow(&dense, model, growth, &guard).ok()?;
+    if !is_collision_free(&grown.spline, model) {
+        return None;
     }
+    grown.evaluations += first.evaluations;
+    let plan = report_class(
+        world,
+        seed_poly,
+        signature,
+        graph_cost,
+        cfg,
+        Some(grown),
+        dense,
+    );
+    Some(ClassPlan {
+        time_ms: first.time_ms + ms(t),
+        ..plan
+    })
+}
+
+/// A class's plan from its grown curve (`None`: the growth loop could not start, and the
+/// seed's via-points are reported): the path sampled for the report, its certification and
+/// its checks. The time is left at 0 for the caller.
+fn report_class(
+    world: &World<'_>,
+    seed_poly: &[Point],
+    signature: Option<&Signature>,
+    graph_cost: Real,
+    cfg: &PlanConfig,
+    grown: Option<Grown>,
+    seed: Vec<Point>,
+) -> ClassPlan {
+    let (model, rays) = (world.model, &world.rays);
     let (via_points, spline, terms, iterations, evaluations) = match grown {
         Some(g) => (
             g.points,
@@ -1329,7 +1412,7 @@ fn optimise_class(
             g.rounds.len(),
             g.evaluations,
         ),
-        None => (seed.clone(), None, CostTerms::default(), 0, 0),
+        None => (seed, None, CostTerms::default(), 0, 0),
     };
     let (path, length, min_clear, certified, free, in_class) = match &spline {
         Some(sp) => {
@@ -1383,11 +1466,11 @@ fn optimise_class(
         min_clearance: min_clear,
         certified_clearance: certified,
         collision_free: free,
-        safe: certified >= growth.cost.dm,
+        safe: certified >= cfg.growth.cost.dm,
         in_class,
         iterations,
         evaluations,
-        time_ms: ms(t),
+        time_ms: 0.0,
         graph_cost,
         overlap: 0.0,
     }
