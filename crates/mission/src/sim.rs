@@ -304,6 +304,26 @@ pub struct MissionResult {
 }
 
 impl MissionResult {
+    /// What is the same from run to run and for any thread count: this result with every
+    /// wall time left out (`replan_ms` emptied; each map update's times zeroed, what it
+    /// changed and how kept).
+    pub fn outcome(&self) -> MissionResult {
+        MissionResult {
+            replan_ms: Vec::new(),
+            map_updates: self
+                .map_updates
+                .iter()
+                .map(|u| MapUpdate {
+                    field_ms: 0.0,
+                    graph_ms: 0.0,
+                    model_ms: 0.0,
+                    ..u.clone()
+                })
+                .collect(),
+            ..self.clone()
+        }
+    }
+
     /// UGV distance over the hindsight optimum's length.
     pub fn distance_ratio(&self) -> Option<Real> {
         self.hindsight_length

@@ -37,15 +37,6 @@ fn run(world: &MapWorld, policy: Policy) -> MissionResult {
     .unwrap()
 }
 
-/// Everything but the wall-clock times.
-fn outcome(r: &MissionResult) -> MissionResult {
-    MissionResult {
-        replan_ms: Vec::new(),
-        map_updates: Vec::new(),
-        ..r.clone()
-    }
-}
-
 /// Whether the segment `ab` meets the interior of the square `[x0, x0 + s] x [y0, y0 + s]`
 /// (Liang-Barsky clipping, strict).
 fn segment_enters_square(a: Point, b: Point, x0: Real, y0: Real, s: Real) -> bool {
@@ -132,7 +123,7 @@ fn a_small_map_world_is_reached_under_every_policy_deterministically_and_safely(
             policy.name(),
             r.events.last()
         );
-        assert_eq!(outcome(&r), outcome(&run(&w, policy)), "{}", policy.name());
+        assert_eq!(r.outcome(), run(&w, policy).outcome(), "{}", policy.name());
         // The blockage on the prior's best path was found and the UGV drove around it, or
         // the UGV had left that class before it came near (the freed cells open a better one
         // at 3 s; with `alternatives` the scout then verifies the new alternative, not the
