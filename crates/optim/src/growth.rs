@@ -257,6 +257,13 @@ struct Probation {
     floor: Real,
 }
 
+/// The best curve of a growth loop so far, and its value.
+struct Best {
+    value: Real,
+    points: Vec<Point>,
+    spline: Spline,
+}
+
 /// Runs the growth loop from `seed` (`S`, initial via-points, `T`).
 pub fn grow(
     seed: &[Point],
@@ -288,6 +295,22 @@ pub fn grow(
     let mut current = evaluate(&spline, model, &cfg.cost).min_clearance;
     let mut best_cost = outer.ratchet(current).cost(&spline, model, cfg);
     let mut probation: Option<Probation> = None;
+    // The best curve the loop has had, by the outer guard (a curve below its floor ranks
+    // last): a grown curve passes through one more point of the curve before it, but its
+    // knots move and its cost may be higher; if the rounds after it do not win that back,
+    // the loop returns the better curve it had before the growth.
+    let outer_value = |clearance: Real, value: Real| {
+        if outer.rejects(clearance) {
+            Real::INFINITY
+        } else {
+            value
+        }
+    };
+    let mut kept_best = Best {
+        value: outer_value(current, best_cost),
+        points: points.clone(),
+        spline: spline.clone(),
+    };
     for round in 0..cfg.max_rounds.max(1) {
         let round_guard = outer.ratchet(current);
         let guard = &round_guard;
@@ -391,6 +414,14 @@ pub fn grow(
             }
             break;
         }
+        let value = outer_value(current, best_cost);
+        if value < kept_best.value {
+            kept_best = Best {
+                value,
+                points: points.clone(),
+                spline: spline.clone(),
+            };
+        }
         if !improved && round > 0 {
             break;
         }
@@ -484,6 +515,10 @@ pub fn grow(
         points = grown;
         spline = sp2;
         end = grown_end;
+    }
+    if kept_best.value < outer_value(current, best_cost) {
+        points = kept_best.points;
+        spline = kept_best.spline;
     }
     // The reported terms leave nothing out (no truncation of far circles' potential).
     let exact = CostConfig {

@@ -20,7 +20,7 @@ use homospline_voronoi::{BuildError, VoronoiGraph};
 use rayon::prelude::*;
 use thiserror::Error;
 
-use crate::growth::{Grown, GrowthConfig, Guard, grow};
+use crate::growth::{Grown, GrowthConfig, Guard, Round, grow};
 
 /// How the initial spline is made.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -164,6 +164,9 @@ pub struct ClassPlan {
     pub in_class: bool,
     /// Rounds of the growth loop.
     pub iterations: usize,
+    /// Each round's via-points, cost at its end and evaluations (the curve reported is the
+    /// best of them: [`grow`]).
+    pub rounds: Vec<Round>,
     /// Cost evaluations.
     pub evaluations: usize,
     /// Time spent on this class, milliseconds.
@@ -1404,15 +1407,9 @@ fn report_class(
     seed: Vec<Point>,
 ) -> ClassPlan {
     let (model, rays) = (world.model, &world.rays);
-    let (via_points, spline, terms, iterations, evaluations) = match grown {
-        Some(g) => (
-            g.points,
-            Some(g.spline),
-            g.terms,
-            g.rounds.len(),
-            g.evaluations,
-        ),
-        None => (seed, None, CostTerms::default(), 0, 0),
+    let (via_points, spline, terms, rounds, evaluations) = match grown {
+        Some(g) => (g.points, Some(g.spline), g.terms, g.rounds, g.evaluations),
+        None => (seed, None, CostTerms::default(), Vec::new(), 0),
     };
     let (path, length, min_clear, certified, free, in_class) = match &spline {
         Some(sp) => {
@@ -1468,7 +1465,8 @@ fn report_class(
         collision_free: free,
         safe: certified >= cfg.growth.cost.dm,
         in_class,
-        iterations,
+        iterations: rounds.len(),
+        rounds,
         evaluations,
         time_ms: 0.0,
         graph_cost,

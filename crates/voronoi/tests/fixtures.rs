@@ -2,7 +2,9 @@
 
 use homospline_testkit::fixture_scenes;
 
+use homospline_geom::Scene;
 use homospline_voronoi::{VoronoiGraph, build};
+use std::path::Path;
 
 #[test]
 fn every_fixture_has_one_cycle_per_obstacle() {
@@ -101,17 +103,18 @@ fn short_dead_end_spurs_are_pruned_and_long_ones_kept() {
     assert!(g.connected(s, t));
 }
 
-/// Generated world 452 with its blockage, from where the UGV found it: the blockage touches
-/// the wall, and the free space between the wall and itself has no crack, so the crack
-/// graph comes apart inside one free region (start and goal on different pieces). The scene's
-/// graph is then the complete graph, which joins them.
+/// Generated world 452 with its blockage, from where the UGV found it
+/// (`fixtures/cases/crack-apart-452.yaml`): the blockage touches the wall, and the free space
+/// between the wall and itself has no crack, so the crack graph comes apart inside one free
+/// region (start and goal on different pieces). The scene's graph is then the complete graph,
+/// which joins them.
 #[test]
 fn a_crack_graph_that_comes_apart_inside_one_region_falls_back_to_the_complete_graph() {
-    use homospline_geom::Point;
     use homospline_voronoi::{DistanceField, GraphError, Grid};
-    let w = homospline_testkit::random_world(452, 2).expect("world 452");
-    let mut scene = w.truth.clone();
-    scene.start = Point::new(11.55, 8.51);
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/cases/crack-apart-452.yaml");
+    let bytes = std::fs::read(&path).unwrap();
+    let scene = Scene::from_bytes(&bytes, &path.display().to_string()).unwrap();
     let e = scene.bounds.extent();
     let resolution = 256.0 / e.x.max(e.y);
     let grid = Grid::from_scene(&scene, resolution).unwrap();
