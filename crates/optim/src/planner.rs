@@ -1257,10 +1257,11 @@ fn class_setup<'w>(
         } else {
             Real::NEG_INFINITY
         },
+        // The target is `dm` plus the certification's tolerance: a curve held exactly at `dm`
+        // certifies up to that tolerance below it and would be reported unsafe (and ranked
+        // after costlier safe classes) by the tolerance's chance.
         clearance_target: match signature {
-            Some(_) if cfg.dm_rule => growth
-                .cost
-                .dm
+            Some(_) if cfg.dm_rule => (growth.cost.dm + cfg.certify_tolerance.max(0.0))
                 .min(DM_RULE_SHARE * bottleneck(seed_poly, world.model)),
             _ => Real::NEG_INFINITY,
         },
