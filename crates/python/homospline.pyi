@@ -103,8 +103,10 @@ def plan(
     clearance_floor: float = 0.0,
     graph: Optional[Graph] = None,
     soft_dm: bool = False,
+    prune: Optional[Union[str, float]] = None,
 ) -> Plan:
-    """Plans a scene (the `plan` command); `soft_dm` turns the dm rule off."""
+    """Plans a scene (the `plan` command); `soft_dm` turns the dm rule off; `prune` is
+    `"off"` or a ratio (`--prune`; default 1.5)."""
 
 def plan_map(
     occupancy: npt.NDArray[np.bool_],

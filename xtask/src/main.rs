@@ -310,7 +310,7 @@ fn plan_golden(plan: &Plan) -> String {
     for c in &plan.classes {
         let t = &c.cost;
         s += &format!(
-            "#{} {} length={:.3} clearance={:.3} free={} safe={} in_class={} rounds={} via={}\n   cost total={} T={} R={} L={} D={} maxc={} vis={}/{} danger={} critical={} shelter={} time={}\n",
+            "#{} {} length={:.3} clearance={:.3} free={} safe={} in_class={} rounds={} via={}{}\n   cost total={} T={} R={} L={} D={} maxc={} vis={}/{} danger={} critical={} shelter={} time={}\n",
             c.rank,
             c.signature,
             c.length,
@@ -320,6 +320,7 @@ fn plan_golden(plan: &Plan) -> String {
             c.in_class,
             c.iterations,
             c.via_points.len().saturating_sub(2),
+            if c.pruned { " pruned" } else { "" },
             sig6(t.total),
             sig6(t.topology),
             sig6(t.roughness),

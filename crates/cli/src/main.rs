@@ -71,7 +71,7 @@ impl From<RoughnessArg> for RoughnessForm {
 enum Command {
     /// Plan paths: a table of classes and the chosen one; exit 0 with a collision-free plan,
     /// 1 when no collision-free class meets the clearance floor, 2 on bad input.
-    Plan(PlanArgs),
+    Plan(Box<PlanArgs>),
     /// Plan every scenario of a MovingAI `.scen` file (its map sits beside it) and report the
     /// success rate, time per plan and path length over the scenario's octile optimum.
     BenchScen(BenchArgs),
@@ -269,7 +269,7 @@ fn main() -> ExitCode {
                 "several inputs (or --shard) need --out-dir: each graph is saved as DIR/STEM.msgpack",
             )),
         },
-        Command::Plan(args) => plan(args),
+        Command::Plan(args) => plan(*args),
         Command::BenchScen(args) => bench_scen(args),
         Command::Simulate(args) => simulate(args),
         Command::BenchMerge { csv, out } => bench_merge(&csv, out.as_deref()),
@@ -556,6 +556,11 @@ struct PlanArgs {
     /// never apply it)
     #[arg(long)]
     soft_dm: bool,
+    /// Successive halving of the classes (scenes): after every class's first round, a class
+    /// whose cost exceeds RATIO times that of the best class keeping dm runs no further
+    /// rounds (marked `pruned`); `off` runs every class to its end (default 1.5)
+    #[arg(long, value_name = "RATIO|off")]
+    prune: Option<String>,
     /// Write the plan result (formats.md) here.
     #[arg(long, value_name = "FILE")]
     json: Option<PathBuf>,
@@ -704,6 +709,7 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
         soft_dm: a.soft_dm,
         avoid: a.avoid.clone(),
         diverse: a.diverse,
+        prune: a.prune.clone(),
     };
     let scene_of = match &input {
         Input::Scene(s) => Some(s),

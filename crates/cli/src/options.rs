@@ -36,6 +36,8 @@ pub struct PlanOptions {
     pub avoid: Vec<String>,
     /// Limited overlap.
     pub diverse: Option<f64>,
+    /// Successive halving of the classes: `off` or a ratio of at least 1 (scenes only).
+    pub prune: Option<String>,
 }
 
 impl Default for PlanOptions {
@@ -55,6 +57,7 @@ impl Default for PlanOptions {
             soft_dm: false,
             avoid: Vec::new(),
             diverse: None,
+            prune: None,
         }
     }
 }
@@ -109,6 +112,18 @@ pub fn plan_config(o: &PlanOptions, scene: Option<&Scene>) -> Result<PlanConfig,
     {
         return Err(format!("--diverse {f}: must be a fraction in [0, 1]"));
     }
+    let prune = match o.prune.as_deref().map(str::trim) {
+        None => base.prune,
+        Some("off") => None,
+        Some(text) => match text.parse::<f64>() {
+            Ok(r) if r.is_finite() && r >= 1.0 => Some(r),
+            _ => {
+                return Err(format!(
+                    "--prune {text}: expected off or a ratio of at least 1"
+                ));
+            }
+        },
+    };
     let rounds = o.rounds.unwrap_or(base.growth.max_rounds);
     if !(1..=100).contains(&rounds) {
         return Err(format!("--rounds {rounds}: must be between 1 and 100"));
@@ -148,6 +163,7 @@ pub fn plan_config(o: &PlanOptions, scene: Option<&Scene>) -> Result<PlanConfig,
         dm_rule: base.dm_rule && !o.soft_dm,
         avoid: o.avoid.clone(),
         diverse: o.diverse,
+        prune,
         ..base
     })
 }

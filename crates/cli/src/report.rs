@@ -34,6 +34,7 @@ struct ClassJson<'a> {
     safe: bool,
     in_class: bool,
     overlap: f64,
+    pruned: bool,
     iterations: usize,
     evaluations: usize,
     time_ms: f64,
@@ -77,7 +78,7 @@ fn finite(x: f64) -> f64 {
 }
 
 /// The plan as the JSON of `docs/formats.md` (plus `pareto`, `certified_clearance`, `safe`,
-/// `in_class`, `overlap` and every cost term).
+/// `in_class`, `overlap`, `pruned` and every cost term).
 pub fn plan_json(plan: &Plan) -> String {
     let doc = PlanJson {
         scene: &plan.scene,
@@ -99,6 +100,7 @@ pub fn plan_json(plan: &Plan) -> String {
                 safe: c.safe,
                 in_class: c.in_class,
                 overlap: c.overlap,
+                pruned: c.pruned,
                 iterations: c.iterations,
                 evaluations: c.evaluations,
                 time_ms: c.time_ms,
@@ -147,7 +149,7 @@ pub fn plan_table(plan: &Plan) -> String {
     for c in &plan.classes {
         let _ = writeln!(
             s,
-            "{:>4}  {:<14} {:>8.2} {:>9.3} {:>11.1} {:>11.2} {:>6} {:>6} {:>8.1}  {:<14}  {}",
+            "{:>4}  {:<14} {:>8.2} {:>9.3} {:>11.1} {:>11.2} {:>6} {:>6} {:>8.1}  {:<14}  {}{}",
             c.rank,
             short(&c.signature, 14),
             c.length,
@@ -163,7 +165,8 @@ pub fn plan_table(plan: &Plan) -> String {
                 (false, true) => "no    pareto",
                 (true, false) => "yes",
                 (false, false) => "no",
-            }
+            },
+            if c.pruned { "   pruned" } else { "" }
         );
     }
     match plan.best {

@@ -132,6 +132,9 @@ impl Default for MissionConfig {
                     optimizer: Optimizer::Lbfgs,
                     ..GrowthConfig::default()
                 },
+                // Every class runs to its end: the classes the UGV does not take are its
+                // alternatives, compared by cost when it weighs a switch.
+                prune: None,
                 ..PlanConfig::default()
             },
             policy: Policy::None,

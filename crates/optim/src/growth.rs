@@ -264,79 +264,201 @@ struct Best {
     spline: Spline,
 }
 
-/// Runs the growth loop from `seed` (`S`, initial via-points, `T`).
-pub fn grow(
-    seed: &[Point],
-    model: &dyn ClearanceModel,
-    cfg: &GrowthConfig,
-    guard: &Guard<'_>,
-) -> Result<Grown, SplineError> {
-    // A start heading's slope depends on the first via-point; it is fixed for a round (from
-    // the round's first curve), so that within a round the curve is linear in its via-points
-    // and the analytic gradient holds.
-    let fixed_end = |pts: &[Point]| -> EndCondition {
-        match cfg.end {
-            EndCondition::StartHeading { .. } => Spline::new(pts, cfg.parametrization, cfg.end)
-                .map_or(cfg.end, |sp| EndCondition::ClampedStart {
+/// The spline's end condition for a round that starts from `pts`. A start heading's slope
+/// depends on the first via-point; it is fixed for a round (from the round's first curve),
+/// so that within a round the curve is linear in its via-points and the analytic gradient
+/// holds.
+fn fixed_end(pts: &[Point], cfg: &GrowthConfig) -> EndCondition {
+    match cfg.end {
+        EndCondition::StartHeading { .. } => {
+            Spline::new(pts, cfg.parametrization, cfg.end).map_or(cfg.end, |sp| {
+                EndCondition::ClampedStart {
                     start: sp.velocity(0.0),
-                }),
-            e => e,
+                }
+            })
         }
-    };
-    let mut end = fixed_end(seed);
-    let build = |pts: &[Point], end: EndCondition| Spline::new(pts, cfg.parametrization, end).ok();
-    let mut spline = Spline::new(seed, cfg.parametrization, end)?;
-    let (s, t) = (seed[0], seed[seed.len() - 1]);
-    let mut points = seed.to_vec();
-    let mut evaluations = 0;
-    let mut rounds = Vec::new();
-    let outer = guard;
-    // Clearance of the current curve, for the floor's ratchet.
-    let mut current = evaluate(&spline, model, &cfg.cost).min_clearance;
-    let mut best_cost = outer.ratchet(current).cost(&spline, model, cfg);
-    let mut probation: Option<Probation> = None;
-    // The best curve the loop has had, by the outer guard (a curve below its floor ranks
-    // last): a grown curve passes through one more point of the curve before it, but its
-    // knots move and its cost may be higher; if the rounds after it do not win that back,
-    // the loop returns the better curve it had before the growth.
-    let outer_value = |clearance: Real, value: Real| {
-        if outer.rejects(clearance) {
-            Real::INFINITY
+        e => e,
+    }
+}
+
+fn build(pts: &[Point], end: EndCondition, cfg: &GrowthConfig) -> Option<Spline> {
+    Spline::new(pts, cfg.parametrization, end).ok()
+}
+
+/// A curve's value by the outer guard: a curve below its floor ranks last.
+fn outer_value(guard: &Guard<'_>, clearance: Real, value: Real) -> Real {
+    if guard.rejects(clearance) {
+        Real::INFINITY
+    } else {
+        value
+    }
+}
+
+/// The growth loop as a solver that runs one round at a time: [`Growth::new`] takes the
+/// seed, [`Growth::step`] runs a round and the growth after it, [`Growth::result`] gives
+/// the best curve so far. [`grow`] runs it to the end; a planner can stop a class between rounds
+/// (a class that cannot win) and still report its curve. Every call must get the same
+/// model, settings and guard.
+pub struct Growth {
+    s: Point,
+    t: Point,
+    end: EndCondition,
+    spline: Spline,
+    points: Vec<Point>,
+    evaluations: usize,
+    rounds: Vec<Round>,
+    /// Clearance of the current curve, for the floor's ratchet.
+    current: Real,
+    best_cost: Real,
+    probation: Option<Probation>,
+    /// The best curve the loop has had, by the outer guard (a curve below its floor ranks
+    /// last): a grown curve passes through one more point of the curve before it, but its
+    /// knots move and its cost may be higher; if the rounds after it do not win that back,
+    /// the loop returns the better curve it had before the growth.
+    kept_best: Best,
+    round: usize,
+    done: bool,
+}
+
+impl Growth {
+    /// The loop's state before its first round, from `seed` (`S`, initial via-points, `T`).
+    pub fn new(
+        seed: &[Point],
+        model: &dyn ClearanceModel,
+        cfg: &GrowthConfig,
+        guard: &Guard<'_>,
+    ) -> Result<Self, SplineError> {
+        let end = fixed_end(seed, cfg);
+        let spline = Spline::new(seed, cfg.parametrization, end)?;
+        let current = evaluate(&spline, model, &cfg.cost).min_clearance;
+        let best_cost = guard.ratchet(current).cost(&spline, model, cfg);
+        Ok(Self {
+            s: seed[0],
+            t: seed[seed.len() - 1],
+            end,
+            kept_best: Best {
+                value: outer_value(guard, current, best_cost),
+                points: seed.to_vec(),
+                spline: spline.clone(),
+            },
+            spline,
+            points: seed.to_vec(),
+            evaluations: 0,
+            rounds: Vec::new(),
+            current,
+            best_cost,
+            probation: None,
+            round: 0,
+            done: false,
+        })
+    }
+
+    /// Whether the loop has stopped (its round limit, a round that did not improve, the
+    /// via-point limit, or a growth that could not be kept).
+    pub fn is_done(&self) -> bool {
+        self.done
+    }
+
+    /// Rounds run so far.
+    pub fn rounds(&self) -> &[Round] {
+        &self.rounds
+    }
+
+    /// The curve [`Growth::result`] gives now.
+    pub fn curve(&self, guard: &Guard<'_>) -> &Spline {
+        if self.kept_best.value < outer_value(guard, self.current, self.best_cost) {
+            &self.kept_best.spline
         } else {
-            value
+            &self.spline
         }
-    };
-    let mut kept_best = Best {
-        value: outer_value(current, best_cost),
-        points: points.clone(),
-        spline: spline.clone(),
-    };
-    for round in 0..cfg.max_rounds.max(1) {
-        let round_guard = outer.ratchet(current);
+    }
+
+    /// Runs one round (the optimiser from the current curve) and the growth after it;
+    /// returns whether another round follows.
+    pub fn step(
+        &mut self,
+        model: &dyn ClearanceModel,
+        cfg: &GrowthConfig,
+        outer: &Guard<'_>,
+    ) -> bool {
+        if !self.done {
+            self.done = !self.round_and_grow(model, cfg, outer);
+            self.round += 1;
+            if self.round >= cfg.max_rounds.max(1) {
+                self.done = true;
+            }
+        }
+        !self.done
+    }
+
+    /// The loop's result so far: its best curve, with its cost terms evaluated without
+    /// truncation.
+    pub fn result(
+        &self,
+        model: &dyn ClearanceModel,
+        cfg: &GrowthConfig,
+        guard: &Guard<'_>,
+    ) -> Grown {
+        let best = if self.kept_best.value < outer_value(guard, self.current, self.best_cost) {
+            &self.kept_best
+        } else {
+            &Best {
+                value: self.best_cost,
+                points: self.points.clone(),
+                spline: self.spline.clone(),
+            }
+        };
+        let (points, spline) = (best.points.clone(), best.spline.clone());
+        // The reported terms leave nothing out (no truncation of far circles' potential).
+        let exact = CostConfig {
+            tolerance: 0.0,
+            ..cfg.cost.clone()
+        };
+        let terms = evaluate(&spline, model, &exact);
+        Grown {
+            points,
+            spline,
+            terms,
+            rounds: self.rounds.clone(),
+            evaluations: self.evaluations,
+        }
+    }
+
+    /// The body of one round; `false` ends the loop.
+    fn round_and_grow(
+        &mut self,
+        model: &dyn ClearanceModel,
+        cfg: &GrowthConfig,
+        outer: &Guard<'_>,
+    ) -> bool {
+        let (s, t, end) = (self.s, self.t, self.end);
+        let round_guard = outer.ratchet(self.current);
         let guard = &round_guard;
-        let x0: Vec<Real> = points[1..points.len() - 1]
+        let x0: Vec<Real> = self.points[1..self.points.len() - 1]
             .iter()
             .flat_map(|p| [p.x, p.y])
             .collect();
         if x0.is_empty() {
-            break;
+            return false;
         }
         let mut count = 0usize;
         let mut objective = |x: &[Real]| -> Real {
             count += 1;
             let pts = to_points(s, t, x);
-            build(&pts, end).map_or(Real::INFINITY, |sp| guard.cost(&sp, model, cfg))
+            build(&pts, end, cfg).map_or(Real::INFINITY, |sp| guard.cost(&sp, model, cfg))
         };
-        let spacing = points
+        let spacing = self
+            .points
             .windows(2)
             .map(|w| (w[1] - w[0]).norm())
             .sum::<Real>()
-            / (points.len() - 1) as Real;
+            / (self.points.len() - 1) as Real;
         let step = (cfg.step_fraction * spacing).max(1e-6);
         let budget = cfg
             .evaluations_per_dimension
             .saturating_mul(x0.len())
-            .min(cfg.round_budget(points.len() - 1));
+            .min(cfg.round_budget(self.points.len() - 1));
+        let current = self.current;
         let (x, value) = match cfg.optimizer {
             Optimizer::NelderMead => {
                 let nm = NelderMead::new(x0.len())
@@ -348,7 +470,7 @@ pub fn grow(
                         let out = nm.minimize(&mut objective, &x0, &mut ());
                         (out.x, out.value)
                     }
-                    Err(_) => (x0.clone(), best_cost),
+                    Err(_) => (x0.clone(), self.best_cost),
                 }
             }
             Optimizer::Lbfgs => {
@@ -360,7 +482,7 @@ pub fn grow(
                 let mut fg = |x: &[Real]| -> (Real, Vec<Real>) {
                     count += 1;
                     let pts = to_points(s, t, x);
-                    match build(&pts, end) {
+                    match build(&pts, end, cfg) {
                         Some(sp) if admissible(&sp, guard, cfg.guard_samples) => {
                             let (terms, g) = gradient(&sp, model, &cfg.cost);
                             let m = terms.min_clearance;
@@ -377,68 +499,80 @@ pub fn grow(
                 (out.x, out.value)
             }
         };
-        evaluations += count;
-        let improved = value < best_cost - cfg.min_improvement * best_cost.abs().max(1e-12);
-        let before = best_cost;
-        if value < best_cost {
+        self.evaluations += count;
+        let before = self.best_cost;
+        let improved = value < before - cfg.min_improvement * before.abs().max(1e-12);
+        if value < self.best_cost {
             let candidate = to_points(s, t, &x);
             // A guarded round's result must also be certified clear (samples can miss a thin
             // overlap) and stay inside the bounds between the guard's samples; otherwise the
             // round's starting curve stands.
-            if let Some(sp) = build(&candidate, end)
+            if let Some(sp) = build(&candidate, end, cfg)
                 && (!guard.collision_free || is_collision_free(&sp, model))
                 && stays_in_bounds(&sp, &guard.bounds)
             {
-                current = evaluate(&sp, model, &cfg.cost).min_clearance;
-                points = candidate;
-                spline = sp;
-                best_cost = value;
+                self.current = evaluate(&sp, model, &cfg.cost).min_clearance;
+                self.points = candidate;
+                self.spline = sp;
+                self.best_cost = value;
             }
         }
-        rounds.push(Round {
-            via_points: points.len() - 2,
-            cost: best_cost,
+        self.rounds.push(Round {
+            via_points: self.points.len() - 2,
+            cost: self.best_cost,
             evaluations: count,
         });
-        let improved = improved && best_cost < before;
-        if let Some(p) = probation.take()
-            && current < p.floor
+        let improved = improved && self.best_cost < before;
+        if let Some(p) = self.probation.take()
+            && self.current < p.floor
         {
             // The round after a growth on probation did not regain the floor.
-            points = p.points;
-            spline = p.spline;
-            best_cost = p.cost;
-            if let Some(r) = rounds.last_mut() {
-                r.via_points = points.len() - 2;
-                r.cost = best_cost;
+            self.points = p.points;
+            self.spline = p.spline;
+            self.best_cost = p.cost;
+            if let Some(r) = self.rounds.last_mut() {
+                r.via_points = self.points.len() - 2;
+                r.cost = self.best_cost;
             }
-            break;
+            return false;
         }
-        let value = outer_value(current, best_cost);
-        if value < kept_best.value {
-            kept_best = Best {
+        let value = outer_value(outer, self.current, self.best_cost);
+        if value < self.kept_best.value {
+            self.kept_best = Best {
                 value,
-                points: points.clone(),
-                spline: spline.clone(),
+                points: self.points.clone(),
+                spline: self.spline.clone(),
             };
         }
-        if !improved && round > 0 {
-            break;
+        if !improved && self.round > 0 {
+            return false;
         }
-        if points.len() - 2 >= cfg.max_via_points || round + 1 >= cfg.max_rounds {
-            break;
+        if self.points.len() - 2 >= cfg.max_via_points || self.round + 1 >= cfg.max_rounds {
+            return false;
         }
-        // One more via-point on the current curve, where it helps most: in the segment that
-        // holds the point of least clearance (the path is most threatened there), else the
-        // longest segment. The curve through one more point of itself is nearly the same
-        // curve, but not quite: the knots move, and a short curve can shift by a unit. It is
-        // kept if it is still admissible, no less clear than the floor's ratchet allows, and
-        // (if the curve keeps the dm rule's target) no less clear than the target. A curve
-        // held at the floor or the target often fails that by a hair, so the other segments
-        // are tried (longest first), then the curve resampled at the new knots. If none
-        // keeps it, the clearest admissible one seeds the next round on probation: that
-        // round must bring the curve back, or the loop ends on the curve before the growth.
-        let sp = &spline;
+        self.grow_one(model, cfg, outer, guard)
+    }
+
+    /// One more via-point on the current curve, where it helps most: in the segment that
+    /// holds the point of least clearance (the path is most threatened there), else the
+    /// longest segment. The curve through one more point of itself is nearly the same curve,
+    /// but not quite: the knots move, and a short curve can shift by a unit. It is kept if it
+    /// is still admissible, no less clear than the floor's ratchet allows, and (if the curve
+    /// keeps the dm rule's target) no less clear than the target. A curve held at the floor
+    /// or the target often fails that by a hair, so the other segments are tried (longest
+    /// first), then the curve resampled at the new knots. If none keeps it, the clearest
+    /// admissible one seeds the next round on probation: that round must bring the curve
+    /// back, or the loop ends on the curve before the growth. `false` when no grown curve is
+    /// admissible.
+    fn grow_one(
+        &mut self,
+        model: &dyn ClearanceModel,
+        cfg: &GrowthConfig,
+        outer: &Guard<'_>,
+        guard: &Guard<'_>,
+    ) -> bool {
+        let (s, t) = (self.s, self.t);
+        let sp = &self.spline;
         let clear = min_clearance(sp, model, 1e-3);
         let mut order: Vec<usize> = (0..sp.segments()).collect();
         order.sort_by(|&a, &b| sp.segment_length(b).total_cmp(&sp.segment_length(a)));
@@ -448,7 +582,8 @@ pub fn grow(
             order.insert(0, worst);
         }
         let k = sp.knots();
-        let n = points.len();
+        let n = self.points.len();
+        let points = &self.points;
         let inserted = order.iter().map(|&seg| {
             let mut grown = points.clone();
             grown.insert(seg + 1, sp.position(0.5 * (k[seg] + k[seg + 1])));
@@ -462,10 +597,14 @@ pub fn grow(
             })
             .collect::<Vec<_>>();
         // A grown curve must keep the ratchet's floor, and the target if the curve keeps it.
-        let grown_guard = outer.ratchet(current);
+        let grown_guard = outer.ratchet(self.current);
         let floor = grown_guard.clearance_floor;
         let target = guard.clearance_target;
-        let need = if current >= target { target } else { floor };
+        let need = if self.current >= target {
+            target
+        } else {
+            floor
+        };
         let unfloored = Guard {
             clearance_floor: Real::NEG_INFINITY,
             ..guard.clone()
@@ -476,8 +615,8 @@ pub fn grow(
         let mut clearest: Option<(Vec<Point>, EndCondition, Spline, CostTerms)> = None;
         let mut kept = None;
         for grown in inserted.chain(std::iter::once(resampled)).take(tries) {
-            let grown_end = fixed_end(&grown);
-            let Some(sp2) = build(&grown, grown_end) else {
+            let grown_end = fixed_end(&grown, cfg);
+            let Some(sp2) = build(&grown, grown_end, cfg) else {
                 continue;
             };
             if !(admissible(&sp2, &unfloored, cfg.guard_samples)
@@ -500,39 +639,35 @@ pub fn grow(
             }
         }
         let Some((grown, grown_end, sp2, terms)) = kept.or_else(|| {
-            probation = clearest.is_some().then(|| Probation {
-                points: points.clone(),
-                spline: spline.clone(),
-                cost: best_cost,
+            self.probation = clearest.is_some().then(|| Probation {
+                points: self.points.clone(),
+                spline: self.spline.clone(),
+                cost: self.best_cost,
                 floor: need,
             });
             clearest
         }) else {
-            break;
+            return false;
         };
-        best_cost = guard.value(&terms);
-        current = terms.min_clearance;
-        points = grown;
-        spline = sp2;
-        end = grown_end;
+        self.best_cost = guard.value(&terms);
+        self.current = terms.min_clearance;
+        self.points = grown;
+        self.spline = sp2;
+        self.end = grown_end;
+        true
     }
-    if kept_best.value < outer_value(current, best_cost) {
-        points = kept_best.points;
-        spline = kept_best.spline;
-    }
-    // The reported terms leave nothing out (no truncation of far circles' potential).
-    let exact = CostConfig {
-        tolerance: 0.0,
-        ..cfg.cost.clone()
-    };
-    let terms = evaluate(&spline, model, &exact);
-    Ok(Grown {
-        points,
-        spline,
-        terms,
-        rounds,
-        evaluations,
-    })
+}
+
+/// Runs the growth loop from `seed` (`S`, initial via-points, `T`) to its end.
+pub fn grow(
+    seed: &[Point],
+    model: &dyn ClearanceModel,
+    cfg: &GrowthConfig,
+    guard: &Guard<'_>,
+) -> Result<Grown, SplineError> {
+    let mut g = Growth::new(seed, model, cfg, guard)?;
+    while g.step(model, cfg, guard) {}
+    Ok(g.result(model, cfg, guard))
 }
 
 #[cfg(test)]

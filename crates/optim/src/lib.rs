@@ -14,7 +14,7 @@ pub mod lbfgs;
 pub mod nelder_mead;
 pub mod planner;
 
-pub use growth::{Grown, GrowthConfig, Guard, Optimizer, Round, grow};
+pub use growth::{Grown, Growth, GrowthConfig, Guard, Optimizer, Round, grow};
 pub use lbfgs::Lbfgs;
 pub use nelder_mead::{Coefficients, NelderMead, Outcome, Termination};
 pub use planner::{

@@ -14,13 +14,14 @@ use homospline_homotopy::{
     ClassPath, Rays, SearchConfig, SearchError, Signature, k_best_classes, k_best_classes_each,
 };
 use homospline_spline::{
-    CircleModel, ClearanceModel, CostTerms, EndCondition, Spline, is_collision_free, min_clearance,
+    CircleModel, ClearanceModel, CostTerms, EndCondition, Spline, evaluate_weighted,
+    is_collision_free, min_clearance,
 };
 use homospline_voronoi::{BuildError, VoronoiGraph};
 use rayon::prelude::*;
 use thiserror::Error;
 
-use crate::growth::{Grown, GrowthConfig, Guard, Round, grow};
+use crate::growth::{Grown, Growth, GrowthConfig, Guard, Round, SHORT_OF_TARGET, grow};
 
 /// How the initial spline is made.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -95,6 +96,19 @@ pub struct PlanConfig {
     /// graph path's length with every class already taken (k shortest paths with limited
     /// overlap). `None`: the k best classes, however alike.
     pub diverse: Option<Real>,
+    /// Successive halving of the classes: after every class's first round, a class whose
+    /// cost exceeds this ratio times that of the class ranked first (keeping `dm` itself as
+    /// the dm rule's target, certified clear) runs no further rounds, and is reported from its
+    /// first round's curve, marked [`ClassPlan::pruned`]. A heuristic: a first round can be a
+    /// poor guide (a class's cost fell by 54 % in its second round on one generated scene),
+    /// so the default [`DEFAULT_PRUNE`] keeps a margin: on 1,020 scenes (the fixtures and
+    /// 1,000 generated ones; the ignored test `scan_the_ratio` in `tests/prune.rs`) a ratio
+    /// of 1.5 changed one chosen class (a class whose first round cost 1.98 times the
+    /// reference's won in the end), 2 to 4 changed none, and 2.5 saves 51 % of the
+    /// evaluations. `None` runs every class to its end (a mission does: its other classes
+    /// are its alternatives). Applies where the classes are optimised after the search
+    /// (scenes), not to a map's classes, optimised while the search goes on.
+    pub prune: Option<Real>,
 }
 
 impl Default for PlanConfig {
@@ -112,9 +126,19 @@ impl Default for PlanConfig {
             start_heading: None,
             avoid: Vec::new(),
             diverse: None,
+            prune: Some(DEFAULT_PRUNE),
         }
     }
 }
+
+/// The default of [`PlanConfig::prune`].
+pub const DEFAULT_PRUNE: Real = 2.5;
+
+/// Relative slack between a class's cost as the optimiser evaluates it (far circles'
+/// potential truncated within `1e-6` of the total) and as it is reported (nothing left out),
+/// when the planner checks that a class run to its end came in under the reference cost of
+/// a pruning.
+const PRUNE_SLACK: Real = 1e-5;
 
 /// Why planning failed before any class was optimised.
 #[derive(Debug, Error)]
@@ -176,6 +200,10 @@ pub struct ClassPlan {
     /// Share of its graph path's length on edges the chosen class's graph path uses too
     /// (0 when nothing is chosen or for the straight seed; 1 for the chosen class).
     pub overlap: Real,
+    /// Stopped after its first round: its cost then was more than [`PlanConfig::prune`]
+    /// times that of the class ranked first, which it could not have overtaken. Its curve is
+    /// its first round's, certified like every other.
+    pub pruned: bool,
 }
 
 /// A seed: the polyline, its class (none for the straight seed), its graph cost.
@@ -354,6 +382,13 @@ pub fn plan_world(
             "diverse must be a fraction in [0, 1], got {f}"
         )));
     }
+    if let Some(r) = cfg.prune
+        && !(r.is_finite() && r >= 1.0)
+    {
+        return Err(PlanError::Config(format!(
+            "prune must be a ratio of at least 1, got {r}"
+        )));
+    }
     let t0 = Instant::now();
     let rays = &world.rays;
     let mut timing = Timing::default();
@@ -369,16 +404,6 @@ pub fn plan_world(
     // Each seed's graph path by edge (for overlaps), in seed order.
     let mut class_edges: Vec<EdgeLengths> = Vec::new();
     // One class: a map's seed pulled taut in its class, then the growth loop.
-    let run_class = |(poly, sig, gcost): &SeedPath, cell: Option<Real>| {
-        let pulled = match (sig, cell) {
-            (Some(s), Some(cell)) if world.grid_is_exact => {
-                Some(pull_taut(poly, world.model, rays, cell, s))
-            }
-            _ => None,
-        };
-        let poly = pulled.as_deref().unwrap_or(poly);
-        optimise_class(world, poly, sig.as_ref(), *gcost, cfg, cell)
-    };
     let mut streamed: Option<Streamed> = None;
     // Seeds: (seed polyline, class signature, graph cost).
     let (seeds, graph): (Vec<SeedPath>, Option<VoronoiGraph>) = match cfg.seed {
@@ -455,7 +480,9 @@ pub fn plan_world(
                                 let (i, seed, done) = (made.len(), make_seed(c), &done);
                                 made.push(seed.clone());
                                 s.spawn(move |_| {
-                                    let (plan, _) = run_class(&seed, Some(cell));
+                                    let task = start_class(world, cfg, &seed, Some(cell))
+                                        .optimised(world.model);
+                                    let (plan, _) = task.report(world, cfg);
                                     done.lock()
                                         .unwrap_or_else(|e| e.into_inner())
                                         .push((i, plan));
@@ -539,13 +566,75 @@ pub fn plan_world(
             let seed_length =
                 |i: usize| -> Real { seeds[i].0.windows(2).map(|w| (w[1] - w[0]).norm()).sum() };
             order.sort_by(|&a, &b| seed_length(b).total_cmp(&seed_length(a)).then(a.cmp(&b)));
-            let runs: Vec<(usize, ClassRun)> = in_pool(pool.as_ref(), || {
+            let model = world.model;
+            let mut tasks: Vec<(usize, ClassTask<'_>)> = in_pool(pool.as_ref(), || {
                 order
                     .par_iter()
                     .with_max_len(1)
-                    .map(|&i| (i, run_class(&seeds[i], graph_cell)))
+                    .map(|&i| {
+                        let mut task = start_class(world, cfg, &seeds[i], graph_cell);
+                        match cfg.prune {
+                            Some(_) => {
+                                task.step(model);
+                            }
+                            None => task.run(model),
+                        }
+                        (i, task)
+                    })
                     .collect()
             });
+            // Successive halving: the classes that cannot win stop after their first round
+            // (a barrier: the decision depends on every class's first round only, so not on
+            // the threads), the others run their rounds left.
+            let pruning = cfg.prune.and_then(|ratio| outclassed(&tasks, model, ratio));
+            if let Some(p) = &pruning {
+                for ((_, task), &stop) in tasks.iter_mut().zip(&p.stop) {
+                    task.pruned = stop;
+                }
+            }
+            let run_left = |tasks: &mut Vec<(usize, ClassTask<'_>)>| {
+                in_pool(pool.as_ref(), || {
+                    tasks
+                        .par_iter_mut()
+                        .with_max_len(1)
+                        .filter(|(_, task)| !task.pruned)
+                        .for_each(|(_, task)| task.run(model));
+                });
+            };
+            if cfg.prune.is_some() {
+                run_left(&mut tasks);
+            }
+            let report = |tasks: &mut Vec<(usize, ClassTask<'_>)>| -> Vec<(usize, ClassRun)> {
+                in_pool(pool.as_ref(), || {
+                    tasks
+                        .par_iter_mut()
+                        .with_max_len(1)
+                        .map(|(i, task)| (*i, task.report(world, cfg)))
+                        .collect()
+                })
+            };
+            let mut runs = report(&mut tasks);
+            // The stop assumed that a class run to its end would rank first at no more than
+            // the reference's first-round cost. If none does (its certification found it
+            // less clear than its cost evaluations did), the stopped classes run on after
+            // all.
+            if let Some(p) = &pruning {
+                let bar = p.reference_cost * (1.0 + PRUNE_SLACK);
+                let holds = runs.iter().any(|(_, (c, _))| {
+                    !c.pruned
+                        && c.collision_free
+                        && c.safe
+                        && c.certified_clearance >= cfg.clearance_floor
+                        && c.cost.total <= bar
+                });
+                if !holds {
+                    for (_, task) in tasks.iter_mut() {
+                        task.pruned = false;
+                    }
+                    run_left(&mut tasks);
+                    runs = report(&mut tasks);
+                }
+            }
             // No class came out clear: those that could not start from a clear seed are tried
             // again with dense via-points (a winding passage too narrow for a spline through
             // `max_via_points` via-points may be the only way). Only then: dense seeds cost
@@ -561,22 +650,15 @@ pub fn plan_world(
             let mut done: Vec<(usize, ClassPlan)> =
                 runs.into_iter().map(|(i, (c, _))| (i, c)).collect();
             if !again.is_empty() && !done.iter().any(|(_, c)| c.collision_free) {
+                let firsts = &done;
                 let retried: Vec<(usize, ClassPlan)> = in_pool(pool.as_ref(), || {
-                    done.par_iter()
+                    tasks
+                        .par_iter_mut()
                         .with_max_len(1)
                         .filter(|(i, _)| again.contains(i))
-                        .filter_map(|(i, first)| {
-                            let (poly, sig, gcost) = &seeds[*i];
-                            let c = dense_class(
-                                world,
-                                poly,
-                                sig.as_ref(),
-                                *gcost,
-                                cfg,
-                                graph_cell,
-                                first,
-                            );
-                            c.map(|c| (*i, c))
+                        .filter_map(|(i, task)| {
+                            let first = &firsts.iter().find(|(j, _)| j == i)?.1;
+                            task.dense(world, cfg, graph_cell, first).map(|c| (*i, c))
                         })
                         .collect()
                 });
@@ -1279,119 +1361,258 @@ fn without_floor<'w>(guard: &Guard<'w>) -> Guard<'w> {
     }
 }
 
-/// One class optimised, and whether it is worth the dense second pass ([`dense_class`]): its
-/// seed was a scene's last resort (no via-point set was admissible) and the curve it gave
-/// is not proven clear.
-type ClassRun = (ClassPlan, bool);
-
-fn optimise_class(
-    world: &World<'_>,
-    seed_poly: &[Point],
-    signature: Option<&Signature>,
-    graph_cost: Real,
-    cfg: &PlanConfig,
-    graph_cell: Option<Real>,
-) -> ClassRun {
-    let t = Instant::now();
-    let model = world.model;
-    let (growth, guard) = class_setup(world, seed_poly, signature, cfg);
-    let growth = growth.as_ref();
-    // On scenes the first via-point set that already keeps the floor is preferred.
-    let seed_guard = without_floor(&guard);
-    // Whether the seed is the last resort of a scene's class (no via-point set was
-    // admissible).
-    let mut resorted = false;
-    let seed = match (signature, graph_cell) {
-        (Some(_), Some(cell)) if world.grid_is_exact => {
-            subdivided_seed(seed_poly, model, &seed_guard, growth, cell, None)
-                .unwrap_or_else(|| seed_poly.to_vec())
+/// A class's task from its seed: on a map the seed is first pulled taut in its class.
+fn start_class<'w>(
+    world: &'w World<'_>,
+    cfg: &'w PlanConfig,
+    (poly, sig, gcost): &'w SeedPath,
+    cell: Option<Real>,
+) -> ClassTask<'w> {
+    let poly = match (sig, cell) {
+        (Some(s), Some(cell)) if world.grid_is_exact => {
+            pull_taut(poly, world.model, &world.rays, cell, s)
         }
-        (Some(_), _) => guard
-            .clearance_floor
-            .is_finite()
-            .then(|| seed_points(seed_poly, model, &guard, growth))
-            .flatten()
-            .or_else(|| seed_points(seed_poly, model, &seed_guard, growth))
-            .unwrap_or_else(|| {
-                resorted = true;
-                last_resort(seed_poly, growth)
-            }),
-        (None, _) => seed_poly.to_vec(),
+        _ => poly.clone(),
     };
-    // On a map the via-points follow the path (hundreds on a long one), and with uniform
-    // parameters over [0, 1] the roughness grows with a power of their number (the paper's
-    // form: the first; the energy: the third): it would swamp every other term. There it is
-    // measured with one unit of parameter per segment, which is the same integral divided
-    // by segments^power (`RoughnessForm::segment_power`).
-    let scaled;
-    let growth = if world.grid_is_exact && seed.len() > 2 {
-        let mut g = growth.clone();
-        g.cost.w_roughness /= ((seed.len() - 1) as Real).powf(g.cost.roughness.segment_power());
-        scaled = g;
-        &scaled
-    } else {
-        growth
-    };
-    let grown: Option<Grown> = grow(&seed, model, growth, &guard).ok();
-    let retry = resorted
-        && grown
-            .as_ref()
-            .is_none_or(|g| !is_collision_free(&g.spline, model));
-    let plan = report_class(world, seed_poly, signature, graph_cost, cfg, grown, seed);
-    (
-        ClassPlan {
-            time_ms: ms(t),
-            ..plan
-        },
-        retry,
-    )
+    ClassTask::new(world, poly, sig.as_ref(), *gcost, cfg, cell)
 }
 
-/// The dense second pass of a class that [`optimise_class`] marked (it runs only when no
-/// class of the plan came out clear): the via-points follow the graph's path, as on a map,
-/// up to [`DENSE_SEED_SHARE`] times as many, if the path is clear (a winding passage too
-/// narrow for a spline through `max_via_points` via-points; L-BFGS cannot even start from a
-/// colliding seed). `Some` only if the curve comes out clear; its evaluations and time
-/// include the first pass's.
-fn dense_class(
-    world: &World<'_>,
-    seed_poly: &[Point],
-    signature: Option<&Signature>,
+/// One class optimised, and whether it is worth the dense second pass
+/// ([`ClassTask::dense`]): its seed was a scene's last resort (no via-point set was
+/// admissible) and the curve it gave is not proven clear.
+type ClassRun = (ClassPlan, bool);
+
+/// One class's work: its seed, its settings and guard, and its growth loop, which runs one
+/// round at a time so that the planner can stop a class that cannot win between rounds.
+struct ClassTask<'w> {
+    /// The class path the seed came from (pulled taut on a map).
+    seed_poly: Vec<Point>,
+    signature: Option<&'w Signature>,
     graph_cost: Real,
-    cfg: &PlanConfig,
-    graph_cell: Option<Real>,
-    first: &ClassPlan,
-) -> Option<ClassPlan> {
-    let t = Instant::now();
-    let model = world.model;
-    let (growth, guard) = class_setup(world, seed_poly, signature, cfg);
-    let growth = growth.as_ref();
-    let cell = graph_cell.filter(|_| model.polyline_clearance(seed_poly) > 0.0)?;
-    let dense = subdivided_seed(
-        seed_poly,
-        model,
-        &without_floor(&guard),
-        growth,
-        cell,
-        Some(DENSE_SEED_SHARE * (growth.max_via_points + 2)),
-    )?;
-    let mut grown = grow(&dense, model, growth, &guard).ok()?;
-    if !is_collision_free(&grown.spline, model) {
-        return None;
+    growth: GrowthConfig,
+    guard: Guard<'w>,
+    /// The via-points the growth loop started from.
+    seed: Vec<Point>,
+    /// The seed is the last resort of a scene's class.
+    resorted: bool,
+    /// `None` when the growth loop could not start.
+    state: Option<Growth>,
+    /// Milliseconds spent so far.
+    time_ms: Real,
+    /// Stopped after its first round by [`outclassed`].
+    pruned: bool,
+}
+
+impl<'w> ClassTask<'w> {
+    /// The class's setup and seed; no round run yet.
+    fn new(
+        world: &'w World<'_>,
+        seed_poly: Vec<Point>,
+        signature: Option<&'w Signature>,
+        graph_cost: Real,
+        cfg: &'w PlanConfig,
+        graph_cell: Option<Real>,
+    ) -> Self {
+        let t = Instant::now();
+        let model = world.model;
+        let (growth, guard) = class_setup(world, &seed_poly, signature, cfg);
+        let mut growth = growth.into_owned();
+        // On scenes the first via-point set that already keeps the floor is preferred.
+        let seed_guard = without_floor(&guard);
+        let mut resorted = false;
+        let seed = match (signature, graph_cell) {
+            (Some(_), Some(cell)) if world.grid_is_exact => {
+                subdivided_seed(&seed_poly, model, &seed_guard, &growth, cell, None)
+                    .unwrap_or_else(|| seed_poly.clone())
+            }
+            (Some(_), _) => guard
+                .clearance_floor
+                .is_finite()
+                .then(|| seed_points(&seed_poly, model, &guard, &growth))
+                .flatten()
+                .or_else(|| seed_points(&seed_poly, model, &seed_guard, &growth))
+                .unwrap_or_else(|| {
+                    resorted = true;
+                    last_resort(&seed_poly, &growth)
+                }),
+            (None, _) => seed_poly.clone(),
+        };
+        // On a map the via-points follow the path (hundreds on a long one), and with uniform
+        // parameters over [0, 1] the roughness grows with a power of their number (the
+        // paper's form: the first; the energy: the third): it would swamp every other term.
+        // There it is measured with one unit of parameter per segment, which is the same
+        // integral divided by segments^power (`RoughnessForm::segment_power`).
+        if world.grid_is_exact && seed.len() > 2 {
+            growth.cost.w_roughness /=
+                ((seed.len() - 1) as Real).powf(growth.cost.roughness.segment_power());
+        }
+        let state = Growth::new(&seed, model, &growth, &guard).ok();
+        Self {
+            seed_poly,
+            signature,
+            graph_cost,
+            growth,
+            guard,
+            seed,
+            resorted,
+            state,
+            time_ms: ms(t),
+            pruned: false,
+        }
     }
-    grown.evaluations += first.evaluations;
-    let plan = report_class(
-        world,
-        seed_poly,
-        signature,
-        graph_cost,
-        cfg,
-        Some(grown),
-        dense,
-    );
-    Some(ClassPlan {
-        time_ms: first.time_ms + ms(t),
-        ..plan
+
+    /// Runs one round; `false` when the loop has ended (or never started).
+    fn step(&mut self, model: &dyn ClearanceModel) -> bool {
+        let t = Instant::now();
+        let more = self
+            .state
+            .as_mut()
+            .is_some_and(|g| g.step(model, &self.growth, &self.guard));
+        self.time_ms += ms(t);
+        more
+    }
+
+    /// Runs the rounds left.
+    fn run(&mut self, model: &dyn ClearanceModel) {
+        while self.step(model) {}
+    }
+
+    /// The task with every round run, for a caller that does not stop classes early.
+    fn optimised(mut self, model: &dyn ClearanceModel) -> Self {
+        self.run(model);
+        self
+    }
+
+    /// Whether more rounds would run.
+    fn is_done(&self) -> bool {
+        self.state.as_ref().is_none_or(Growth::is_done)
+    }
+
+    /// The class's plan from its best curve so far, and whether it is worth the dense pass.
+    fn report(&self, world: &World<'_>, cfg: &PlanConfig) -> ClassRun {
+        let t = Instant::now();
+        let model = world.model;
+        let grown = self
+            .state
+            .as_ref()
+            .map(|g| g.result(model, &self.growth, &self.guard));
+        let retry = self.resorted
+            && grown
+                .as_ref()
+                .is_none_or(|g| !is_collision_free(&g.spline, model));
+        let plan = report_class(world, self, cfg, grown, self.seed.clone());
+        (
+            ClassPlan {
+                time_ms: self.time_ms + ms(t),
+                pruned: self.pruned,
+                ..plan
+            },
+            retry,
+        )
+    }
+
+    /// The dense second pass of a class marked by [`ClassTask::report`] (it runs only when
+    /// no class of the plan came out clear): the via-points follow the graph's path, as on a
+    /// map, up to [`DENSE_SEED_SHARE`] times as many, if the path is clear (a winding passage
+    /// too narrow for a spline through `max_via_points` via-points; L-BFGS cannot even start
+    /// from a colliding seed). `Some` only if the curve comes out clear; its evaluations and
+    /// time include the first pass's.
+    fn dense(
+        &self,
+        world: &World<'_>,
+        cfg: &PlanConfig,
+        graph_cell: Option<Real>,
+        first: &ClassPlan,
+    ) -> Option<ClassPlan> {
+        let t = Instant::now();
+        let model = world.model;
+        let (growth, guard) = (&self.growth, &self.guard);
+        let cell = graph_cell.filter(|_| model.polyline_clearance(&self.seed_poly) > 0.0)?;
+        let dense = subdivided_seed(
+            &self.seed_poly,
+            model,
+            &without_floor(guard),
+            growth,
+            cell,
+            Some(DENSE_SEED_SHARE * (growth.max_via_points + 2)),
+        )?;
+        let mut grown = grow(&dense, model, growth, guard).ok()?;
+        if !is_collision_free(&grown.spline, model) {
+            return None;
+        }
+        grown.evaluations += first.evaluations;
+        let plan = report_class(world, self, cfg, Some(grown), dense);
+        Some(ClassPlan {
+            time_ms: first.time_ms + ms(t),
+            ..plan
+        })
+    }
+}
+
+/// The classes stopped after their first round ([`outclassed`]) and the cost that stopped
+/// them.
+struct Pruning {
+    /// One flag per task: stopped.
+    stop: Vec<bool>,
+    /// The reference class's weighted cost after its first round.
+    reference_cost: Real,
+}
+
+/// Which classes cannot win after their first round, by the ratio `ratio` ([`PlanConfig::
+/// prune`]). The reference is the class that ranks first now among those sure to rank in
+/// the first group at the end (collision-free and safe): its curve keeps the dm rule's
+/// target, and the target is `dm` itself (not a narrow passage's share of it), it meets the
+/// floor, and it is certified clear. Its cost only falls in later rounds (the growth loop
+/// returns its best curve), and it stays in the first group (its curves keep the target), so
+/// a class whose cost exceeds `ratio` times the reference's would have to lower its own by
+/// more than the ratio in the rounds it skips to overtake it. `None` when no class
+/// qualifies (no dm rule, or no class at `dm` yet) or none would be stopped.
+fn outclassed(
+    tasks: &[(usize, ClassTask<'_>)],
+    model: &dyn ClearanceModel,
+    ratio: Real,
+) -> Option<Pruning> {
+    // Each class's standing (the outer guard's value: short of the target ranks after
+    // every class that keeps it) and weighted cost, by the settings it was optimised with.
+    let scored: Vec<Option<(Real, Real)>> = tasks
+        .iter()
+        .map(|(_, task)| {
+            let g = task.state.as_ref()?;
+            let sp = g.curve(&task.guard);
+            let terms = evaluate_weighted(sp, model, &task.growth.cost);
+            Some((task.guard.value(&terms), terms.total))
+        })
+        .collect();
+    let mut order: Vec<usize> = (0..tasks.len()).filter(|&i| scored[i].is_some()).collect();
+    order.sort_by(|&a, &b| {
+        let (sa, sb) = (
+            scored[a].map_or(Real::INFINITY, |s| s.0),
+            scored[b].map_or(Real::INFINITY, |s| s.0),
+        );
+        sa.total_cmp(&sb).then(tasks[a].0.cmp(&tasks[b].0))
+    });
+    let r = order.into_iter().find(|&i| {
+        let (standing, total) = scored[i].unwrap_or((Real::INFINITY, Real::INFINITY));
+        let task = &tasks[i].1;
+        standing < SHORT_OF_TARGET
+            && task.guard.clearance_target >= task.growth.cost.dm
+            && total > 0.0
+            && task.signature.is_some()
+            && task
+                .state
+                .as_ref()
+                .is_some_and(|g| is_collision_free(g.curve(&task.guard), model))
+    })?;
+    let reference_cost = scored[r]?.1;
+    let bar = ratio * reference_cost;
+    let stop: Vec<bool> = tasks
+        .iter()
+        .enumerate()
+        .map(|(i, (_, task))| i != r && !task.is_done() && scored[i].is_none_or(|s| s.1 > bar))
+        .collect();
+    stop.contains(&true).then_some(Pruning {
+        stop,
+        reference_cost,
     })
 }
 
@@ -1400,14 +1621,13 @@ fn dense_class(
 /// its checks. The time is left at 0 for the caller.
 fn report_class(
     world: &World<'_>,
-    seed_poly: &[Point],
-    signature: Option<&Signature>,
-    graph_cost: Real,
+    task: &ClassTask<'_>,
     cfg: &PlanConfig,
     grown: Option<Grown>,
     seed: Vec<Point>,
 ) -> ClassPlan {
     let (model, rays) = (world.model, &world.rays);
+    let (seed_poly, signature, graph_cost) = (&task.seed_poly, task.signature, task.graph_cost);
     let (via_points, spline, terms, rounds, evaluations) = match grown {
         Some(g) => (g.points, Some(g.spline), g.terms, g.rounds, g.evaluations),
         None => (seed, None, CostTerms::default(), Vec::new(), 0),
@@ -1472,6 +1692,7 @@ fn report_class(
         time_ms: 0.0,
         graph_cost,
         overlap: 0.0,
+        pruned: false,
     }
 }
 

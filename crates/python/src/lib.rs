@@ -316,7 +316,7 @@ fn weights_of(weights: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, f64)
 /// Plans a scene: the k best homotopy classes, each optimised and checked (the `plan`
 /// command). `weights` maps names (`safety`, `dm`, ...) to values.
 #[pyfunction]
-#[pyo3(signature = (scene, classes=5, preset="paper-voronoi", weights=None, optimizer=None, seed="voronoi", roughness=None, clearance_floor=0.0, graph=None, soft_dm=false))]
+#[pyo3(signature = (scene, classes=5, preset="paper-voronoi", weights=None, optimizer=None, seed="voronoi", roughness=None, clearance_floor=0.0, graph=None, soft_dm=false, prune=None))]
 #[allow(clippy::too_many_arguments)]
 fn plan(
     py: Python<'_>,
@@ -330,7 +330,21 @@ fn plan(
     clearance_floor: f64,
     graph: Option<&PyGraph>,
     soft_dm: bool,
+    prune: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyPlan> {
+    // `"off"` or a ratio, as the command line's `--prune`.
+    let prune = match prune {
+        None => None,
+        Some(v) => Some(match v.extract::<String>() {
+            Ok(text) => text,
+            Err(_) => v
+                .extract::<f64>()
+                .map_err(|_| {
+                    PyTypeError::new_err("prune: expected \"off\" or a number".to_owned())
+                })?
+                .to_string(),
+        }),
+    };
     let options = PlanOptions {
         seed: seed.to_owned(),
         classes,
@@ -340,6 +354,7 @@ fn plan(
         roughness,
         clearance_floor,
         soft_dm,
+        prune,
         ..PlanOptions::default()
     };
     let cfg = plan_config(&options, Some(&scene.inner)).map_err(bad)?;

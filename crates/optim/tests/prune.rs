@@ -1,0 +1,175 @@
+//! Successive halving of the classes (`PlanConfig::prune`): a plan that stops the classes
+//! which cannot win after their first round chooses the same class, with the same curve, as
+//! a plan that runs every class to its end; the stopped classes are marked and certified.
+
+use homospline_geom::Scene;
+use homospline_optim::planner::DEFAULT_PRUNE;
+use homospline_optim::{Plan, PlanConfig, plan};
+use homospline_testkit::{fixture_scenes, random_scene};
+
+/// The fixture scenes and the seeded random scenes of `fixtures/random` (the generator's
+/// own parameters, as `cargo xtask gen-scenes` writes them).
+fn scenes() -> Vec<Scene> {
+    let mut v = fixture_scenes();
+    for i in 0..10u64 {
+        let name = format!("random-small-{i:02}");
+        v.push(random_scene(
+            &name,
+            1000 + i,
+            60.0,
+            4 + (i as usize * 3) % 9,
+            3,
+        ));
+    }
+    for i in 0..5u64 {
+        let name = format!("random-large-{i:02}");
+        v.push(random_scene(
+            &name,
+            2000 + i,
+            240.0,
+            200 + 50 * i as usize,
+            6,
+        ));
+    }
+    v
+}
+
+fn chosen(p: &Plan) -> Option<&homospline_optim::ClassPlan> {
+    p.best.map(|b| &p.classes[b - 1])
+}
+
+fn with_prune(prune: Option<f64>) -> PlanConfig {
+    PlanConfig {
+        prune,
+        ..PlanConfig::default()
+    }
+}
+
+#[test]
+fn pruning_keeps_the_chosen_class_and_its_curve() {
+    let mut pruned_classes = 0;
+    for scene in scenes() {
+        let full = plan(&scene, &with_prune(None)).unwrap();
+        let fast = plan(&scene, &PlanConfig::default()).unwrap();
+        assert!(full.classes.iter().all(|c| !c.pruned), "{}", scene.name);
+        let (a, b) = (chosen(&full), chosen(&fast));
+        assert_eq!(a.is_some(), b.is_some(), "{}", scene.name);
+        if let (Some(a), Some(b)) = (a, b) {
+            assert_eq!(a.signature, b.signature, "{}", scene.name);
+            assert_eq!(a.via_points, b.via_points, "{}", scene.name);
+            assert_eq!(a.path, b.path, "{}", scene.name);
+            assert_eq!(a.cost.total, b.cost.total, "{}", scene.name);
+            assert!(!b.pruned, "{}", scene.name);
+        }
+        // The same classes, each run to its end unless stopped; a stopped class ran one
+        // round, is certified like every other, and costs at least as much as it would
+        // have after every round.
+        assert_eq!(full.classes.len(), fast.classes.len(), "{}", scene.name);
+        for c in &fast.classes {
+            let f = full
+                .classes
+                .iter()
+                .find(|f| f.signature == c.signature)
+                .unwrap_or_else(|| panic!("{}: class {} missing", scene.name, c.signature));
+            if c.pruned {
+                pruned_classes += 1;
+                assert_eq!(c.iterations, 1, "{} {}", scene.name, c.signature);
+                assert!(c.in_class, "{} {}", scene.name, c.signature);
+                assert!(
+                    c.cost.total >= f.cost.total * (1.0 - 1e-9),
+                    "{} {}: {} below the full run's {}",
+                    scene.name,
+                    c.signature,
+                    c.cost.total,
+                    f.cost.total
+                );
+                let chosen_cost = chosen(&fast).map_or(f64::INFINITY, |b| b.cost.total);
+                assert!(
+                    c.cost.total > DEFAULT_PRUNE * chosen_cost * (1.0 - 1e-5),
+                    "{} {}",
+                    scene.name,
+                    c.signature
+                );
+            } else {
+                assert_eq!(c.path, f.path, "{} {}", scene.name, c.signature);
+            }
+        }
+    }
+    // The test means something only if classes were stopped.
+    assert!(pruned_classes >= 10, "{pruned_classes} classes pruned");
+}
+
+#[test]
+fn without_the_dm_rule_nothing_is_pruned() {
+    // The reference must be sure to rank in the first group (safe) at the end; with `dm` a
+    // penalty only, no class is.
+    for scene in fixture_scenes() {
+        let p = plan(
+            &scene,
+            &PlanConfig {
+                dm_rule: false,
+                ..PlanConfig::default()
+            },
+        )
+        .unwrap();
+        assert!(p.classes.iter().all(|c| !c.pruned), "{}", scene.name);
+    }
+}
+
+#[test]
+fn a_ratio_below_one_is_refused() {
+    let scene = &fixture_scenes()[0];
+    for r in [0.5, f64::NAN, f64::INFINITY] {
+        let e = plan(scene, &with_prune(Some(r))).unwrap_err();
+        assert!(e.to_string().contains("prune"), "{e}");
+    }
+}
+
+/// The scan behind the default ratio (run by hand: `cargo test -p homospline-optim --test
+/// prune -- --ignored --nocapture`): on the fixture scenes, the random fixtures and 1000
+/// generated 60 x 60 scenes (the mission worlds' generator), how many plans choose another
+/// class or curve than the plan without pruning, at each ratio, and the evaluations saved.
+#[test]
+#[ignore]
+fn scan_the_ratio() {
+    let mut all = scenes();
+    for seed in 0..1000u64 {
+        let mut rng = homospline_testkit::SplitMix(seed ^ 0x5EED);
+        let n = 5 + (rng.next_unit() * 8.0) as usize;
+        all.push(random_scene(
+            &format!("world-{seed:03}"),
+            7000 + seed,
+            60.0,
+            n,
+            3,
+        ));
+    }
+    let fulls: Vec<Plan> = all
+        .iter()
+        .map(|s| plan(s, &with_prune(None)).unwrap())
+        .collect();
+    let evals = |p: &Plan| p.classes.iter().map(|c| c.evaluations).sum::<usize>();
+    let full_evals: usize = fulls.iter().map(evals).sum();
+    for ratio in [1.5, 2.0, 2.5, 3.0, 4.0] {
+        let mut changed = Vec::new();
+        let mut saved = 0usize;
+        for (s, full) in all.iter().zip(&fulls) {
+            let fast = plan(s, &with_prune(Some(ratio))).unwrap();
+            saved += evals(full) - evals(&fast);
+            let same = match (chosen(full), chosen(&fast)) {
+                (Some(a), Some(b)) => a.signature == b.signature && a.path == b.path,
+                (None, None) => true,
+                _ => false,
+            };
+            if !same {
+                changed.push(s.name.clone());
+            }
+        }
+        println!(
+            "ratio {ratio}: {} of {} plans chose otherwise {changed:?}; evaluations saved {:.1} %",
+            changed.len(),
+            all.len(),
+            100.0 * saved as f64 / full_evals as f64
+        );
+    }
+}
