@@ -334,3 +334,50 @@ fn a_closed_stdout_does_not_stop_the_plan() {
     assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
     assert!(read_json(&json)["best"].is_u64());
 }
+
+#[test]
+fn prune_marks_the_stopped_classes_and_off_runs_every_class_to_its_end() {
+    // On convex one class costs more than 2.5 times the best after its first round.
+    let (pruned, full) = (tmp("prune-default.json"), tmp("prune-off.json"));
+    let scene = "fixtures/scenes/convex.yaml";
+    for (extra, json) in [(vec![], &pruned), (vec!["--prune", "off"], &full)] {
+        let out = homospline()
+            .args(["plan", scene, "--json"])
+            .arg(json)
+            .args(&extra)
+            .output()
+            .unwrap();
+        assert_ok(&out);
+    }
+    let (p, f) = (read_json(&pruned), read_json(&full));
+    let stopped = |v: &serde_json::Value| {
+        v["classes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|c| c["pruned"].as_bool().unwrap())
+            .map(|c| c["iterations"].as_u64().unwrap())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(stopped(&p), vec![1]);
+    assert!(stopped(&f).is_empty());
+    let chosen = |v: &serde_json::Value| {
+        let b = v["best"].as_u64().unwrap() as usize;
+        v["classes"][b - 1]["path"].clone()
+    };
+    assert_eq!(chosen(&p), chosen(&f));
+    for bad in ["0.9", "none", "nan"] {
+        let out = homospline()
+            .args(["plan", "--prune", bad])
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{bad}");
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert!(
+            err.contains(&format!(
+                "--prune {bad}: expected off or a ratio of at least 1"
+            )),
+            "{err}"
+        );
+    }
+}

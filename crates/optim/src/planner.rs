@@ -7,6 +7,7 @@
 //! weights and reports the Pareto set over (length, roughness, minimum clearance).
 
 use std::borrow::Cow;
+use std::sync::Mutex;
 use std::time::Instant;
 
 use homospline_geom::{Bounds, Point, Real, Scene, Vector};
@@ -105,9 +106,10 @@ pub struct PlanConfig {
     /// 1,000 generated ones; the ignored test `scan_the_ratio` in `tests/prune.rs`) a ratio
     /// of 1.5 changed one chosen class (a class whose first round cost 1.98 times the
     /// reference's won in the end), 2 to 4 changed none, and 2.5 saves 51 % of the
-    /// evaluations. `None` runs every class to its end (a mission does: its other classes
-    /// are its alternatives). Applies where the classes are optimised after the search
-    /// (scenes), not to a map's classes, optimised while the search goes on.
+    /// evaluations. Nelder-Mead only: L-BFGS's rounds are too short for the barrier after
+    /// the first round to pay. `None` runs every class to its end (a mission does: its other
+    /// classes are its alternatives). Applies where the classes are optimised after the
+    /// search (scenes), not to a map's classes, optimised while the search goes on.
     pub prune: Option<Real>,
 }
 
@@ -468,7 +470,7 @@ pub fn plan_world(
                 // this changes no result. A scene's search takes microseconds: there the
                 // classes are better run longest first, below.
                 None if world.grid_is_exact => {
-                    let done = std::sync::Mutex::new(Vec::new());
+                    let done = Mutex::new(Vec::new());
                     // The search's result, the seeds it handed out, and when it ended.
                     let (r, made, end) = in_pool(pool.as_ref(), || {
                         rayon::scope(|s| {
@@ -567,31 +569,48 @@ pub fn plan_world(
                 |i: usize| -> Real { seeds[i].0.windows(2).map(|w| (w[1] - w[0]).norm()).sum() };
             order.sort_by(|&a, &b| seed_length(b).total_cmp(&seed_length(a)).then(a.cmp(&b)));
             let model = world.model;
-            let mut tasks: Vec<(usize, ClassTask<'_>)> = in_pool(pool.as_ref(), || {
-                order
-                    .par_iter()
-                    .with_max_len(1)
-                    .map(|&i| {
-                        let mut task = start_class(world, cfg, &seeds[i], graph_cell);
-                        match cfg.prune {
-                            Some(_) => {
-                                task.step(model);
-                            }
-                            None => task.run(model),
-                        }
-                        (i, task)
-                    })
-                    .collect()
-            });
-            // Successive halving: the classes that cannot win stop after their first round
-            // (a barrier: the decision depends on every class's first round only, so not on
-            // the threads), the others run their rounds left.
-            let pruning = cfg.prune.and_then(|ratio| outclassed(&tasks, model, ratio));
+            // Pruning applies to Nelder-Mead: L-BFGS rounds are so short that the barrier
+            // below costs more than the rounds it saves (plan bench: 4 of the 5 paper scenes
+            // slower, narrow-pass 1.9 -> 2.7 ms).
+            let prune = cfg
+                .prune
+                .filter(|_| cfg.growth.optimizer == crate::Optimizer::NelderMead);
+            // Successive halving: every class runs its first round (and is scored in its own
+            // task), then the classes that cannot win stop ([`outclassed`]) and the others run
+            // their rounds left. The barrier makes the decision depend on the first rounds
+            // only, not on the threads. (Without it, the tasks run to their ends one after
+            // the other on each thread, and the decision came after the classes to be stopped
+            // had run every round: two-homotopies took 14.6 ms against 10.1 ms.)
+            let mut tasks: Vec<(usize, ClassTask<'_>, Option<Score>)> =
+                in_pool(pool.as_ref(), || {
+                    order
+                        .par_iter()
+                        .with_max_len(1)
+                        .map(|&i| {
+                            let mut task = start_class(world, cfg, &seeds[i], graph_cell);
+                            let score = match prune {
+                                Some(_) => {
+                                    task.step(model);
+                                    Some(task.score(i, model))
+                                }
+                                None => {
+                                    task.run(model);
+                                    None
+                                }
+                            };
+                            (i, task, score)
+                        })
+                        .collect()
+                });
+            let scores: Vec<Option<Score>> = tasks.iter().map(|t| t.2).collect();
+            let pruning = prune.and_then(|ratio| outclassed(&scores, ratio));
             if let Some(p) = &pruning {
-                for ((_, task), &stop) in tasks.iter_mut().zip(&p.stop) {
+                for ((_, task, _), &stop) in tasks.iter_mut().zip(&p.stop) {
                     task.pruned = stop;
                 }
             }
+            let mut tasks: Vec<(usize, ClassTask<'_>)> =
+                tasks.into_iter().map(|(i, task, _)| (i, task)).collect();
             let run_left = |tasks: &mut Vec<(usize, ClassTask<'_>)>| {
                 in_pool(pool.as_ref(), || {
                     tasks
@@ -601,9 +620,6 @@ pub fn plan_world(
                         .for_each(|(_, task)| task.run(model));
                 });
             };
-            if cfg.prune.is_some() {
-                run_left(&mut tasks);
-            }
             let report = |tasks: &mut Vec<(usize, ClassTask<'_>)>| -> Vec<(usize, ClassRun)> {
                 in_pool(pool.as_ref(), || {
                     tasks
@@ -613,6 +629,9 @@ pub fn plan_world(
                         .collect()
                 })
             };
+            if prune.is_some() {
+                run_left(&mut tasks);
+            }
             let mut runs = report(&mut tasks);
             // The stop assumed that a class run to its end would rank first at no more than
             // the reference's first-round cost. If none does (its certification found it
@@ -1461,6 +1480,34 @@ impl<'w> ClassTask<'w> {
         }
     }
 
+    /// The class as [`outclassed`] weighs it, after its first round (`class`: its index).
+    fn score(&self, class: usize, model: &dyn ClearanceModel) -> Score {
+        let Some(g) = self.state.as_ref() else {
+            return Score {
+                class,
+                standing: Real::INFINITY,
+                total: Real::INFINITY,
+                reference: false,
+                done: true,
+            };
+        };
+        let sp = g.curve(&self.guard);
+        let terms = evaluate_weighted(sp, model, &self.growth.cost);
+        let standing = self.guard.value(&terms);
+        let reference = standing < SHORT_OF_TARGET
+            && self.guard.clearance_target >= self.growth.cost.dm
+            && terms.total > 0.0
+            && self.signature.is_some()
+            && is_collision_free(sp, model);
+        Score {
+            class,
+            standing,
+            total: terms.total,
+            reference,
+            done: g.is_done(),
+        }
+    }
+
     /// Runs one round; `false` when the loop has ended (or never started).
     fn step(&mut self, model: &dyn ClearanceModel) -> bool {
         let t = Instant::now();
@@ -1481,11 +1528,6 @@ impl<'w> ClassTask<'w> {
     fn optimised(mut self, model: &dyn ClearanceModel) -> Self {
         self.run(model);
         self
-    }
-
-    /// Whether more rounds would run.
-    fn is_done(&self) -> bool {
-        self.state.as_ref().is_none_or(Growth::is_done)
     }
 
     /// The class's plan from its best curve so far, and whether it is worth the dense pass.
@@ -1549,10 +1591,27 @@ impl<'w> ClassTask<'w> {
     }
 }
 
+/// A class after its first round, as [`outclassed`] weighs it.
+#[derive(Clone, Copy)]
+struct Score {
+    /// The class's index among the seeds (ties).
+    class: usize,
+    /// The outer guard's value of its curve: short of the target ranks after every class
+    /// that keeps it.
+    standing: Real,
+    /// Its weighted cost.
+    total: Real,
+    /// It can be the reference: its curve keeps the dm rule's target, the target is `dm`
+    /// itself, and it is certified clear.
+    reference: bool,
+    /// Its loop ended with its first round (nothing to stop).
+    done: bool,
+}
+
 /// The classes stopped after their first round ([`outclassed`]) and the cost that stopped
 /// them.
 struct Pruning {
-    /// One flag per task: stopped.
+    /// One flag per class, in the order of the scores: stopped.
     stop: Vec<bool>,
     /// The reference class's weighted cost after its first round.
     reference_cost: Real,
@@ -1567,48 +1626,22 @@ struct Pruning {
 /// a class whose cost exceeds `ratio` times the reference's would have to lower its own by
 /// more than the ratio in the rounds it skips to overtake it. `None` when no class
 /// qualifies (no dm rule, or no class at `dm` yet) or none would be stopped.
-fn outclassed(
-    tasks: &[(usize, ClassTask<'_>)],
-    model: &dyn ClearanceModel,
-    ratio: Real,
-) -> Option<Pruning> {
-    // Each class's standing (the outer guard's value: short of the target ranks after
-    // every class that keeps it) and weighted cost, by the settings it was optimised with.
-    let scored: Vec<Option<(Real, Real)>> = tasks
-        .iter()
-        .map(|(_, task)| {
-            let g = task.state.as_ref()?;
-            let sp = g.curve(&task.guard);
-            let terms = evaluate_weighted(sp, model, &task.growth.cost);
-            Some((task.guard.value(&terms), terms.total))
-        })
-        .collect();
-    let mut order: Vec<usize> = (0..tasks.len()).filter(|&i| scored[i].is_some()).collect();
-    order.sort_by(|&a, &b| {
-        let (sa, sb) = (
-            scored[a].map_or(Real::INFINITY, |s| s.0),
-            scored[b].map_or(Real::INFINITY, |s| s.0),
-        );
-        sa.total_cmp(&sb).then(tasks[a].0.cmp(&tasks[b].0))
-    });
-    let r = order.into_iter().find(|&i| {
-        let (standing, total) = scored[i].unwrap_or((Real::INFINITY, Real::INFINITY));
-        let task = &tasks[i].1;
-        standing < SHORT_OF_TARGET
-            && task.guard.clearance_target >= task.growth.cost.dm
-            && total > 0.0
-            && task.signature.is_some()
-            && task
-                .state
-                .as_ref()
-                .is_some_and(|g| is_collision_free(g.curve(&task.guard), model))
-    })?;
-    let reference_cost = scored[r]?.1;
-    let bar = ratio * reference_cost;
-    let stop: Vec<bool> = tasks
+fn outclassed(scores: &[Option<Score>], ratio: Real) -> Option<Pruning> {
+    let r = scores
         .iter()
         .enumerate()
-        .map(|(i, (_, task))| i != r && !task.is_done() && scored[i].is_none_or(|s| s.1 > bar))
+        .filter_map(|(pos, s)| s.filter(|s| s.reference).map(|s| (pos, s)))
+        .min_by(|(_, a), (_, b)| {
+            a.standing
+                .total_cmp(&b.standing)
+                .then(a.class.cmp(&b.class))
+        })?;
+    let (reference, reference_cost) = (r.0, r.1.total);
+    let bar = ratio * reference_cost;
+    let stop: Vec<bool> = scores
+        .iter()
+        .enumerate()
+        .map(|(pos, s)| pos != reference && s.is_some_and(|s| !s.done && s.total > bar))
         .collect();
     stop.contains(&true).then_some(Pruning {
         stop,

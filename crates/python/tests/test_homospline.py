@@ -171,3 +171,15 @@ def test_shards_merge_into_the_whole_sweep():
     assert "success      4/4" in summary
     with pytest.raises(ValueError, match="overlapping shards"):
         homospline.bench_summary([parts[0], parts[0]])
+
+
+def test_prune_equals_the_cli_flag(tmp_path):
+    path = ROOT / "fixtures/scenes/convex.yaml"
+    scene = homospline.Scene.from_file(path)
+    for value, flag in [("off", "off"), (3.0, "3")]:
+        ours = homospline.plan(scene, prune=value).to_dict()
+        assert timeless(ours) == timeless(cli_json(["plan", str(path), "--prune", flag], tmp_path))
+    assert any(c["pruned"] for c in homospline.plan(scene).to_dict()["classes"])
+    assert not any(c["pruned"] for c in homospline.plan(scene, prune="off").to_dict()["classes"])
+    with pytest.raises(ValueError, match="--prune 0.5"):
+        homospline.plan(scene, prune=0.5)
