@@ -203,8 +203,9 @@ pub struct ClassPlan {
     /// (0 when nothing is chosen or for the straight seed; 1 for the chosen class).
     pub overlap: Real,
     /// Stopped after its first round: its cost then was more than [`PlanConfig::prune`]
-    /// times that of the class ranked first, which it could not have overtaken. Its curve is
-    /// its first round's, certified like every other.
+    /// times that of the reference class, a margin it is taken not to make up in later
+    /// rounds (a heuristic: see [`PlanConfig::prune`]). Its curve is its first round's,
+    /// certified like every other.
     pub pruned: bool,
 }
 
