@@ -34,7 +34,7 @@ use std::process::ExitCode;
 use anyhow::{Context, Result, bail};
 use homospline_geom::Scene;
 use homospline_optim::{Plan, PlanConfig, Seed};
-use homospline_testkit::random_scene;
+use homospline_testkit::random_fixture_scenes;
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -344,25 +344,7 @@ fn plan_golden(plan: &Plan) -> String {
 fn gen_scenes() -> Result<()> {
     let dir = root().join("fixtures/random");
     std::fs::create_dir_all(&dir)?;
-    let mut scenes = Vec::new();
-    for i in 0..10u64 {
-        scenes.push(random_scene(
-            &format!("random-small-{i:02}"),
-            1000 + i,
-            60.0,
-            4 + (i as usize * 3) % 9,
-            3,
-        ));
-    }
-    for i in 0..5u64 {
-        scenes.push(random_scene(
-            &format!("random-large-{i:02}"),
-            2000 + i,
-            240.0,
-            200 + 50 * i as usize,
-            6,
-        ));
-    }
+    let scenes = random_fixture_scenes();
     for s in &scenes {
         s.validate(&s.name)
             .with_context(|| format!("generated scene {}", s.name))?;

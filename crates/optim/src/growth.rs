@@ -366,10 +366,16 @@ impl Growth {
 
     /// The curve [`Growth::result`] gives now.
     pub fn curve(&self, guard: &Guard<'_>) -> &Spline {
+        self.best(guard).1
+    }
+
+    /// The best curve so far and its points: the kept best when it beats the current curve
+    /// by the outer guard.
+    fn best(&self, guard: &Guard<'_>) -> (&[Point], &Spline) {
         if self.kept_best.value < outer_value(guard, self.current, self.best_cost) {
-            &self.kept_best.spline
+            (&self.kept_best.points, &self.kept_best.spline)
         } else {
-            &self.spline
+            (&self.points, &self.spline)
         }
     }
 
@@ -399,16 +405,8 @@ impl Growth {
         cfg: &GrowthConfig,
         guard: &Guard<'_>,
     ) -> Grown {
-        let best = if self.kept_best.value < outer_value(guard, self.current, self.best_cost) {
-            &self.kept_best
-        } else {
-            &Best {
-                value: self.best_cost,
-                points: self.points.clone(),
-                spline: self.spline.clone(),
-            }
-        };
-        let (points, spline) = (best.points.clone(), best.spline.clone());
+        let (points, spline) = self.best(guard);
+        let (points, spline) = (points.to_vec(), spline.clone());
         // The reported terms leave nothing out (no truncation of far circles' potential).
         let exact = CostConfig {
             tolerance: 0.0,

@@ -5,32 +5,12 @@
 use homospline_geom::Scene;
 use homospline_optim::planner::DEFAULT_PRUNE;
 use homospline_optim::{Plan, PlanConfig, plan};
-use homospline_testkit::{fixture_scenes, random_scene};
+use homospline_testkit::{fixture_scenes, random_fixture_scenes, world_scene};
 
-/// The fixture scenes and the seeded random scenes of `fixtures/random` (the generator's
-/// own parameters, as `cargo xtask gen-scenes` writes them).
+/// The fixture scenes and the seeded random scenes of `fixtures/random`.
 fn scenes() -> Vec<Scene> {
     let mut v = fixture_scenes();
-    for i in 0..10u64 {
-        let name = format!("random-small-{i:02}");
-        v.push(random_scene(
-            &name,
-            1000 + i,
-            60.0,
-            4 + (i as usize * 3) % 9,
-            3,
-        ));
-    }
-    for i in 0..5u64 {
-        let name = format!("random-large-{i:02}");
-        v.push(random_scene(
-            &name,
-            2000 + i,
-            240.0,
-            200 + 50 * i as usize,
-            6,
-        ));
-    }
+    v.extend(random_fixture_scenes());
     v
 }
 
@@ -133,17 +113,7 @@ fn a_ratio_below_one_is_refused() {
 #[ignore]
 fn scan_the_ratio() {
     let mut all = scenes();
-    for seed in 0..1000u64 {
-        let mut rng = homospline_testkit::SplitMix(seed ^ 0x5EED);
-        let n = 5 + (rng.next_unit() * 8.0) as usize;
-        all.push(random_scene(
-            &format!("world-{seed:03}"),
-            7000 + seed,
-            60.0,
-            n,
-            3,
-        ));
-    }
+    all.extend((0..1000u64).map(world_scene));
     let fulls: Vec<Plan> = all
         .iter()
         .map(|s| plan(s, &with_prune(None)).unwrap())

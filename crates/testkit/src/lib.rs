@@ -116,6 +116,20 @@ pub fn random_scene(name: &str, seed: u64, size: f64, n: usize, group: usize) ->
     square_scene(name.to_owned(), size, start, goal, obstacles)
 }
 
+/// The seeded random scenes of `fixtures/random`, as `cargo xtask gen-scenes` writes them:
+/// 10 small scenes (60 x 60, 4 to 12 circles) and 5 with hundreds of circles (240 x 240).
+pub fn random_fixture_scenes() -> Vec<Scene> {
+    let small = (0..10u64).map(|i| {
+        let n = 4 + (i as usize * 3) % 9;
+        random_scene(&format!("random-small-{i:02}"), 1000 + i, 60.0, n, 3)
+    });
+    let large = (0..5u64).map(|i| {
+        let n = 200 + 50 * i as usize;
+        random_scene(&format!("random-large-{i:02}"), 2000 + i, 240.0, n, 6)
+    });
+    small.chain(large).collect()
+}
+
 /// The default team of the generated worlds: a UGV at 1 unit/s seeing 6 units, and `uavs`
 /// scouts taking off at the start, 3 units/s, seeing 8 units.
 pub fn team(scene: &Scene, uavs: usize) -> Team {
@@ -181,10 +195,14 @@ pub fn blocked_world(scene: &Scene, uavs: usize, second: bool) -> Option<Mission
 /// circles with its best class blocked, and in every other world the second best too;
 /// `None` for a seed whose scene does not give such a world (too few classes).
 pub fn random_world(seed: u64, uavs: usize) -> Option<MissionWorld> {
+    blocked_world(&world_scene(seed), uavs, seed % 2 == 1)
+}
+
+/// The prior scene of [`random_world`] `seed`: a random 60 x 60 scene of 5 to 12 circles.
+pub fn world_scene(seed: u64) -> Scene {
     let mut rng = SplitMix(seed ^ 0x5EED);
     let n = 5 + (rng.next_unit() * 8.0) as usize;
-    let scene = random_scene(&format!("world-{seed:03}"), 7000 + seed, 60.0, n, 3);
-    blocked_world(&scene, uavs, seed % 2 == 1)
+    random_scene(&format!("world-{seed:03}"), 7000 + seed, 60.0, n, 3)
 }
 
 /// The mission worlds of `fixtures/worlds`, in file-name order, each joined with its scene.
