@@ -109,6 +109,13 @@ pub struct Outcome {
     pub restarts: usize,
 }
 
+/// An objective that is told, with each point, the value from which on every value is as
+/// good as any other to the solver (`+inf`: the value itself is needed). Below that bound it
+/// must return the exact value; at or above it, the exact value or any value at or above
+/// the bound. A costly objective can stop early once a lower bound of its value reaches the
+/// bound: the solver's path is the same as with the exact values.
+pub type BoundedObjective<'a> = dyn FnMut(&[Real], Real) -> Real + 'a;
+
 /// Nelder-Mead with validated settings.
 #[derive(Clone, Debug, PartialEq)]
 pub struct NelderMead {
@@ -197,8 +204,8 @@ impl NelderMead {
         self
     }
 
-    /// The initial simplex around `x0`.
-    pub fn init(&self, f: &mut dyn FnMut(&[Real]) -> Real, x0: &[Real]) -> State {
+    /// The initial simplex around `x0` (every value is needed exactly).
+    pub fn init(&self, f: &mut BoundedObjective<'_>, x0: &[Real]) -> State {
         let n = x0.len();
         let mut simplex = vec![x0.to_vec()];
         for i in 0..n {
@@ -206,7 +213,10 @@ impl NelderMead {
             v[i] += self.initial_step[i];
             simplex.push(v);
         }
-        let values: Vec<Real> = simplex.iter().map(|x| sanitize(f(x))).collect();
+        let values: Vec<Real> = simplex
+            .iter()
+            .map(|x| sanitize(f(x, Real::INFINITY)))
+            .collect();
         let mut s = State {
             simplex,
             values,
@@ -217,8 +227,11 @@ impl NelderMead {
         s
     }
 
-    /// One iteration: reflect, expand, contract or shrink.
-    pub fn step(&self, f: &mut dyn FnMut(&[Real]) -> Real, s: &mut State) {
+    /// One iteration: reflect, expand, contract or shrink. Each trial point's bound is the
+    /// value it must beat to be taken: the worst vertex for the reflection and the inside
+    /// contraction, the reflection for the expansion and the outside contraction; a shrink
+    /// needs every value.
+    pub fn step(&self, f: &mut BoundedObjective<'_>, s: &mut State) {
         let n = s.simplex.len() - 1;
         let c = &self.coefficients;
         let centroid: Vec<Real> = (0..n)
@@ -231,11 +244,11 @@ impl NelderMead {
                 .collect()
         };
         let xr = along(c.reflection);
-        let fr = sanitize(f(&xr));
+        let fr = sanitize(f(&xr, s.values[n]));
         s.evaluations += 1;
         if fr < s.values[0] {
             let xe = along(c.reflection * c.expansion);
-            let fe = sanitize(f(&xe));
+            let fe = sanitize(f(&xe, fr));
             s.evaluations += 1;
             if fe < fr {
                 s.simplex[n] = xe;
@@ -248,18 +261,20 @@ impl NelderMead {
             s.simplex[n] = xr;
             s.values[n] = fr;
         } else {
-            // Outside contraction if the reflection beat the worst, inside otherwise.
+            // Outside contraction if the reflection beat the worst, inside otherwise; either
+            // is taken only below both.
+            let bar = s.values[n].min(fr);
             let (xc, fc) = if fr < s.values[n] {
                 let x = along(c.reflection * c.contraction);
-                let v = sanitize(f(&x));
+                let v = sanitize(f(&x, bar));
                 (x, v)
             } else {
                 let x = along(-c.contraction);
-                let v = sanitize(f(&x));
+                let v = sanitize(f(&x, bar));
                 (x, v)
             };
             s.evaluations += 1;
-            if fc < s.values[n].min(fr) {
+            if fc < bar {
                 s.simplex[n] = xc;
                 s.values[n] = fc;
             } else {
@@ -268,7 +283,7 @@ impl NelderMead {
                     for (v, b) in s.simplex[i].iter_mut().zip(&best) {
                         *v = b + c.shrink * (*v - b);
                     }
-                    s.values[i] = sanitize(f(&s.simplex[i]));
+                    s.values[i] = sanitize(f(&s.simplex[i], Real::INFINITY));
                 }
                 s.evaluations += n;
             }
@@ -303,6 +318,17 @@ impl NelderMead {
     pub fn minimize(
         &self,
         f: &mut dyn FnMut(&[Real]) -> Real,
+        x0: &[Real],
+        observer: &mut dyn Observer,
+    ) -> Outcome {
+        self.minimize_bounded(&mut |x: &[Real], _| f(x), x0, observer)
+    }
+
+    /// [`NelderMead::minimize`] on a [`BoundedObjective`]: the same path and result as with
+    /// the exact values.
+    pub fn minimize_bounded(
+        &self,
+        f: &mut BoundedObjective<'_>,
         x0: &[Real],
         observer: &mut dyn Observer,
     ) -> Outcome {
@@ -351,9 +377,15 @@ fn sanitize(v: Real) -> Real {
 }
 
 fn sort(s: &mut State) {
-    let mut idx: Vec<usize> = (0..s.values.len()).collect();
-    // Stable: ties keep their order, so runs are reproducible.
-    idx.sort_by(|&a, &b| s.values[a].total_cmp(&s.values[b]));
-    s.simplex = idx.iter().map(|&i| s.simplex[i].clone()).collect();
-    s.values = idx.iter().map(|&i| s.values[i]).collect();
+    // Stable insertion sort of the vertices by value, moving rows rather than cloning them:
+    // ties keep their order, so runs are reproducible. After a reflection, expansion or
+    // contraction only the last vertex is out of place, so this is one pass.
+    for i in 1..s.values.len() {
+        let mut j = i;
+        while j > 0 && s.values[j - 1].total_cmp(&s.values[j]).is_gt() {
+            s.values.swap(j - 1, j);
+            s.simplex.swap(j - 1, j);
+            j -= 1;
+        }
+    }
 }

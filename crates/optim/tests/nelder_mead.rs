@@ -155,3 +155,45 @@ fn lbfgs_finds_the_rosenbrock_minimum() {
         assert!(out.value < 1e-12, "n = {n}: {}", out.value);
     }
 }
+
+#[test]
+fn a_bounded_objective_gives_the_exact_objectives_path() {
+    // At or above its bound the objective may answer anything at or above it: here the
+    // bound plus a large, varying amount (a cost stopped early returns its lower bound).
+    // The solver must take every step as with the exact values.
+    for n in [2, 5, 8] {
+        let nm = NelderMead::new(n)
+            .with_max_evaluations(60 * n)
+            .unwrap()
+            .with_initial_step(vec![0.3; n])
+            .unwrap();
+        let x0: Vec<f64> = (0..n).map(|i| -1.2 + 0.1 * i as f64).collect();
+        let mut exact_trace = Vec::new();
+        let exact = nm.minimize(&mut |x: &[f64]| rosenbrock(x), &x0, &mut |s: &State| {
+            exact_trace.push(s.clone())
+        });
+        let (mut calls, mut answered_above) = (0usize, 0usize);
+        let mut bounded_trace = Vec::new();
+        let bounded = nm.minimize_bounded(
+            &mut |x: &[f64], bound: f64| {
+                calls += 1;
+                let v = rosenbrock(x);
+                if v >= bound {
+                    answered_above += 1;
+                    bound + 1e6 * (calls % 7) as f64
+                } else {
+                    v
+                }
+            },
+            &x0,
+            &mut |s: &State| bounded_trace.push(s.clone()),
+        );
+        assert_eq!(exact, bounded, "n = {n}");
+        assert_eq!(exact_trace, bounded_trace, "n = {n}");
+        // The test means something only if many answers were the stand-ins.
+        assert!(
+            answered_above * 5 > calls,
+            "n = {n}: {answered_above} of {calls}"
+        );
+    }
+}

@@ -473,6 +473,20 @@ pub fn evaluate(spline: &Spline, model: &dyn ClearanceModel, cfg: &CostConfig) -
     run(spline, model, cfg, None, true)
 }
 
+/// [`evaluate_weighted`] for an optimiser that needs the value only below `bound`: `Err`
+/// with a lower bound of the total, at least `bound`, when the terms computed first
+/// (roughness, length, and safety from the knots' clearances, `m(C)` being at most the
+/// least of them) already reach it; else `Ok` with the same terms as [`evaluate_weighted`].
+/// The field, the integrals and the refinement of `m(C)` are then skipped.
+pub fn evaluate_weighted_below(
+    spline: &Spline,
+    model: &dyn ClearanceModel,
+    cfg: &CostConfig,
+    bound: Real,
+) -> Result<CostTerms, Real> {
+    run_bounded(spline, model, cfg, None, false, bound)
+}
+
 /// The cost of `spline` as an optimiser needs it: the same `total` and `min_clearance` as
 /// [`evaluate`], but the terms whose weight is 0 are not computed (they read 0).
 pub fn evaluate_weighted(
@@ -635,23 +649,38 @@ struct Node {
 }
 
 /// The curve at its quadrature nodes, with its length.
+#[derive(Default)]
 struct Samples {
     points: Vec<Point>,
     nodes: Vec<Node>,
     length: Real,
 }
 
-/// Step 1: every quadrature node of the curve, and its length.
-fn sample(spline: &Spline, cfg: &CostConfig) -> Samples {
+/// The buffers of one evaluation, kept per thread between evaluations: an optimiser evaluates
+/// thousands of curves of the same size, and allocating these afresh each time was a tenth
+/// of a plan's time.
+#[derive(Default)]
+struct Scratch {
+    samples: Samples,
+    field: Vec<FieldSample>,
+    knot_clearances: Vec<(Real, Real)>,
+    distances: Vec<Real>,
+}
+
+thread_local! {
+    /// Taken out for an evaluation and put back after it (a `Cell`, so that an evaluation
+    /// nested in another, which does not happen, would only allocate its own).
+    static SCRATCH: std::cell::Cell<Scratch> = std::cell::Cell::new(Scratch::default());
+}
+
+/// Step 1: every quadrature node of the curve, and its length, into `out`.
+fn sample(spline: &Spline, cfg: &CostConfig, out: &mut Samples) {
     let (gx, gw) = gauss_legendre_cached(cfg.nodes.clamp(2, 64));
     let pieces = cfg.pieces.max(1);
     let knots = spline.knots();
-    let cap = spline.segments() * pieces * gx.len();
-    let mut out = Samples {
-        points: Vec::with_capacity(cap),
-        nodes: Vec::with_capacity(cap),
-        length: 0.0,
-    };
+    out.points.clear();
+    out.nodes.clear();
+    out.length = 0.0;
     for seg in 0..spline.segments() {
         let h = (knots[seg + 1] - knots[seg]) / pieces as Real;
         for piece in 0..pieces {
@@ -674,7 +703,6 @@ fn sample(spline: &Spline, cfg: &CostConfig) -> Samples {
             }
         }
     }
-    out
 }
 
 /// Step 2: the field (potential and clearance) at every node, in one batch query. Far
@@ -685,8 +713,10 @@ fn query_field(
     roughness: Real,
     knot_clearance: Real,
     cfg: &CostConfig,
-) -> Vec<FieldSample> {
-    let mut field = vec![FieldSample::default(); samples.points.len()];
+    field: &mut Vec<FieldSample>,
+) {
+    field.clear();
+    field.resize(samples.points.len(), FieldSample::default());
     // Left-out potential per unit length <= allowance, so the topology term loses at most
     // allowance * L = tolerance * (g2 R + g3 L + g4 D_knots) <= tolerance * total, where
     // D_knots = omega^(dm - least knot clearance) <= D, since m(C) is at most the clearance
@@ -703,8 +733,7 @@ fn query_field(
     } else {
         0.0
     };
-    model.field_batch(&samples.points, cfg.alpha, allowance, &mut field);
-    field
+    model.field_batch(&samples.points, cfg.alpha, allowance, field);
 }
 
 /// The node of least clearance.
@@ -735,6 +764,12 @@ impl Needs {
     }
 }
 
+/// Which point terms [`integrate`] computes.
+struct Weighs {
+    danger: bool,
+    critical: bool,
+}
+
 /// Step 3: the integrals over the nodes (topology, maximal clearance, danger, critical,
 /// passing time) and, with `grad`, each node's partial derivatives; returns the node of least
 /// clearance.
@@ -747,6 +782,11 @@ fn integrate(
     mut grad: Option<&mut Vec<NodePartial>>,
 ) -> Option<Worst> {
     let mut worst: Option<Worst> = None;
+    // Terms of weight 0 are left out unless every term is asked for.
+    let weighs = Weighs {
+        danger: needs.all || cfg.w_danger > 0.0,
+        critical: needs.all || cfg.w_critical > 0.0,
+    };
     for (idx, n) in samples.nodes.iter().enumerate() {
         let (p, wq, v, a, speed) = (samples.points[idx], n.dt, n.v, n.a, n.speed);
         let vhat = if speed > 0.0 {
@@ -771,7 +811,7 @@ fn integrate(
             gq += dd * (cfg.w_max_clearance * wq * speed);
             gv += vhat * (cfg.w_max_clearance * wq * (d - cfg.d_max));
         }
-        for &(at, dmin) in &cfg.danger_points {
+        for &(at, dmin) in cfg.danger_points.iter().filter(|_| weighs.danger) {
             let r = p - at;
             let e = dmin - r.norm();
             if e > 0.0 {
@@ -780,7 +820,7 @@ fn integrate(
                 gv += vhat * (cfg.w_danger * wq * e * e);
             }
         }
-        for &(at, dmax) in &cfg.critical_points {
+        for &(at, dmax) in cfg.critical_points.iter().filter(|_| weighs.critical) {
             let r = p - at;
             let e = r.norm() - dmax;
             if e > 0.0 {
@@ -885,11 +925,18 @@ fn refine_min_clearance(
         .fold((tb, fb), |best, e| if e.1 < best.1 { e } else { best })
 }
 
-/// Each knot's parameter and clearance.
-fn knot_clearances(spline: &Spline, model: &dyn ClearanceModel) -> Vec<(Real, Real)> {
-    let mut d = vec![0.0; spline.points().len()];
-    model.clearances(spline.points(), &mut d);
-    spline.knots().iter().copied().zip(d).collect()
+/// Each knot's parameter and clearance, into `out` (`d` is a buffer).
+fn knot_clearances(
+    spline: &Spline,
+    model: &dyn ClearanceModel,
+    d: &mut Vec<Real>,
+    out: &mut Vec<(Real, Real)>,
+) {
+    d.clear();
+    d.resize(spline.points().len(), 0.0);
+    model.clearances(spline.points(), d);
+    out.clear();
+    out.extend(spline.knots().iter().copied().zip(d.iter().copied()));
 }
 
 /// Step 5: the line-of-sight shares (start and goal visibility, shelter from hazards).
@@ -941,11 +988,51 @@ fn run(
     spline: &Spline,
     model: &dyn ClearanceModel,
     cfg: &CostConfig,
-    mut grad: Option<&mut Vec<NodePartial>>,
+    grad: Option<&mut Vec<NodePartial>>,
     all: bool,
 ) -> CostTerms {
+    // With no bound the run does not stop early.
+    run_bounded(spline, model, cfg, grad, all, Real::INFINITY).unwrap_or_else(|_| CostTerms {
+        total: Real::INFINITY,
+        ..CostTerms::default()
+    })
+}
+
+/// [`run`], stopping early with `Err(lower bound)` once a lower bound of the total reaches
+/// `bound` (never for `bound = +inf`).
+fn run_bounded(
+    spline: &Spline,
+    model: &dyn ClearanceModel,
+    cfg: &CostConfig,
+    grad: Option<&mut Vec<NodePartial>>,
+    all: bool,
+    bound: Real,
+) -> Result<CostTerms, Real> {
+    let mut scratch = SCRATCH.take();
+    let t = run_in(spline, model, cfg, grad, all, bound, &mut scratch);
+    SCRATCH.set(scratch);
+    t
+}
+
+/// [`run`] on the buffers of `scratch`.
+fn run_in(
+    spline: &Spline,
+    model: &dyn ClearanceModel,
+    cfg: &CostConfig,
+    mut grad: Option<&mut Vec<NodePartial>>,
+    all: bool,
+    bound: Real,
+    scratch: &mut Scratch,
+) -> Result<CostTerms, Real> {
     let needs = Needs::of(cfg, all);
-    let samples = sample(spline, cfg);
+    let Scratch {
+        samples,
+        field,
+        knot_clearances: knots,
+        distances,
+    } = scratch;
+    sample(spline, cfg, samples);
+    let samples = &*samples;
     let rough = roughness(spline, cfg.roughness, grad.is_some());
     let mut t = CostTerms {
         min_clearance: Real::INFINITY,
@@ -974,19 +1061,27 @@ fn run(
     }
     // Every knot's clearance where the safety term weighs and the model truncates (the
     // allowance counts on them); else only the ends', which `m(C)` always takes in.
-    let knots = if cfg.w_safety > 0.0 && model.truncates() {
-        knot_clearances(spline, model)
+    if cfg.w_safety > 0.0 && model.truncates() {
+        knot_clearances(spline, model, distances, knots);
     } else {
-        [0.0, 1.0]
-            .iter()
-            .map(|&t| (t, model.clearance(&spline.position(t)).0))
-            .collect()
-    };
+        knots.clear();
+        knots.extend(
+            [0.0, 1.0]
+                .iter()
+                .map(|&t| (t, model.clearance(&spline.position(t)).0)),
+        );
+    }
     let least_knot = knots.iter().map(|k| k.1).fold(Real::INFINITY, Real::min);
-    let field = query_field(model, &samples, t.roughness, least_knot, cfg);
-    let worst = integrate(&samples, &field, cfg, needs, &mut t, grad.as_deref_mut());
+    if bound.is_finite()
+        && let Some(low) = lower_bound(&t, least_knot, cfg)
+        && low >= bound
+    {
+        return Err(low);
+    }
+    query_field(model, samples, t.roughness, least_knot, cfg, field);
+    let worst = integrate(samples, field, cfg, needs, &mut t, grad.as_deref_mut());
     if let Some(worst) = worst.filter(|w| w.clearance.is_finite()) {
-        let (tm, m) = refine_min_clearance(spline, model, &samples, worst, &knots);
+        let (tm, m) = refine_min_clearance(spline, model, samples, worst, knots);
         t.min_clearance = m;
         t.safety = cfg.omega.powf(cfg.dm - m);
         if let Some(g) = grad {
@@ -1003,10 +1098,37 @@ fn run(
         }
     }
     if needs.line_of_sight {
-        line_of_sight_shares(spline, model, &samples, cfg, &mut t);
+        line_of_sight_shares(spline, model, samples, cfg, &mut t);
     }
     t.total = cfg.total(&t);
-    t
+    Ok(t)
+}
+
+/// A lower bound of the weighted total from the terms known before the field is queried:
+/// roughness and length as they are, safety `omega^(dm - least knot clearance)` (`m(C)` is
+/// at most every knot's clearance, and with `omega >= 1` the power falls with `m`), every
+/// other term 0. Every term and weight is `>= 0` and the total is their sum in a fixed
+/// order, so the same sum with some terms lowered is no larger (rounding is monotone); the
+/// margin of `1e-9` covers the power's last bit. `None` when it is not finite.
+fn lower_bound(t: &CostTerms, least_knot: Real, cfg: &CostConfig) -> Option<Real> {
+    // A configuration built by hand with a negative weight (`validate` refuses it) gets no
+    // bound.
+    if !TERMS.iter().all(|term| (term.weight)(cfg) >= 0.0) {
+        return None;
+    }
+    let safety = if cfg.omega >= 1.0 && least_knot.is_finite() {
+        cfg.omega.powf(cfg.dm - least_knot)
+    } else {
+        0.0
+    };
+    let known = CostTerms {
+        roughness: t.roughness,
+        length: t.length,
+        safety,
+        ..CostTerms::default()
+    };
+    let low = cfg.total(&known) * (1.0 - 1e-9);
+    low.is_finite().then_some(low)
 }
 
 #[cfg(test)]

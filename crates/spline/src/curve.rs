@@ -425,39 +425,77 @@ impl Spline {
 }
 
 /// Second derivatives at the knots (the `M_i` of the classic formulation), by Thomas'
-/// algorithm on the tridiagonal system; `O(n)`.
+/// algorithm on the tridiagonal system; `O(n)`, two allocations (the result and the
+/// eliminated diagonal): this runs once per optimiser evaluation. The operations are those of
+/// [`system_matrix`] and [`solve_tridiagonal`], in the same order, so the result is the same
+/// to the bit.
 fn second_derivatives(t: &[Real], p: &[Point], end: EndCondition) -> Vec<Vector> {
     let n = p.len();
     if n == 2 && end == EndCondition::Natural {
         return vec![Vector::zeros(); n];
     }
-    let h: Vec<Real> = (0..n - 1).map(|i| t[i + 1] - t[i]).collect();
-    let slope: Vec<Vector> = (0..n - 1).map(|i| (p[i + 1] - p[i]) / h[i]).collect();
-    let (sub, diag, sup) = system_matrix(&h, end);
-    let mut rhs = vec![Vector::zeros(); n];
-    for i in 1..n - 1 {
-        rhs[i] = (slope[i] - slope[i - 1]) * 6.0;
+    let h = |i: usize| t[i + 1] - t[i];
+    let slope = |i: usize| (p[i + 1] - p[i]) / h(i);
+    // The right-hand side, eliminated in place below.
+    let mut m = vec![Vector::zeros(); n];
+    for (i, r) in m.iter_mut().enumerate().take(n - 1).skip(1) {
+        *r = (slope(i) - slope(i - 1)) * 6.0;
     }
     match end {
         EndCondition::Natural => {}
         EndCondition::Clamped { start, end } => {
-            rhs[0] = (slope[0] - start) * 6.0;
-            rhs[n - 1] = (end - slope[n - 2]) * 6.0;
+            m[0] = (slope(0) - start) * 6.0;
+            m[n - 1] = (end - slope(n - 2)) * 6.0;
         }
         EndCondition::ClampedStart { start } => {
-            rhs[0] = (slope[0] - start) * 6.0;
+            m[0] = (slope(0) - start) * 6.0;
         }
         EndCondition::StartHeading { direction } => {
+            let s0 = slope(0);
             let n0 = direction.norm();
             let start = if n0 > 0.0 {
-                direction * (slope[0].norm() / n0)
+                direction * (s0.norm() / n0)
             } else {
-                slope[0]
+                s0
             };
-            rhs[0] = (slope[0] - start) * 6.0;
+            m[0] = (s0 - start) * 6.0;
         }
     }
-    solve_tridiagonal(&sub, diag, &sup, rhs)
+    let row = |i: usize| system_row(&h, n, i, end);
+    let mut diag = Vec::with_capacity(n);
+    diag.push(row(0).1);
+    for i in 1..n {
+        let (sub, d, _) = row(i);
+        let w = sub / diag[i - 1];
+        diag.push(d - w * row(i - 1).2);
+        let r = m[i - 1] * w;
+        m[i] -= r;
+    }
+    m[n - 1] /= diag[n - 1];
+    for i in (0..n - 1).rev() {
+        m[i] = (m[i] - m[i + 1] * row(i).2) / diag[i];
+    }
+    m
+}
+
+/// Row `i` of the system for the second derivatives, `(sub, diag, sup)`:
+/// `sub M[i-1] + diag M[i] + sup M[i+1]`, from the knot steps `h` and the kind of end
+/// condition; `n` knots.
+fn system_row(
+    h: &dyn Fn(usize) -> Real,
+    n: usize,
+    i: usize,
+    end: EndCondition,
+) -> (Real, Real, Real) {
+    if i > 0 && i < n - 1 {
+        (h(i - 1), 2.0 * (h(i - 1) + h(i)), h(i))
+    } else if i == 0 && !matches!(end, EndCondition::Natural) {
+        (0.0, 2.0 * h(0), h(0))
+    } else if i == n - 1 && matches!(end, EndCondition::Clamped { .. }) {
+        (h(n - 2), 2.0 * h(n - 2), 0.0)
+    } else {
+        (0.0, 1.0, 0.0)
+    }
 }
 
 /// The matrix of the system for the second derivatives, by rows:
@@ -465,23 +503,13 @@ fn second_derivatives(t: &[Real], p: &[Point], end: EndCondition) -> Vec<Vector>
 /// kind of end condition only.
 fn system_matrix(h: &[Real], end: EndCondition) -> (Vec<Real>, Vec<Real>, Vec<Real>) {
     let n = h.len() + 1;
-    let mut sub = vec![0.0; n];
-    let mut diag = vec![1.0; n];
-    let mut sup = vec![0.0; n];
-    for i in 1..n - 1 {
-        sub[i] = h[i - 1];
-        diag[i] = 2.0 * (h[i - 1] + h[i]);
-        sup[i] = h[i];
-    }
-    if !matches!(end, EndCondition::Natural) {
-        diag[0] = 2.0 * h[0];
-        sup[0] = h[0];
-    }
-    if matches!(end, EndCondition::Clamped { .. }) {
-        sub[n - 1] = h[n - 2];
-        diag[n - 1] = 2.0 * h[n - 2];
-    }
-    (sub, diag, sup)
+    let step = |i: usize| h[i];
+    let rows: Vec<(Real, Real, Real)> = (0..n).map(|i| system_row(&step, n, i, end)).collect();
+    (
+        rows.iter().map(|r| r.0).collect(),
+        rows.iter().map(|r| r.1).collect(),
+        rows.iter().map(|r| r.2).collect(),
+    )
 }
 
 /// Thomas' algorithm (no pivoting: the systems here are diagonally dominant).

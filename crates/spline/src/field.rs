@@ -209,7 +209,16 @@ impl ClearanceModel for CircleModel {
         };
         let two_alpha = 2.0 * alpha;
         let cutoff_distance = cutoff / two_alpha;
-        let mut kept: Vec<usize> = vec![0; self.xs.len()];
+        // The kept circles' indices: on the stack for the usual few dozen circles (this runs
+        // once per optimiser evaluation), on the heap beyond.
+        let mut on_stack = [0usize; 128];
+        let mut on_heap = Vec::new();
+        let kept: &mut [usize] = if self.xs.len() <= on_stack.len() {
+            &mut on_stack[..self.xs.len()]
+        } else {
+            on_heap.resize(self.xs.len(), 0);
+            &mut on_heap
+        };
         let n = pts.len().min(out.len());
         for (block_pts, block_out) in pts[..n].chunks(BLOCK).zip(out[..n].chunks_mut(BLOCK)) {
             // Lanes past the end repeat the last point; their results are not read.

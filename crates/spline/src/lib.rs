@@ -36,7 +36,8 @@ pub mod roughness;
 
 pub use certify::{CertifiedClearance, is_collision_free, min_clearance};
 pub use cost::{
-    CostConfig, CostConfigError, CostTerms, RoughnessForm, evaluate, evaluate_weighted, gradient,
+    CostConfig, CostConfigError, CostTerms, RoughnessForm, evaluate, evaluate_weighted,
+    evaluate_weighted_below, gradient,
 };
 pub use curve::{EndCondition, Parametrization, Spline, SplineError};
 pub use field::{CircleModel, ClearanceModel};

@@ -349,6 +349,31 @@ proptest! {
     }
 
     #[test]
+    fn a_bounded_evaluation_is_exact_below_its_bound_and_a_lower_bound_above(
+        s in random_spline(),
+        circles in prop::collection::vec((0.0..60.0, 0.0..60.0, 0.5..6.0), 1..20),
+        share in 0.5..1.5f64,
+    ) {
+        let model = CircleModel::new(
+            circles.into_iter().map(|(x, y, r)| Circle::new(x, y, r)).collect(),
+        );
+        let cfg = CostConfig::paper_voronoi();
+        let exact = homospline_spline::evaluate_weighted(&s, &model, &cfg);
+        let bound = exact.total * share;
+        match homospline_spline::evaluate_weighted_below(&s, &model, &cfg, bound) {
+            // Not stopped early: the same terms, to the bit.
+            Ok(t) => prop_assert_eq!(t, exact),
+            // Stopped: a value at or above the bound and at most the exact total.
+            Err(low) => {
+                prop_assert!(low >= bound && low <= exact.total, "{} {} {}", bound, low, exact.total);
+            }
+        }
+        // With no bound it never stops.
+        let unbounded = homospline_spline::evaluate_weighted_below(&s, &model, &cfg, f64::INFINITY);
+        prop_assert_eq!(unbounded, Ok(exact));
+    }
+
+    #[test]
     fn certified_clearance_brackets_dense_brute_force(
         s in random_spline(),
         circles in prop::collection::vec((0.0..60.0, 0.0..60.0, 0.5..6.0), 1..20),
