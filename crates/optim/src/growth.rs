@@ -6,7 +6,7 @@ use homospline_geom::{Bounds, Point, Real};
 use homospline_homotopy::{Rays, Signature};
 use homospline_spline::{
     ClearanceModel, CostConfig, CostTerms, EndCondition, Parametrization, Spline, SplineError,
-    evaluate, evaluate_weighted, evaluate_weighted_below, gradient, is_collision_free,
+    evaluate, evaluate_weighted, evaluate_weighted_unless, gradient, is_collision_free,
     min_clearance,
 };
 use std::cell::RefCell;
@@ -139,8 +139,9 @@ impl Guard<'_> {
 
     /// [`Guard::cost`] for an optimiser that needs the value only below `bound`
     /// ([`crate::nelder_mead::BoundedObjective`]): the exact value below it, else a value at
-    /// or above it. The cost comes first, and may stop early
-    /// ([`homospline_spline::cost::evaluate_weighted_below`]); the class and bounds checks
+    /// or above it. The cost comes first, and stops early once terms bounding it reach the
+    /// bound ([`homospline_spline::cost::evaluate_weighted_unless`]: [`Guard::value`] falls
+    /// as the clearance rises and rises with the total); the class and bounds checks
     /// run only for a candidate whose value is below the bound, since a rejected candidate's
     /// `+inf` is at or above it too. Whether a candidate is in its class does not depend on
     /// which candidates were checked before it (the guard's memory only speeds the check).
@@ -151,9 +152,10 @@ impl Guard<'_> {
         cfg: &GrowthConfig,
         bound: Real,
     ) -> Real {
-        let value = match evaluate_weighted_below(spline, model, &cfg.cost, bound) {
+        let enough = |low: &CostTerms| self.value(low) >= bound;
+        let value = match evaluate_weighted_unless(spline, model, &cfg.cost, &enough) {
             Ok(terms) => self.value(&terms),
-            Err(low) => return low,
+            Err(low) => return self.value(&low),
         };
         if value >= bound || !admissible(spline, self, cfg.guard_samples) {
             return if value >= bound {

@@ -473,18 +473,20 @@ pub fn evaluate(spline: &Spline, model: &dyn ClearanceModel, cfg: &CostConfig) -
     run(spline, model, cfg, None, true)
 }
 
-/// [`evaluate_weighted`] for an optimiser that needs the value only below `bound`: `Err`
-/// with a lower bound of the total, at least `bound`, when the terms computed first
-/// (roughness, length, and safety from the knots' clearances, `m(C)` being at most the
-/// least of them) already reach it; else `Ok` with the same terms as [`evaluate_weighted`].
-/// The field, the integrals and the refinement of `m(C)` are then skipped.
-pub fn evaluate_weighted_below(
+/// [`evaluate_weighted`] for an optimiser that may not need the exact value: `enough` is
+/// asked with terms that bound the exact ones (every term and the total at most the exact
+/// ones, `min_clearance` at least the exact `m(C)`), once the roughness, the length and the
+/// knots' clearances are known and again once the integrals are; if it answers `true`, the
+/// evaluation stops there and returns those terms as `Err`. Else `Ok` with the same terms as
+/// [`evaluate_weighted`]. What is skipped: the field and the integrals at the first stop,
+/// the refinement of `m(C)` at the second.
+pub fn evaluate_weighted_unless(
     spline: &Spline,
     model: &dyn ClearanceModel,
     cfg: &CostConfig,
-    bound: Real,
-) -> Result<CostTerms, Real> {
-    run_bounded(spline, model, cfg, None, false, bound)
+    enough: &dyn Fn(&CostTerms) -> bool,
+) -> Result<CostTerms, CostTerms> {
+    run_unless(spline, model, cfg, None, false, Some(enough))
 }
 
 /// The cost of `spline` as an optimiser needs it: the same `total` and `min_clearance` as
@@ -991,25 +993,22 @@ fn run(
     grad: Option<&mut Vec<NodePartial>>,
     all: bool,
 ) -> CostTerms {
-    // With no bound the run does not stop early.
-    run_bounded(spline, model, cfg, grad, all, Real::INFINITY).unwrap_or_else(|_| CostTerms {
-        total: Real::INFINITY,
-        ..CostTerms::default()
-    })
+    // Without `enough` the run never stops early: both arms hold the full terms.
+    run_unless(spline, model, cfg, grad, all, None).unwrap_or_else(|t| t)
 }
 
-/// [`run`], stopping early with `Err(lower bound)` once a lower bound of the total reaches
-/// `bound` (never for `bound = +inf`).
-fn run_bounded(
+/// [`run`], stopping early with `Err(bounding terms)` when `enough` says so
+/// ([`evaluate_weighted_unless`]).
+fn run_unless(
     spline: &Spline,
     model: &dyn ClearanceModel,
     cfg: &CostConfig,
     grad: Option<&mut Vec<NodePartial>>,
     all: bool,
-    bound: Real,
-) -> Result<CostTerms, Real> {
+    enough: Option<&dyn Fn(&CostTerms) -> bool>,
+) -> Result<CostTerms, CostTerms> {
     let mut scratch = SCRATCH.take();
-    let t = run_in(spline, model, cfg, grad, all, bound, &mut scratch);
+    let t = run_in(spline, model, cfg, grad, all, enough, &mut scratch);
     SCRATCH.set(scratch);
     t
 }
@@ -1021,9 +1020,9 @@ fn run_in(
     cfg: &CostConfig,
     mut grad: Option<&mut Vec<NodePartial>>,
     all: bool,
-    bound: Real,
+    enough: Option<&dyn Fn(&CostTerms) -> bool>,
     scratch: &mut Scratch,
-) -> Result<CostTerms, Real> {
+) -> Result<CostTerms, CostTerms> {
     let needs = Needs::of(cfg, all);
     let Scratch {
         samples,
@@ -1072,14 +1071,24 @@ fn run_in(
         );
     }
     let least_knot = knots.iter().map(|k| k.1).fold(Real::INFINITY, Real::min);
-    if bound.is_finite()
-        && let Some(low) = lower_bound(&t, least_knot, cfg)
-        && low >= bound
+    // First stop: roughness, length and the knots' clearances (`m(C)` is at most theirs).
+    if let Some(enough) = enough
+        && let Some(low) = bounding_terms(&t, least_knot, cfg)
+        && enough(&low)
     {
         return Err(low);
     }
     query_field(model, samples, t.roughness, least_knot, cfg, field);
     let worst = integrate(samples, field, cfg, needs, &mut t, grad.as_deref_mut());
+    // Second stop: every integral, and `m(C)` at most the least node's and knot's clearance
+    // (the refinement below only lowers it).
+    if let Some(enough) = enough
+        && let Some(w) = worst
+        && let Some(low) = bounding_terms(&t, w.clearance.min(least_knot), cfg)
+        && enough(&low)
+    {
+        return Err(low);
+    }
     if let Some(worst) = worst.filter(|w| w.clearance.is_finite()) {
         let (tm, m) = refine_min_clearance(spline, model, samples, worst, knots);
         t.min_clearance = m;
@@ -1104,31 +1113,34 @@ fn run_in(
     Ok(t)
 }
 
-/// A lower bound of the weighted total from the terms known before the field is queried:
-/// roughness and length as they are, safety `omega^(dm - least knot clearance)` (`m(C)` is
-/// at most every knot's clearance, and with `omega >= 1` the power falls with `m`), every
-/// other term 0. Every term and weight is `>= 0` and the total is their sum in a fixed
-/// order, so the same sum with some terms lowered is no larger (rounding is monotone); the
-/// margin of `1e-9` covers the power's last bit. `None` when it is not finite.
-fn lower_bound(t: &CostTerms, least_knot: Real, cfg: &CostConfig) -> Option<Real> {
-    // A configuration built by hand with a negative weight (`validate` refuses it) gets no
-    // bound.
+/// Terms bounding those of the finished evaluation from the terms `t` computed so far and
+/// an upper bound `m_up` of `m(C)`: `min_clearance = m_up`, safety `omega^(dm - m_up)` (with
+/// `omega >= 1` the power falls as `m` rises; else 0), the line-of-sight shares 0 (they come
+/// last), the other terms as they are, and the total of these. Every term and weight is
+/// `>= 0` and the total is their sum in a fixed order, so lowering some terms lowers it
+/// (rounding is monotone); the margin of `1e-9` on safety and the total covers the power's
+/// last bit. `None` when a weight is negative (`validate` refuses that; a configuration
+/// built by hand may have it) or the total is not finite.
+fn bounding_terms(t: &CostTerms, m_up: Real, cfg: &CostConfig) -> Option<CostTerms> {
     if !TERMS.iter().all(|term| (term.weight)(cfg) >= 0.0) {
         return None;
     }
-    let safety = if cfg.omega >= 1.0 && least_knot.is_finite() {
-        cfg.omega.powf(cfg.dm - least_knot)
+    const MARGIN: Real = 1.0 - 1e-9;
+    let safety = if cfg.omega >= 1.0 && m_up.is_finite() {
+        cfg.omega.powf(cfg.dm - m_up) * MARGIN
     } else {
         0.0
     };
-    let known = CostTerms {
-        roughness: t.roughness,
-        length: t.length,
+    let mut low = CostTerms {
+        min_clearance: m_up,
         safety,
-        ..CostTerms::default()
+        start_visibility: 0.0,
+        goal_visibility: 0.0,
+        sheltered: 0.0,
+        ..*t
     };
-    let low = cfg.total(&known) * (1.0 - 1e-9);
-    low.is_finite().then_some(low)
+    low.total = cfg.total(&low) * MARGIN;
+    low.total.is_finite().then_some(low)
 }
 
 #[cfg(test)]

@@ -37,7 +37,7 @@ pub mod roughness;
 pub use certify::{CertifiedClearance, is_collision_free, min_clearance};
 pub use cost::{
     CostConfig, CostConfigError, CostTerms, RoughnessForm, evaluate, evaluate_weighted,
-    evaluate_weighted_below, gradient,
+    evaluate_weighted_unless, gradient,
 };
 pub use curve::{EndCondition, Parametrization, Spline, SplineError};
 pub use field::{CircleModel, ClearanceModel};

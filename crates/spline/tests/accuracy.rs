@@ -349,7 +349,7 @@ proptest! {
     }
 
     #[test]
-    fn a_bounded_evaluation_is_exact_below_its_bound_and_a_lower_bound_above(
+    fn an_evaluation_stopped_early_bounds_the_full_one_and_one_not_stopped_is_it(
         s in random_spline(),
         circles in prop::collection::vec((0.0..60.0, 0.0..60.0, 0.5..6.0), 1..20),
         share in 0.5..1.5f64,
@@ -360,17 +360,21 @@ proptest! {
         let cfg = CostConfig::paper_voronoi();
         let exact = homospline_spline::evaluate_weighted(&s, &model, &cfg);
         let bound = exact.total * share;
-        match homospline_spline::evaluate_weighted_below(&s, &model, &cfg, bound) {
+        let enough = |low: &homospline_spline::CostTerms| low.total >= bound;
+        match homospline_spline::evaluate_weighted_unless(&s, &model, &cfg, &enough) {
             // Not stopped early: the same terms, to the bit.
             Ok(t) => prop_assert_eq!(t, exact),
-            // Stopped: a value at or above the bound and at most the exact total.
+            // Stopped: terms bounding the exact ones, their total at or above the bound.
             Err(low) => {
-                prop_assert!(low >= bound && low <= exact.total, "{} {} {}", bound, low, exact.total);
+                prop_assert!(low.total >= bound && low.total <= exact.total, "{} {} {}", bound, low.total, exact.total);
+                prop_assert!(low.min_clearance >= exact.min_clearance);
+                prop_assert!(low.roughness <= exact.roughness && low.length <= exact.length);
+                prop_assert!(low.topology <= exact.topology && low.safety <= exact.safety);
             }
         }
-        // With no bound it never stops.
-        let unbounded = homospline_spline::evaluate_weighted_below(&s, &model, &cfg, f64::INFINITY);
-        prop_assert_eq!(unbounded, Ok(exact));
+        // Never enough: never stopped.
+        let never = homospline_spline::evaluate_weighted_unless(&s, &model, &cfg, &|_| false);
+        prop_assert_eq!(never, Ok(exact));
     }
 
     #[test]
