@@ -333,6 +333,18 @@ impl ClearanceModel for NearCircles {
         }
     }
 
+    fn clearances(&self, pts: &[Point], out: &mut [Real]) {
+        // The distance of `clearance` (the least signed distance; ties give the same value)
+        // without its gradient: Brent's refinement of `m(C)` asks for a dozen points.
+        for (p, o) in pts.iter().zip(out.iter_mut()) {
+            *o = self
+                .0
+                .iter()
+                .map(|c| c.signed_distance(p))
+                .fold(Real::INFINITY, |best, d| if d < best { d } else { best });
+        }
+    }
+
     fn field_batch(&self, pts: &[Point], alpha: Real, _allowance: Real, out: &mut [FieldSample]) {
         for (p, o) in pts.iter().zip(out.iter_mut()) {
             let (clearance, clearance_grad) = self.clearance(p);
