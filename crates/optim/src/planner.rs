@@ -1281,24 +1281,60 @@ fn refine_samples(
         return (out, least);
     };
     out.push(first);
+    // Runs of REFINE_RUN segments whose box the model proves clear need no refinement, and
+    // their segments are checked only if the box could hold the least of them (below).
+    let margin = |d: Real| 1e-9 * (1.0 + d.abs());
+    let mut proven: Vec<(Real, usize, usize)> = Vec::new();
     let mut stack = Vec::new();
-    for w in samples.windows(2) {
-        stack.push((w[0], w[1], 0u32));
-        while let Some(((ta, pa), (tb, pb), depth)) = stack.pop() {
-            let d = model.segment_clearance(&pa, &pb);
-            if depth >= 16 || d > 0.0 {
-                least = least.min(d);
-                out.push(pb);
-                continue;
+    let segments = samples.len() - 1;
+    let mut k0 = 0;
+    while k0 < segments {
+        let k1 = (k0 + REFINE_RUN).min(segments);
+        let (mut lo, mut hi) = (samples[k0].1, samples[k0].1);
+        for (_, p) in &samples[k0 + 1..=k1] {
+            lo = lo.inf(p);
+            hi = hi.sup(p);
+        }
+        let bound = model.box_clearance(&lo, &hi);
+        if bound > margin(bound) {
+            out.extend(samples[k0 + 1..=k1].iter().map(|s| s.1));
+            proven.push((bound, k0, k1));
+            k0 = k1;
+            continue;
+        }
+        for w in samples[k0..=k1].windows(2) {
+            stack.push((w[0], w[1], 0u32));
+            while let Some(((ta, pa), (tb, pb), depth)) = stack.pop() {
+                let d = model.segment_clearance(&pa, &pb);
+                if depth >= 16 || d > 0.0 {
+                    least = least.min(d);
+                    out.push(pb);
+                    continue;
+                }
+                let tm = 0.5 * (ta + tb);
+                let pm = sp.position(tm);
+                stack.push(((tm, pm), (tb, pb), depth + 1));
+                stack.push(((ta, pa), (tm, pm), depth + 1));
             }
-            let tm = 0.5 * (ta + tb);
-            let pm = sp.position(tm);
-            stack.push(((tm, pm), (tb, pb), depth + 1));
-            stack.push(((ta, pa), (tm, pm), depth + 1));
+        }
+        k0 = k1;
+    }
+    // The proven runs, least bound first, until a bound is clearer than the least segment
+    // found: the least is the same as checking every segment.
+    proven.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    for (bound, k0, k1) in proven {
+        if bound > least + margin(least) {
+            break;
+        }
+        for w in samples[k0..=k1].windows(2) {
+            least = least.min(model.segment_clearance(&w[0].1, &w[1].1));
         }
     }
     (out, least)
 }
+
+/// Segments per run in [`refine_samples`]: a run's box is a unit or so on a scene's path.
+const REFINE_RUN: usize = 16;
 
 /// A scene's dense seed (a last resort that stayed in collision) has at most this many times
 /// the points of a normal one (`max_via_points` and the ends); past that it is not tried.

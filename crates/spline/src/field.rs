@@ -114,6 +114,14 @@ pub trait ClearanceModel: Send + Sync {
             .fold(Real::INFINITY, Real::min)
     }
 
+    /// A lower bound of [`ClearanceModel::segment_clearance`] over every segment inside the
+    /// box `[lo, hi]`; by default `-inf` (no bound). A long path checked segment by segment
+    /// skips the runs of segments whose box is clearer than its least segment.
+    fn box_clearance(&self, lo: &Point, hi: &Point) -> Real {
+        let _ = (lo, hi);
+        Real::NEG_INFINITY
+    }
+
     /// [`ClearanceModel::segment_clearance`] when the caller already knows the
     /// [`ClearanceModel::exact_clearance`] of both ends, `da` and `db`: a model whose bound is
     /// built from them skips recomputing them. By default they are not used.
@@ -307,6 +315,33 @@ impl ClearanceModel for CircleModel {
         self.set
             .distance_to_segment(a, b)
             .map_or(Real::INFINITY, |d| d.0)
+    }
+
+    fn box_clearance(&self, lo: &Point, hi: &Point) -> Real {
+        // The distance from the box to each centre, less the radius: no point of the box
+        // (and so of a segment in it) is nearer. The circles are sorted by `x`; a circle
+        // whose centre is farther in `x` than the best bound plus `r_max` cannot lower it.
+        let at = |k: usize| {
+            let (cx, cy) = (self.xs[k], self.ys[k]);
+            let dx = (lo.x - cx).max(cx - hi.x).max(0.0);
+            let dy = (lo.y - cy).max(cy - hi.y).max(0.0);
+            (dx * dx + dy * dy).sqrt() - self.rs[k]
+        };
+        let mut best = Real::INFINITY;
+        let first = self.xs.partition_point(|&x| x < lo.x);
+        for k in first..self.xs.len() {
+            if self.xs[k] - hi.x - self.r_max > best {
+                break;
+            }
+            best = best.min(at(k));
+        }
+        for k in (0..first).rev() {
+            if lo.x - self.xs[k] - self.r_max > best {
+                break;
+            }
+            best = best.min(at(k));
+        }
+        best
     }
 }
 

@@ -378,6 +378,30 @@ proptest! {
     }
 
     #[test]
+    fn box_clearance_bounds_every_segment_in_the_box(
+        circles in prop::collection::vec((0.0..60.0, 0.0..60.0, 0.5..6.0), 1..40),
+        corner in (0.0..60.0, 0.0..60.0),
+        size in (0.0..20.0f64, 0.0..20.0f64),
+        ends in prop::collection::vec((0.0..1.0, 0.0..1.0), 2),
+    ) {
+        let model = CircleModel::new(
+            circles.into_iter().map(|(x, y, r)| Circle::new(x, y, r)).collect(),
+        );
+        let lo = Point::new(corner.0, corner.1);
+        let hi = Point::new(corner.0 + size.0, corner.1 + size.1);
+        let at = |(u, v): (f64, f64)| Point::new(lo.x + u * size.0, lo.y + v * size.1);
+        let (a, b) = (at(ends[0]), at(ends[1]));
+        let bound = model.box_clearance(&lo, &hi);
+        let exact = model.segment_clearance(&a, &b);
+        prop_assert!(bound <= exact + 1e-9, "{} > {}", bound, exact);
+        // Not vacuous: the box's own corner is no nearer than the bound either, and the
+        // bound is attained or undercut within the box's size.
+        let corner_clear = model.clearance(&lo).0;
+        prop_assert!(bound <= corner_clear + 1e-9);
+        prop_assert!(bound >= corner_clear - size.0.hypot(size.1) - 1e-9);
+    }
+
+    #[test]
     fn certified_clearance_brackets_dense_brute_force(
         s in random_spline(),
         circles in prop::collection::vec((0.0..60.0, 0.0..60.0, 0.5..6.0), 1..20),
