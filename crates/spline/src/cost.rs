@@ -682,7 +682,8 @@ fn sample(spline: &Spline, cfg: &CostConfig, out: &mut Samples) {
     let knots = spline.knots();
     out.points.clear();
     out.nodes.clear();
-    out.length = 0.0;
+    // Summed in a local, in the same order (the same bits), then stored.
+    let mut length = 0.0;
     for seg in 0..spline.segments() {
         let h = (knots[seg + 1] - knots[seg]) / pieces as Real;
         for piece in 0..pieces {
@@ -692,7 +693,7 @@ fn sample(spline: &Spline, cfg: &CostConfig, out: &mut Samples) {
                 let (p, v, a) = spline.eval_segment(seg, s);
                 let speed = v.norm();
                 let dt = w * h;
-                out.length += dt * speed;
+                length += dt * speed;
                 out.points.push(p);
                 out.nodes.push(Node {
                     seg,
@@ -705,6 +706,7 @@ fn sample(spline: &Spline, cfg: &CostConfig, out: &mut Samples) {
             }
         }
     }
+    out.length = length;
 }
 
 /// Step 2: the field (potential and clearance) at every node, in one batch query. Far
@@ -774,8 +776,24 @@ struct Weighs {
 
 /// Step 3: the integrals over the nodes (topology, maximal clearance, danger, critical,
 /// passing time) and, with `grad`, each node's partial derivatives; returns the node of least
-/// clearance.
+/// clearance. The loop is compiled twice, with and without the partials, so that a value
+/// alone does not pay for them.
 fn integrate(
+    samples: &Samples,
+    field: &[FieldSample],
+    cfg: &CostConfig,
+    needs: Needs,
+    t: &mut CostTerms,
+    grad: Option<&mut Vec<NodePartial>>,
+) -> Option<Worst> {
+    match grad {
+        Some(g) => integrate_nodes::<true>(samples, field, cfg, needs, t, Some(g)),
+        None => integrate_nodes::<false>(samples, field, cfg, needs, t, None),
+    }
+}
+
+/// [`integrate`], with the partials when `GRAD`.
+fn integrate_nodes<const GRAD: bool>(
     samples: &Samples,
     field: &[FieldSample],
     cfg: &CostConfig,
@@ -791,16 +809,18 @@ fn integrate(
     };
     for (idx, n) in samples.nodes.iter().enumerate() {
         let (p, wq, v, a, speed) = (samples.points[idx], n.dt, n.v, n.a, n.speed);
-        let vhat = if speed > 0.0 {
+        let vhat = if GRAD && speed > 0.0 {
             v / speed
         } else {
             Vector::zeros()
         };
         let (u, du) = (field[idx].potential, field[idx].potential_grad);
         t.topology += wq * u * speed;
-        let mut gq = du * (cfg.w_topology * wq * speed);
-        let mut gv = vhat * (cfg.w_length + cfg.w_topology * u) * wq;
-        let mut ga = Vector::zeros();
+        let (mut gq, mut gv, mut ga) = (Vector::zeros(), Vector::zeros(), Vector::zeros());
+        if GRAD {
+            gq = du * (cfg.w_topology * wq * speed);
+            gv = vhat * (cfg.w_length + cfg.w_topology * u) * wq;
+        }
         let (d, dd) = (field[idx].clearance, field[idx].clearance_grad);
         if worst.is_none_or(|w| d < w.clearance) {
             worst = Some(Worst {
@@ -810,16 +830,20 @@ fn integrate(
         }
         if d > cfg.d_max && (needs.all || cfg.w_max_clearance > 0.0) {
             t.max_clearance += wq * (d - cfg.d_max) * speed;
-            gq += dd * (cfg.w_max_clearance * wq * speed);
-            gv += vhat * (cfg.w_max_clearance * wq * (d - cfg.d_max));
+            if GRAD {
+                gq += dd * (cfg.w_max_clearance * wq * speed);
+                gv += vhat * (cfg.w_max_clearance * wq * (d - cfg.d_max));
+            }
         }
         for &(at, dmin) in cfg.danger_points.iter().filter(|_| weighs.danger) {
             let r = p - at;
             let e = dmin - r.norm();
             if e > 0.0 {
                 t.danger += wq * e * e * speed;
-                gq -= unit(&r) * (cfg.w_danger * wq * speed * 2.0 * e);
-                gv += vhat * (cfg.w_danger * wq * e * e);
+                if GRAD {
+                    gq -= unit(&r) * (cfg.w_danger * wq * speed * 2.0 * e);
+                    gv += vhat * (cfg.w_danger * wq * e * e);
+                }
             }
         }
         for &(at, dmax) in cfg.critical_points.iter().filter(|_| weighs.critical) {
@@ -827,8 +851,10 @@ fn integrate(
             let e = r.norm() - dmax;
             if e > 0.0 {
                 t.critical += wq * e * e * speed;
-                gq += unit(&r) * (cfg.w_critical * wq * speed * 2.0 * e);
-                gv += vhat * (cfg.w_critical * wq * e * e);
+                if GRAD {
+                    gq += unit(&r) * (cfg.w_critical * wq * speed * 2.0 * e);
+                    gv += vhat * (cfg.w_critical * wq * e * e);
+                }
             }
         }
         if cfg.w_passing_time > 0.0 || needs.all {
@@ -838,20 +864,24 @@ fn integrate(
             let curvy = c.abs() * cfg.v_max * cfg.v_max > cfg.lateral_accel * speed * speed * speed;
             if !curvy || speed == 0.0 || c == 0.0 {
                 t.passing_time += wq * speed / cfg.v_max;
-                gv += vhat * (cfg.w_passing_time * wq / cfg.v_max);
+                if GRAD {
+                    gv += vhat * (cfg.w_passing_time * wq / cfg.v_max);
+                }
             } else {
                 // f = sqrt(|c| / a_lat) speed^(-1/2).
                 let k0 = 1.0 / cfg.lateral_accel.sqrt();
                 t.passing_time += wq * k0 * c.abs().sqrt() / speed.sqrt();
-                let dc = c.signum() / (2.0 * c.abs().sqrt());
-                let w = cfg.w_passing_time * wq * k0;
-                gv += (Vector::new(a.y, -a.x) * (dc / speed.sqrt())
-                    - v * (0.5 * c.abs().sqrt() * speed.powf(-2.5)))
-                    * w;
-                ga += Vector::new(-v.y, v.x) * (dc / speed.sqrt() * w);
+                if GRAD {
+                    let dc = c.signum() / (2.0 * c.abs().sqrt());
+                    let w = cfg.w_passing_time * wq * k0;
+                    gv += (Vector::new(a.y, -a.x) * (dc / speed.sqrt())
+                        - v * (0.5 * c.abs().sqrt() * speed.powf(-2.5)))
+                        * w;
+                    ga += Vector::new(-v.y, v.x) * (dc / speed.sqrt() * w);
+                }
             }
         }
-        if let Some(g) = grad.as_deref_mut() {
+        if GRAD && let Some(g) = grad.as_deref_mut() {
             g.push(NodePartial {
                 seg: n.seg,
                 s: n.s,
