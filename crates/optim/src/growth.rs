@@ -157,14 +157,14 @@ impl Guard<'_> {
             Ok(terms) => self.value(&terms),
             Err(low) => return self.value(&low),
         };
-        if value >= bound || !admissible(spline, self, cfg.guard_samples) {
-            return if value >= bound {
-                value
-            } else {
-                Real::INFINITY
-            };
+        if value >= bound {
+            return value;
         }
-        value
+        if admissible(spline, self, cfg.guard_samples) {
+            value
+        } else {
+            Real::INFINITY
+        }
     }
 
     /// The value of a candidate of cost terms `terms`: `+inf` when rejected, above
@@ -236,8 +236,8 @@ fn to_points(s: Point, t: Point, x: &[Real]) -> Vec<Point> {
 /// Up to this many obstacles (rays), the class check computes the samples' signature
 /// directly; beyond, it first tries the sweep's proof ([`Rays::sweep_is_clear`]). The answer
 /// is the same either way. On the paper scenes (3 to 6 obstacles) the direct signature is
-/// cheaper (plan bench: convex 6.5 -> 5.8 ms, two-homotopies 10.2 -> 9.6 ms); on a map's
-/// thousands of wall pieces the sweep is.
+/// cheaper (plan bench, one noisy run each: convex 6.5 -> 5.8 ms, two-homotopies 10.2 -> 9.6
+/// ms); on a map's thousands of wall pieces the sweep is.
 pub const DIRECT_SIGNATURE_RAYS: usize = 64;
 
 /// Whether the spline stays in bounds and (when asked) in its class, on dense samples. The
