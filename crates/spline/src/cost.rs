@@ -1041,9 +1041,10 @@ fn run_unless(
     all: bool,
     enough: Option<&dyn Fn(&CostTerms) -> bool>,
 ) -> Result<CostTerms, CostTerms> {
-    let mut scratch = SCRATCH.take();
+    // `try_with`: a thread tearing down its locals gets fresh buffers instead of a panic.
+    let mut scratch = SCRATCH.try_with(|s| s.take()).unwrap_or_default();
     let t = run_in(spline, model, cfg, grad, all, enough, &mut scratch);
-    SCRATCH.set(scratch);
+    let _ = SCRATCH.try_with(|s| s.set(scratch));
     t
 }
 
