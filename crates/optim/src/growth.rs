@@ -6,8 +6,7 @@ use homospline_geom::{Bounds, Point, Real};
 use homospline_homotopy::{Rays, Signature};
 use homospline_spline::{
     ClearanceModel, CostConfig, CostTerms, EndCondition, Parametrization, Spline, SplineError,
-    evaluate, evaluate_weighted, evaluate_weighted_unless, gradient, is_collision_free,
-    min_clearance,
+    evaluate, evaluate_weighted_unless, gradient, is_collision_free, min_clearance,
 };
 use std::cell::RefCell;
 
@@ -131,10 +130,7 @@ pub struct Guard<'a> {
 impl Guard<'_> {
     /// The cost of a candidate, or `+inf` when the guard rejects it.
     pub fn cost(&self, spline: &Spline, model: &dyn ClearanceModel, cfg: &GrowthConfig) -> Real {
-        if !admissible(spline, self, cfg.guard_samples) {
-            return Real::INFINITY;
-        }
-        self.value(&evaluate_weighted(spline, model, &cfg.cost))
+        self.cost_below(spline, model, cfg, Real::INFINITY)
     }
 
     /// [`Guard::cost`] for an optimiser that needs the value only below `bound`

@@ -202,7 +202,7 @@ impl ClearanceModel for CircleModel {
 
     fn clearances(&self, pts: &[Point], out: &mut [Real]) {
         for (p, o) in pts.iter().zip(out.iter_mut()) {
-            *o = least_distance(&self.xs, &self.ys, &self.rs, self.r_max, p.x, p.y);
+            *o = least_distance(&self.xs, &self.ys, &self.rs, self.r_max, p, p);
         }
     }
 
@@ -318,30 +318,7 @@ impl ClearanceModel for CircleModel {
     }
 
     fn box_clearance(&self, lo: &Point, hi: &Point) -> Real {
-        // The distance from the box to each centre, less the radius: no point of the box
-        // (and so of a segment in it) is nearer. The circles are sorted by `x`; a circle
-        // whose centre is farther in `x` than the best bound plus `r_max` cannot lower it.
-        let at = |k: usize| {
-            let (cx, cy) = (self.xs[k], self.ys[k]);
-            let dx = (lo.x - cx).max(cx - hi.x).max(0.0);
-            let dy = (lo.y - cy).max(cy - hi.y).max(0.0);
-            (dx * dx + dy * dy).sqrt() - self.rs[k]
-        };
-        let mut best = Real::INFINITY;
-        let first = self.xs.partition_point(|&x| x < lo.x);
-        for k in first..self.xs.len() {
-            if self.xs[k] - hi.x - self.r_max > best {
-                break;
-            }
-            best = best.min(at(k));
-        }
-        for k in (0..first).rev() {
-            if lo.x - self.xs[k] - self.r_max > best {
-                break;
-            }
-            best = best.min(at(k));
-        }
-        best
+        least_distance(&self.xs, &self.ys, &self.rs, self.r_max, lo, hi)
     }
 }
 
@@ -439,25 +416,37 @@ impl Default for Lanes {
     }
 }
 
-/// `min_k |(x, y) - (xs_k, ys_k)| - rs_k` over circles sorted by `xs` (+inf for none),
-/// computed as [`homospline_geom::Circle::signed_distance`] does, so equal to
-/// `CircleSet::clearance`'s distance. The scan starts at the point's `x` and walks out both
-/// ways until `|dx| - r_max` cannot beat the best: a few circles instead of all.
-fn least_distance(xs: &[Real], ys: &[Real], rs: &[Real], r_max: Real, x: Real, y: Real) -> Real {
-    let mut best = Real::INFINITY;
+/// `min_k dist(box, (xs_k, ys_k)) - rs_k` over circles sorted by `xs` (+inf for none), for
+/// the box `[lo, hi]`: no point of the box (and so of a segment in it) is nearer to a circle.
+/// For a point (`lo = hi`) the distance is `|p - c|` computed as
+/// [`homospline_geom::Circle::signed_distance`] does (`max(x - cx, cx - x, 0)` is `|x - cx|`
+/// exactly), so equal to `CircleSet::clearance`'s. The scan starts at the box's `x` and walks
+/// out both ways until the gap in `x` less `r_max` cannot beat the best: a few circles
+/// instead of all.
+fn least_distance(
+    xs: &[Real],
+    ys: &[Real],
+    rs: &[Real],
+    r_max: Real,
+    lo: &Point,
+    hi: &Point,
+) -> Real {
     let at = |k: usize| {
-        let (dx, dy) = (x - xs[k], y - ys[k]);
+        let (cx, cy) = (xs[k], ys[k]);
+        let dx = (lo.x - cx).max(cx - hi.x).max(0.0);
+        let dy = (lo.y - cy).max(cy - hi.y).max(0.0);
         (dx * dx + dy * dy).sqrt() - rs[k]
     };
-    let mid = xs.partition_point(|&cx| cx < x);
-    for (k, &cx) in xs.iter().enumerate().skip(mid) {
-        if cx - x - r_max > best {
+    let mut best = Real::INFINITY;
+    let first = xs.partition_point(|&x| x < lo.x);
+    for (k, &cx) in xs.iter().enumerate().skip(first) {
+        if cx - hi.x - r_max > best {
             break;
         }
         best = best.min(at(k));
     }
-    for (k, &cx) in xs[..mid].iter().enumerate().rev() {
-        if x - cx - r_max > best {
+    for (k, &cx) in xs[..first].iter().enumerate().rev() {
+        if lo.x - cx - r_max > best {
             break;
         }
         best = best.min(at(k));
