@@ -290,6 +290,7 @@ pub fn stays_in_bounds(spline: &Spline, bounds: &Bounds) -> bool {
 
 /// The curve before a growth whose grown curve fell short of the floor or the target, and
 /// the clearance the next round must regain.
+#[derive(Clone)]
 struct Probation {
     points: Vec<Point>,
     spline: Spline,
@@ -298,6 +299,7 @@ struct Probation {
 }
 
 /// The best curve of a growth loop so far, and its value.
+#[derive(Clone)]
 struct Best {
     value: Real,
     points: Vec<Point>,
@@ -339,6 +341,7 @@ fn outer_value(guard: &Guard<'_>, clearance: Real, value: Real) -> Real {
 /// the best curve so far. [`grow`] runs it to the end; a planner can stop a class between rounds
 /// (a class that cannot win) and still report its curve. Every call must get the same
 /// model, settings and guard.
+#[derive(Clone)]
 pub struct Growth {
     s: Point,
     t: Point,
@@ -428,13 +431,42 @@ impl Growth {
         outer: &Guard<'_>,
     ) -> bool {
         if !self.done {
-            self.done = !self.round_and_grow(model, cfg, outer);
+            self.done = !self.round_and_grow(model, cfg, outer, &|| false);
             self.round += 1;
             if self.round >= cfg.max_rounds.max(1) {
                 self.done = true;
             }
         }
         !self.done
+    }
+
+    /// [`Growth::step`] that can be called off: once `stop()` returns `true` the round's
+    /// remaining evaluations are not taken (each counts as infeasible, so the optimiser runs
+    /// out its budget at once), and the call returns `None` with the loop as it was before
+    /// it. While `stop()` is `false` it is [`Growth::step`], to the bit. For a planner that
+    /// runs a round ahead on an idle core and may find that it was not wanted.
+    pub fn step_unless(
+        &mut self,
+        model: &dyn ClearanceModel,
+        cfg: &GrowthConfig,
+        outer: &Guard<'_>,
+        stop: &dyn Fn() -> bool,
+    ) -> Option<bool> {
+        if self.done {
+            return Some(false);
+        }
+        let before = self.clone();
+        let ended = !self.round_and_grow(model, cfg, outer, stop);
+        if stop() {
+            *self = before;
+            return None;
+        }
+        self.done = ended;
+        self.round += 1;
+        if self.round >= cfg.max_rounds.max(1) {
+            self.done = true;
+        }
+        Some(!self.done)
     }
 
     /// The loop's result so far: its best curve, with its cost terms evaluated without
@@ -468,6 +500,7 @@ impl Growth {
         model: &dyn ClearanceModel,
         cfg: &GrowthConfig,
         outer: &Guard<'_>,
+        stop: &dyn Fn() -> bool,
     ) -> bool {
         let (s, t, end) = (self.s, self.t, self.end);
         let round_guard = outer.ratchet(self.current);
@@ -482,6 +515,9 @@ impl Growth {
         let mut count = 0usize;
         let mut objective = |x: &[Real], bound: Real| -> Real {
             count += 1;
+            if stop() {
+                return Real::INFINITY;
+            }
             let pts = to_points(s, t, x);
             build(&pts, end, cfg).map_or(Real::INFINITY, |sp| {
                 guard.cost_below(&sp, model, cfg, bound)
@@ -521,6 +557,9 @@ impl Growth {
                 };
                 let mut fg = |x: &[Real]| -> (Real, Vec<Real>) {
                     count += 1;
+                    if stop() {
+                        return (Real::INFINITY, vec![0.0; x.len()]);
+                    }
                     let pts = to_points(s, t, x);
                     match build(&pts, end, cfg) {
                         Some(sp) if admissible(&sp, guard, cfg.guard_samples) => {
@@ -748,6 +787,69 @@ mod tests {
         assert_eq!(
             floored.ratchet(1.5).value(&at(1.9, 1.0)),
             guard.value(&at(1.9, 1.0))
+        );
+    }
+
+    #[test]
+    fn a_round_called_off_leaves_the_loop_as_it_was_and_one_not_called_off_is_a_step() {
+        use homospline_geom::Circle;
+        use homospline_spline::CircleModel;
+        use std::cell::Cell;
+        let model = CircleModel::new(vec![
+            Circle::new(5.0, 0.3, 1.0),
+            Circle::new(9.0, -1.0, 0.8),
+        ]);
+        let seed = [
+            Point::new(0.0, 0.0),
+            Point::new(3.0, 2.0),
+            Point::new(7.0, 2.5),
+            Point::new(12.0, 0.0),
+        ];
+        let guard = Guard {
+            class: None,
+            bounds: Bounds {
+                min: Point::new(-5.0, -10.0),
+                max: Point::new(20.0, 10.0),
+            },
+            collision_free: true,
+            clearance_floor: Real::NEG_INFINITY,
+            clearance_target: Real::NEG_INFINITY,
+            proven: Default::default(),
+        };
+        let cfg = GrowthConfig::default();
+        let mut stepped = Growth::new(&seed, &model, &cfg, &guard).unwrap();
+        let mut unless = stepped.clone();
+        let mut called_off = stepped.clone();
+        // Never called off: the same rounds, the same result, to the bit.
+        loop {
+            let more = stepped.step(&model, &cfg, &guard);
+            assert_eq!(
+                unless.step_unless(&model, &cfg, &guard, &|| false),
+                Some(more)
+            );
+            if !more {
+                break;
+            }
+        }
+        assert_eq!(
+            stepped.result(&model, &cfg, &guard),
+            unless.result(&model, &cfg, &guard)
+        );
+        // Called off after 25 evaluations of its first round: nothing of it is kept, and the
+        // round run again afterwards is the first round of an untouched loop.
+        let before = called_off.result(&model, &cfg, &guard);
+        let asked = Cell::new(0usize);
+        let stop = || {
+            asked.set(asked.get() + 1);
+            asked.get() > 25
+        };
+        assert_eq!(called_off.step_unless(&model, &cfg, &guard, &stop), None);
+        assert!(asked.get() > 25);
+        assert_eq!(called_off.result(&model, &cfg, &guard), before);
+        while called_off.step(&model, &cfg, &guard) {}
+        assert_eq!(
+            called_off.result(&model, &cfg, &guard),
+            stepped.result(&model, &cfg, &guard)
         );
     }
 

@@ -24,6 +24,8 @@ use thiserror::Error;
 
 use crate::growth::{Grown, Growth, GrowthConfig, Guard, Round, SHORT_OF_TARGET, grow};
 
+mod board;
+
 /// How the initial spline is made.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Seed {
@@ -595,36 +597,13 @@ pub fn plan_world(
             // only, not on the threads. (Without it, the tasks run to their ends one after
             // the other on each thread, and the decision came after the classes to be stopped
             // had run every round: two-homotopies took 14.6 ms against 10.1 ms.)
-            let mut tasks: Vec<(usize, ClassTask<'_>, Option<Score>)> =
-                in_pool(pool.as_ref(), || {
-                    order
-                        .par_iter()
-                        .with_max_len(1)
-                        .map(|&i| {
-                            let mut task = start_class(world, cfg, &seeds[i], graph_cell);
-                            let score = match prune {
-                                Some(_) => {
-                                    task.step(model);
-                                    Some(task.score(i, model))
-                                }
-                                None => {
-                                    task.run(model);
-                                    None
-                                }
-                            };
-                            (i, task, score)
-                        })
-                        .collect()
-                });
-            let scores: Vec<Option<Score>> = tasks.iter().map(|t| t.2).collect();
-            let pruning = prune.and_then(|ratio| outclassed(&scores, ratio));
-            if let Some(p) = &pruning {
-                for ((_, task, _), &stop) in tasks.iter_mut().zip(&p.stop) {
-                    task.pruned = stop;
-                }
-            }
-            let mut tasks: Vec<(usize, ClassTask<'_>)> =
-                tasks.into_iter().map(|(i, task, _)| (i, task)).collect();
+            let board::Ran {
+                mut tasks,
+                mut runs,
+                pruning,
+            } = in_pool(pool.as_ref(), || {
+                board::run_classes(world, cfg, &seeds, graph_cell, &order, prune)
+            });
             let run_left = |tasks: &mut Vec<(usize, ClassTask<'_>)>| {
                 in_pool(pool.as_ref(), || {
                     tasks
@@ -643,10 +622,6 @@ pub fn plan_world(
                         .collect()
                 })
             };
-            if prune.is_some() {
-                run_left(&mut tasks);
-            }
-            let mut runs = report(&mut tasks);
             // The stop assumed that a class run to its end would rank first at no more than
             // the reference's first-round cost. If none does (its certification found it
             // less clear than its cost evaluations did), the stopped classes run on after
@@ -1565,6 +1540,17 @@ impl<'w> ClassTask<'w> {
             .state
             .as_mut()
             .is_some_and(|g| g.step(model, &self.growth, &self.guard));
+        self.time_ms += ms(t);
+        more
+    }
+
+    /// [`ClassTask::step`] that can be called off ([`Growth::step_unless`]).
+    fn step_unless(&mut self, model: &dyn ClearanceModel, stop: &dyn Fn() -> bool) -> Option<bool> {
+        let t = Instant::now();
+        let more = match self.state.as_mut() {
+            Some(g) => g.step_unless(model, &self.growth, &self.guard, stop),
+            None => Some(false),
+        };
         self.time_ms += ms(t);
         more
     }

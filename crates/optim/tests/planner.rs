@@ -123,9 +123,12 @@ fn without_timings(mut p: Plan) -> Plan {
     p
 }
 
+/// With more than one thread, classes run rounds ahead of the pruning decision on idle
+/// threads, and the rounds of the classes it stops are undone (convex, narrow-pass and
+/// two-homotopies each have a class stopped): the plan must not show it.
 #[test]
 fn plans_are_the_same_for_any_thread_count() {
-    for scene in fixture_scenes().into_iter().take(3) {
+    for scene in fixture_scenes() {
         let one = plan(
             &scene,
             &PlanConfig {

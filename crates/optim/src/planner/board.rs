@@ -1,0 +1,327 @@
+//! The classes' rounds as jobs on a shared board, so that no core idles while there is work:
+//! first rounds first, rounds ahead of the pruning decision on a free core, then every round
+//! and report left, one job at a time, whichever class is free.
+//!
+//! A class's rounds depend only on the class (its seed, settings and guard), and the decision
+//! on the first rounds' scores only, so the plan does not depend on which thread ran what or
+//! when: a round run ahead for a class that the decision stops is undone (it is called off
+//! part-way if still running), and the class reports its first round's curve, as it would
+//! have without running ahead.
+
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use homospline_geom::Real;
+
+use super::{ClassRun, ClassTask, Growth, PlanConfig, Pruning, Score, SeedPath, World};
+
+/// A class's place on the board between jobs.
+struct Slot<'w> {
+    /// The class's index among the seeds.
+    class: usize,
+    /// `None` before its first job and while a job has it.
+    task: Option<ClassTask<'w>>,
+    /// Its first round has run (and, with pruning, it has been scored).
+    started: bool,
+    /// A job has it.
+    running: bool,
+    /// Its loop has rounds left.
+    more: bool,
+    score: Option<Score>,
+    /// The loop and its time after the first round, kept while rounds run ahead of the
+    /// decision.
+    snapshot: Option<(Option<Growth>, Real)>,
+    /// Stopped by the decision.
+    pruned: bool,
+    run: Option<ClassRun>,
+}
+
+/// What a worker does next.
+enum Job<'w> {
+    /// Set the class up and run its first round.
+    Start,
+    /// Run one more round (`ahead`: before the decision).
+    Round { task: ClassTask<'w>, ahead: bool },
+    /// The class's plan.
+    Report(ClassTask<'w>),
+}
+
+/// What a job gives back, besides the class's task.
+enum Done {
+    /// Rounds left, and the class's score (with pruning).
+    Start(bool, Option<Score>),
+    /// Rounds left; `None`: called off.
+    Round(Option<bool>),
+    Report(Box<ClassRun>),
+}
+
+/// The classes run to their ends: tasks and runs in the order given, and the decision.
+pub(super) struct Ran<'w> {
+    pub tasks: Vec<(usize, ClassTask<'w>)>,
+    pub runs: Vec<(usize, ClassRun)>,
+    pub pruning: Option<Pruning>,
+}
+
+struct Board<'w> {
+    slots: Vec<Slot<'w>>,
+    /// The decision is taken (at once without pruning).
+    decided: bool,
+    pruning: Option<Pruning>,
+    /// Workers at work.
+    active: usize,
+}
+
+/// Everything a worker reads.
+struct Shop<'w> {
+    world: &'w World<'w>,
+    cfg: &'w PlanConfig,
+    seeds: &'w [SeedPath],
+    graph_cell: Option<Real>,
+    /// The pruning ratio, when classes may be stopped after their first round.
+    prune: Option<Real>,
+    threads: usize,
+    board: Mutex<Board<'w>>,
+    /// One per slot: a round run ahead is not wanted.
+    stops: Vec<AtomicBool>,
+}
+
+/// The classes `order` (seed indices, longest first) run to their ends and reported, on the
+/// current thread pool.
+pub(super) fn run_classes<'w>(
+    world: &'w World<'w>,
+    cfg: &'w PlanConfig,
+    seeds: &'w [SeedPath],
+    graph_cell: Option<Real>,
+    order: &[usize],
+    prune: Option<Real>,
+) -> Ran<'w> {
+    let slots = order
+        .iter()
+        .map(|&class| Slot {
+            class,
+            task: None,
+            started: false,
+            running: false,
+            more: false,
+            score: None,
+            snapshot: None,
+            pruned: false,
+            run: None,
+        })
+        .collect();
+    let shop = Shop {
+        world,
+        cfg,
+        seeds,
+        graph_cell,
+        prune,
+        threads: rayon::current_num_threads().max(1),
+        board: Mutex::new(Board {
+            slots,
+            decided: prune.is_none(),
+            pruning: None,
+            active: 0,
+        }),
+        stops: order.iter().map(|_| AtomicBool::new(false)).collect(),
+    };
+    rayon::scope(|s| {
+        let mut b = lock(&shop.board);
+        let n = shop.threads.min(b.slots.len());
+        b.active = n;
+        drop(b);
+        for _ in 0..n {
+            s.spawn(|s| work(s, &shop));
+        }
+    });
+    let board = shop.board.into_inner().unwrap_or_else(|e| e.into_inner());
+    let mut tasks = Vec::with_capacity(board.slots.len());
+    let mut runs = Vec::with_capacity(board.slots.len());
+    for slot in board.slots {
+        // Every slot is reported before the last worker leaves.
+        if let (Some(task), Some(run)) = (slot.task, slot.run) {
+            tasks.push((slot.class, task));
+            runs.push((slot.class, run));
+        }
+    }
+    Ran {
+        tasks,
+        runs,
+        pruning: board.pruning,
+    }
+}
+
+fn lock<'m, 'w>(m: &'m Mutex<Board<'w>>) -> std::sync::MutexGuard<'m, Board<'w>> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// A worker: takes jobs until none is left to take, and calls in more workers (up to the
+/// pool's threads) when a job it finished leaves work for them. It never waits on another.
+fn work<'s, 'w: 's>(s: &rayon::Scope<'s>, shop: &'s Shop<'w>) {
+    let mut next = {
+        let mut b = lock(&shop.board);
+        pick(&mut b, shop.prune.is_some())
+    };
+    loop {
+        let Some((pos, job)) = next else {
+            let mut b = lock(&shop.board);
+            // Picked again under the lock: a job may have finished since.
+            match pick(&mut b, shop.prune.is_some()) {
+                Some(j) => {
+                    next = Some(j);
+                    continue;
+                }
+                None => {
+                    b.active -= 1;
+                    return;
+                }
+            }
+        };
+        let done = execute(shop, pos, job);
+        let mut b = lock(&shop.board);
+        finish(&mut b, shop, pos, done);
+        next = pick(&mut b, shop.prune.is_some());
+        let idle = shop.threads.saturating_sub(b.active);
+        if idle > 0 && next.is_some() && has_work(&b, shop.prune.is_some()) {
+            for _ in 0..idle {
+                b.active += 1;
+                s.spawn(|s| work(s, shop));
+            }
+        }
+    }
+}
+
+/// Whether a job is there to take (without taking it).
+fn has_work(b: &Board<'_>, prune: bool) -> bool {
+    b.slots.iter().any(|s| {
+        !s.running
+            && (!s.started
+                || (b.decided && (s.run.is_none()))
+                || (!b.decided && prune && s.more && s.task.is_some()))
+    })
+}
+
+/// The next job, marked as taken: a first round; after the decision, a round of the first
+/// class (longest seed first) with rounds left, else a report; before it, a round ahead for
+/// the class that stands best.
+fn pick<'w>(b: &mut Board<'w>, prune: bool) -> Option<(usize, Job<'w>)> {
+    if let Some(pos) = b.slots.iter().position(|s| !s.started && !s.running) {
+        b.slots[pos].running = true;
+        return Some((pos, Job::Start));
+    }
+    if b.decided {
+        let free = |s: &Slot<'_>| s.started && !s.running && s.task.is_some();
+        if let Some(pos) = b.slots.iter().position(|s| free(s) && !s.pruned && s.more) {
+            let slot = &mut b.slots[pos];
+            slot.running = true;
+            let task = slot.task.take()?;
+            return Some((pos, Job::Round { task, ahead: false }));
+        }
+        if let Some(pos) = b
+            .slots
+            .iter()
+            .position(|s| free(s) && s.run.is_none() && (s.pruned || !s.more))
+        {
+            let slot = &mut b.slots[pos];
+            slot.running = true;
+            let task = slot.task.take()?;
+            return Some((pos, Job::Report(task)));
+        }
+        return None;
+    }
+    if !prune {
+        return None;
+    }
+    let pos = b
+        .slots
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.started && !s.running && s.more && s.task.is_some())
+        .min_by(|(_, a), (_, c)| {
+            let standing = |s: &Slot<'_>| s.score.map_or(Real::INFINITY, |s| s.standing);
+            standing(a)
+                .total_cmp(&standing(c))
+                .then(a.class.cmp(&c.class))
+        })
+        .map(|(pos, _)| pos)?;
+    let slot = &mut b.slots[pos];
+    let task = slot.task.take()?;
+    if slot.snapshot.is_none() {
+        slot.snapshot = Some((task.state.clone(), task.time_ms));
+    }
+    slot.running = true;
+    Some((pos, Job::Round { task, ahead: true }))
+}
+
+/// Runs a job, outside the lock.
+fn execute<'w>(shop: &Shop<'w>, pos: usize, job: Job<'w>) -> (ClassTask<'w>, Done) {
+    let model = shop.world.model;
+    match job {
+        Job::Start => {
+            let class = lock(&shop.board).slots[pos].class;
+            let mut task =
+                super::start_class(shop.world, shop.cfg, &shop.seeds[class], shop.graph_cell);
+            let more = task.step(model);
+            let score = shop.prune.map(|_| task.score(class, model));
+            (task, Done::Start(more, score))
+        }
+        Job::Round { mut task, ahead } => {
+            let more = if ahead {
+                let stop = &shop.stops[pos];
+                task.step_unless(model, &|| stop.load(Ordering::Relaxed))
+            } else {
+                Some(task.step(model))
+            };
+            (task, Done::Round(more))
+        }
+        Job::Report(task) => {
+            let run = task.report(shop.world, shop.cfg);
+            (task, Done::Report(Box::new(run)))
+        }
+    }
+}
+
+/// Puts a finished job's class back, and takes the decision once every class is scored.
+fn finish<'w>(b: &mut Board<'w>, shop: &Shop<'w>, pos: usize, (task, done): (ClassTask<'w>, Done)) {
+    let slot = &mut b.slots[pos];
+    slot.running = false;
+    slot.task = Some(task);
+    match done {
+        Done::Start(more, score) => {
+            slot.started = true;
+            slot.more = more;
+            slot.score = score;
+        }
+        // Called off (`None`): the loop is as it was before the round.
+        Done::Round(more) => slot.more = more.unwrap_or(slot.more),
+        Done::Report(run) => slot.run = Some(*run),
+    }
+    if !b.decided && b.slots.iter().all(|s| s.started) {
+        let scores: Vec<Option<Score>> = b.slots.iter().map(|s| s.score).collect();
+        b.pruning = shop
+            .prune
+            .and_then(|ratio| super::outclassed(&scores, ratio));
+        if let Some(p) = &b.pruning {
+            for ((slot, &stop), flag) in b.slots.iter_mut().zip(&p.stop).zip(&shop.stops) {
+                slot.pruned = stop;
+                if stop {
+                    flag.store(true, Ordering::Relaxed);
+                }
+            }
+        }
+        b.decided = true;
+    }
+    if b.decided {
+        // A stopped class goes back to its first round's loop; a kept one no longer needs it.
+        for slot in b.slots.iter_mut().filter(|s| !s.running) {
+            if let Some(task) = slot.task.as_mut() {
+                task.pruned = slot.pruned;
+                if let Some((state, time_ms)) = slot.snapshot.take()
+                    && slot.pruned
+                {
+                    task.state = state;
+                    task.time_ms = time_ms;
+                }
+            }
+        }
+    }
+}
