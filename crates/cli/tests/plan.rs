@@ -213,6 +213,19 @@ fn every_command_has_help() {
     }
 }
 
+/// The help states the planner's own default pruning ratio (it once said 1.5 when the
+/// default had become 2.5).
+#[test]
+fn the_help_gives_the_default_pruning_ratio() {
+    let out = homospline().args(["plan", "--help"]).output().unwrap();
+    let help = String::from_utf8_lossy(&out.stdout)
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ");
+    let said = format!("(default {})", homospline_optim::planner::DEFAULT_PRUNE);
+    assert!(help.contains(&said), "plan --help does not say {said}");
+}
+
 #[test]
 fn block_avoid_and_diverse_change_the_classes() {
     // The chosen class of the built-in example runs through the pass at about (50, 30).
