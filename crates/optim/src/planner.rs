@@ -577,26 +577,28 @@ pub fn plan_world(
             done
         }
         None => {
-            // Longest seeds first, one class per task: the classes' times differ by up to
-            // 3x, and a short class left for last would leave a thread idle while a long one
-            // runs. Each class is independent, so the order changes no result.
+            // Longest seeds first: the classes' times differ by up to 3x, and a long class
+            // started last would run alone at the end. Each class is independent, so the
+            // order changes no result.
             let mut order: Vec<usize> = (0..seeds.len()).collect();
             let seed_length =
                 |i: usize| -> Real { seeds[i].0.windows(2).map(|w| (w[1] - w[0]).norm()).sum() };
             order.sort_by(|&a, &b| seed_length(b).total_cmp(&seed_length(a)).then(a.cmp(&b)));
             let model = world.model;
-            // Pruning applies to Nelder-Mead: L-BFGS rounds are so short that the barrier
-            // below costs more than the rounds it saves (plan bench: 4 of the 5 paper scenes
-            // slower, narrow-pass 1.9 -> 2.7 ms).
+            // Pruning applies to Nelder-Mead: L-BFGS rounds are so short that waiting for the
+            // decision cost more than the rounds it saved (plan bench, with a barrier: 4 of
+            // the 5 paper scenes slower, narrow-pass 1.9 -> 2.7 ms).
             let prune = cfg
                 .prune
                 .filter(|_| cfg.growth.optimizer == crate::Optimizer::NelderMead);
             // Successive halving: every class runs its first round (and is scored in its own
-            // task), then the classes that cannot win stop ([`outclassed`]) and the others run
-            // their rounds left. The barrier makes the decision depend on the first rounds
-            // only, not on the threads. (Without it, the tasks run to their ends one after
-            // the other on each thread, and the decision came after the classes to be stopped
-            // had run every round: two-homotopies took 14.6 ms against 10.1 ms.)
+            // job), then the classes that cannot win stop ([`outclassed`]) and the others run
+            // their rounds left. The decision depends on the first rounds only, not on the
+            // threads: the board ([`board`]) runs rounds ahead of it only on a core that
+            // would otherwise wait, and undoes them for a class it stops. (Without a decision
+            // point, the tasks ran to their ends one after the other on each thread, and the
+            // decision came after the classes to be stopped had run every round:
+            // two-homotopies took 14.6 ms against 10.1 ms.)
             let board::Ran {
                 mut tasks,
                 mut runs,
