@@ -411,11 +411,17 @@ pub fn plan_world(
     // One class: a map's seed pulled taut in its class, then the growth loop.
     let mut streamed: Option<Streamed> = None;
     // Seeds: (seed polyline, class signature, graph cost).
-    let (seeds, graph): (Vec<SeedPath>, Option<VoronoiGraph>) = match cfg.seed {
+    // `raw`: the seeds are class paths still to be made into seeds ([`class_seed`]), on the
+    // graph's cell.
+    let (seeds, graph, raw): (Vec<SeedPath>, Option<VoronoiGraph>, Option<Real>) = match cfg.seed {
         Seed::Straight => {
             timing.voronoi = 0.0;
             let mid = Point::from((world.start.coords + world.goal.coords) * 0.5);
-            (vec![(vec![world.start, mid, world.goal], None, 0.0)], None)
+            (
+                vec![(vec![world.start, mid, world.goal], None, 0.0)],
+                None,
+                None,
+            )
         }
         Seed::Voronoi => {
             let tv = Instant::now();
@@ -440,29 +446,11 @@ pub fn plan_world(
                 ..cfg.search.clone()
             };
             let make_seed = |c: &ClassPath| -> SeedPath {
-                let mut poly = c.polyline.clone();
-                // The class path runs from the start node to the goal node, which sit at
-                // the start and goal.
-                poly[0] = world.start;
-                let last = poly.len() - 1;
-                poly[last] = world.goal;
-                // On a map the class path already runs along the ridge through free
-                // cells; a rasterised scene's runs along cell sides and is centred.
-                let poly = shortcut_ends(&poly, world.model, cell, |p| {
-                    rays.signature(p) == c.signature
-                });
-                // A map's seed is pulled taut in the class's own task.
-                let poly = if world.grid_is_exact {
-                    poly
-                } else {
-                    let centred = centre(&poly, world.model, cell);
-                    if rays.signature(&centred) == c.signature {
-                        centred
-                    } else {
-                        poly
-                    }
-                };
-                (poly, Some(c.signature.clone()), c.cost)
+                (
+                    class_seed(world, cell, &c.polyline, &c.signature),
+                    Some(c.signature.clone()),
+                    c.cost,
+                )
             };
             let taken = |c: &ClassPath| !cfg.avoid.contains(&c.signature.to_string());
             let result = match cfg.diverse {
@@ -485,8 +473,16 @@ pub fn plan_world(
                                 let (i, seed, done) = (made.len(), make_seed(c), &done);
                                 made.push(seed.clone());
                                 s.spawn(move |_| {
-                                    let task = start_class(world, cfg, &seed, Some(cell))
-                                        .optimised(world.model);
+                                    let (poly, sig, gcost) = &seed;
+                                    let task = start_class(
+                                        world,
+                                        cfg,
+                                        poly,
+                                        sig.as_ref(),
+                                        *gcost,
+                                        Some(cell),
+                                    )
+                                    .optimised(world.model);
                                     let (plan, _) = task.report(world, cfg);
                                     done.lock()
                                         .unwrap_or_else(|e| e.into_inner())
@@ -545,23 +541,21 @@ pub fn plan_world(
                     .filter(|i| keep.contains(i))
                     .map(|i| edge_lengths[i].clone()),
             );
-            // Each seed's centring takes a tenth of a millisecond or two: in parallel, in order.
-            let mut seeds: Vec<SeedPath> = if streamed.is_none() {
-                in_pool(pool.as_ref(), || {
-                    kept.par_iter()
-                        .with_max_len(1)
-                        .map(|c| make_seed(c))
-                        .collect()
-                })
-            } else {
-                Vec::new()
-            };
+            // A scene's seeds are the class paths as found: each is made (its ends shortcut,
+            // centred: a tenth of a millisecond or two) in its class's first job, while the
+            // other classes run ([`class_seed`]).
+            let mut seeds: Vec<SeedPath> = kept
+                .iter()
+                .map(|c| (c.polyline.clone(), Some(c.signature.clone()), c.cost))
+                .collect();
+            let mut raw = Some(cell);
             if let Some((_, made, _)) = &mut streamed {
                 seeds = std::mem::take(made);
+                raw = None;
             } else {
                 timing.classes = ms(tc);
             }
-            (seeds, Some(graph))
+            (seeds, Some(graph), raw)
         }
     };
     let graph_cell = graph.as_ref().map(|g| 1.0 / g.resolution);
@@ -604,7 +598,7 @@ pub fn plan_world(
                 mut runs,
                 pruning,
             } = in_pool(pool.as_ref(), || {
-                board::run_classes(world, cfg, &seeds, graph_cell, &order, prune)
+                board::run_classes(world, cfg, &seeds, raw, graph_cell, &order, prune)
             });
             let run_left = |tasks: &mut Vec<(usize, ClassTask<'_>)>| {
                 in_pool(pool.as_ref(), || {
@@ -1411,16 +1405,49 @@ fn without_floor<'w>(guard: &Guard<'w>) -> Guard<'w> {
 fn start_class<'w>(
     world: &'w World<'_>,
     cfg: &'w PlanConfig,
-    (poly, sig, gcost): &'w SeedPath,
+    poly: &[Point],
+    sig: Option<&'w Signature>,
+    gcost: Real,
     cell: Option<Real>,
 ) -> ClassTask<'w> {
     let poly = match (sig, cell) {
         (Some(s), Some(cell)) if world.grid_is_exact => {
             pull_taut(poly, world.model, &world.rays, cell, s)
         }
-        _ => poly.clone(),
+        _ => poly.to_vec(),
     };
-    ClassTask::new(world, poly, sig.as_ref(), *gcost, cfg, cell)
+    ClassTask::new(world, poly, sig, gcost, cfg, cell)
+}
+
+/// A class path made into a seed: its ends at the start and the goal (the class path runs
+/// from the start node to the goal node, which sit there), shortcut where the attach route
+/// meets the ridge behind them ([`shortcut_ends`]), and on a scene centred ([`centre`]:
+/// a rasterised scene's class path runs along cell sides; a map's already runs along the
+/// ridge through free cells, and is pulled taut in its class's own task), each change kept
+/// only if the class stays.
+fn class_seed(
+    world: &World<'_>,
+    cell: Real,
+    polyline: &[Point],
+    signature: &Signature,
+) -> Vec<Point> {
+    let rays = &world.rays;
+    let mut poly = polyline.to_vec();
+    poly[0] = world.start;
+    let last = poly.len() - 1;
+    poly[last] = world.goal;
+    let poly = shortcut_ends(&poly, world.model, cell, |p| {
+        rays.signature(p) == *signature
+    });
+    if world.grid_is_exact {
+        return poly;
+    }
+    let centred = centre(&poly, world.model, cell);
+    if rays.signature(&centred) == *signature {
+        centred
+    } else {
+        poly
+    }
 }
 
 /// One class optimised, and whether it is worth the dense second pass

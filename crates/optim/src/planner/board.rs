@@ -76,6 +76,8 @@ struct Shop<'w> {
     world: &'w World<'w>,
     cfg: &'w PlanConfig,
     seeds: &'w [SeedPath],
+    /// The seeds are class paths, made into seeds on this cell in their first jobs.
+    raw: Option<Real>,
     graph_cell: Option<Real>,
     /// The pruning ratio, when classes may be stopped after their first round.
     prune: Option<Real>,
@@ -86,11 +88,13 @@ struct Shop<'w> {
 }
 
 /// The classes `order` (seed indices, longest first) run to their ends and reported, on the
-/// current thread pool.
+/// current thread pool; with `raw`, each seed is first made from its class path
+/// ([`super::class_seed`]) in the class's first job.
 pub(super) fn run_classes<'w>(
     world: &'w World<'w>,
     cfg: &'w PlanConfig,
     seeds: &'w [SeedPath],
+    raw: Option<Real>,
     graph_cell: Option<Real>,
     order: &[usize],
     prune: Option<Real>,
@@ -113,6 +117,7 @@ pub(super) fn run_classes<'w>(
         world,
         cfg,
         seeds,
+        raw,
         graph_cell,
         prune,
         threads: rayon::current_num_threads().max(1),
@@ -258,8 +263,23 @@ fn execute<'w>(shop: &Shop<'w>, pos: usize, job: Job<'w>) -> (ClassTask<'w>, Don
     match job {
         Job::Start => {
             let class = lock(&shop.board).slots[pos].class;
-            let mut task =
-                super::start_class(shop.world, shop.cfg, &shop.seeds[class], shop.graph_cell);
+            let (poly, sig, gcost) = &shop.seeds[class];
+            let made;
+            let poly = match (shop.raw, sig) {
+                (Some(cell), Some(sig)) => {
+                    made = super::class_seed(shop.world, cell, poly, sig);
+                    &made
+                }
+                _ => poly,
+            };
+            let mut task = super::start_class(
+                shop.world,
+                shop.cfg,
+                poly,
+                sig.as_ref(),
+                *gcost,
+                shop.graph_cell,
+            );
             let more = task.step(model);
             let score = shop.prune.map(|_| task.score(class, model));
             (task, Done::Start(more, score))
