@@ -441,10 +441,11 @@ impl Growth {
     }
 
     /// [`Growth::step`] that can be called off: once `stop()` returns `true` the round's
-    /// remaining evaluations are not taken (each counts as infeasible, so the optimiser runs
-    /// out its budget at once), and the call returns `None` with the loop as it was before
-    /// it. While `stop()` is `false` it is [`Growth::step`], to the bit. For a planner that
-    /// runs a round ahead on an idle core and may find that it was not wanted.
+    /// remaining evaluations are not taken (each counts as infeasible, at no cost, until the
+    /// optimiser ends), the growth after the round is skipped, and the call returns `None`
+    /// with the loop as it was before it. While `stop()` is `false` it is [`Growth::step`],
+    /// to the bit. For a planner that runs a round ahead on an idle core and may find that it
+    /// was not wanted.
     pub fn step_unless(
         &mut self,
         model: &dyn ClearanceModel,
@@ -578,6 +579,10 @@ impl Growth {
                 (out.x, out.value)
             }
         };
+        if stop() {
+            // Called off: the caller puts the loop back as it was.
+            return false;
+        }
         self.evaluations += count;
         let before = self.best_cost;
         let improved = value < before - cfg.min_improvement * before.abs().max(1e-12);

@@ -1804,6 +1804,46 @@ mod tests {
     use homospline_spline::CircleModel;
     use proptest::prelude::*;
 
+    /// Rounds run ahead of the pruning decision and undone for the classes it stops leave
+    /// no trace: on one thread, with every class's rounds run ahead before the next class
+    /// starts, the plans of the scenes with a stopped class are those of the plain order.
+    #[test]
+    fn rounds_run_ahead_and_undone_leave_the_plan_as_it_was() {
+        use std::sync::atomic::Ordering;
+        let one = PlanConfig {
+            threads: Some(1),
+            ..PlanConfig::default()
+        };
+        let bare = |mut p: Plan| {
+            p.timing = Timing::default();
+            for c in &mut p.classes {
+                c.time_ms = 0.0;
+            }
+            p
+        };
+        let scenes: Vec<Scene> = homospline_testkit::fixture_scenes()
+            .into_iter()
+            .filter(|s| ["convex", "narrow-pass", "two-homotopies"].contains(&s.name.as_str()))
+            .collect();
+        assert_eq!(scenes.len(), 3);
+        for scene in &scenes {
+            board::AHEAD_FIRST.store(false, Ordering::Relaxed);
+            let plain = bare(plan(scene, &one).unwrap());
+            assert!(
+                plain.classes.iter().any(|c| c.pruned),
+                "{}: nothing stopped",
+                scene.name
+            );
+            board::AHEAD_FIRST.store(true, Ordering::Relaxed);
+            let before = board::UNDONE.load(Ordering::Relaxed);
+            let ahead = bare(plan(scene, &one).unwrap());
+            let undone = board::UNDONE.load(Ordering::Relaxed) - before;
+            board::AHEAD_FIRST.store(false, Ordering::Relaxed);
+            assert!(undone > 0, "{}: no round undone", scene.name);
+            assert_eq!(plain, ahead, "{}", scene.name);
+        }
+    }
+
     /// The least exact clearance over `n` evenly spaced points of `ab`, ends included.
     fn sampled(model: &CircleModel, a: Point, b: Point, n: usize) -> Real {
         (0..=n)

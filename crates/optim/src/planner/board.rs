@@ -38,8 +38,8 @@ struct Slot<'w> {
 
 /// What a worker does next.
 enum Job<'w> {
-    /// Set the class up and run its first round.
-    Start,
+    /// Set the class (its seed index) up and run its first round.
+    Start(usize),
     /// Run one more round (`ahead`: before the decision).
     Round { task: ClassTask<'w>, ahead: bool },
     /// The class's plan.
@@ -129,21 +129,19 @@ pub(super) fn run_classes<'w>(
         }),
         stops: order.iter().map(|_| AtomicBool::new(false)).collect(),
     };
-    rayon::scope(|s| {
-        let mut b = lock(&shop.board);
-        let n = shop.threads.min(b.slots.len());
-        b.active = n;
-        drop(b);
-        for _ in 0..n {
-            s.spawn(|s| work(s, &shop));
-        }
-    });
+    if !order.is_empty() {
+        lock(&shop.board).active = 1;
+        rayon::scope(|s| s.spawn(|s| work(s, &shop)));
+    }
     let board = shop.board.into_inner().unwrap_or_else(|e| e.into_inner());
     let mut tasks = Vec::with_capacity(board.slots.len());
     let mut runs = Vec::with_capacity(board.slots.len());
     for slot in board.slots {
-        // Every slot is reported before the last worker leaves.
-        if let (Some(task), Some(run)) = (slot.task, slot.run) {
+        // Every slot is reported before the last worker leaves (a job that panicked has
+        // re-raised its panic from the scope).
+        debug_assert!(slot.run.is_some(), "class {} not reported", slot.class);
+        if let Some(task) = slot.task {
+            let run = slot.run.unwrap_or_else(|| task.report(world, cfg));
             tasks.push((slot.class, task));
             runs.push((slot.class, run));
         }
@@ -159,110 +157,108 @@ fn lock<'m, 'w>(m: &'m Mutex<Board<'w>>) -> std::sync::MutexGuard<'m, Board<'w>>
     m.lock().unwrap_or_else(|e| e.into_inner())
 }
 
-/// A worker: takes jobs until none is left to take, and calls in more workers (up to the
-/// pool's threads) when a job it finished leaves work for them. It never waits on another.
+/// A worker: takes jobs until none is left to take, and calls in the pool's idle threads
+/// when it took one and work may be left for them (a worker called in for nothing leaves at
+/// once). It never waits on another.
 fn work<'s, 'w: 's>(s: &rayon::Scope<'s>, shop: &'s Shop<'w>) {
-    let mut next = {
-        let mut b = lock(&shop.board);
-        pick(&mut b, shop.prune.is_some())
-    };
+    let mut b = lock(&shop.board);
     loop {
-        let Some((pos, job)) = next else {
-            let mut b = lock(&shop.board);
-            // Picked again under the lock: a job may have finished since.
-            match pick(&mut b, shop.prune.is_some()) {
-                Some(j) => {
-                    next = Some(j);
-                    continue;
-                }
-                None => {
-                    b.active -= 1;
-                    return;
-                }
-            }
+        let Some((pos, job)) = pick(&mut b) else {
+            b.active -= 1;
+            return;
         };
-        let done = execute(shop, pos, job);
-        let mut b = lock(&shop.board);
-        finish(&mut b, shop, pos, done);
-        next = pick(&mut b, shop.prune.is_some());
         let idle = shop.threads.saturating_sub(b.active);
-        if idle > 0 && next.is_some() && has_work(&b, shop.prune.is_some()) {
-            for _ in 0..idle {
-                b.active += 1;
-                s.spawn(|s| work(s, shop));
-            }
+        for _ in 0..idle {
+            b.active += 1;
+            s.spawn(|s| work(s, shop));
         }
+        drop(b);
+        let done = execute(shop, pos, job);
+        b = lock(&shop.board);
+        finish(&mut b, shop, pos, done);
     }
 }
 
-/// Whether a job is there to take (without taking it).
-fn has_work(b: &Board<'_>, prune: bool) -> bool {
-    b.slots.iter().any(|s| {
-        !s.running
-            && (!s.started
-                || (b.decided && (s.run.is_none()))
-                || (!b.decided && prune && s.more && s.task.is_some()))
-    })
+/// Takes the slot's task for a job (`None` when a job has it).
+fn take<'w>(slot: &mut Slot<'w>) -> Option<ClassTask<'w>> {
+    let task = slot.task.take()?;
+    slot.running = true;
+    Some(task)
 }
 
 /// The next job, marked as taken: a first round; after the decision, a round of the first
 /// class (longest seed first) with rounds left, else a report; before it, a round ahead for
 /// the class that stands best.
-fn pick<'w>(b: &mut Board<'w>, prune: bool) -> Option<(usize, Job<'w>)> {
-    if let Some(pos) = b.slots.iter().position(|s| !s.started && !s.running) {
+fn pick<'w>(b: &mut Board<'w>) -> Option<(usize, Job<'w>)> {
+    if (!ahead_first() || b.decided || !b.slots.iter().any(|s| s.started))
+        && let Some(pos) = b.slots.iter().position(|s| !s.started && !s.running)
+    {
         b.slots[pos].running = true;
-        return Some((pos, Job::Start));
+        return Some((pos, Job::Start(b.slots[pos].class)));
     }
     if b.decided {
-        let free = |s: &Slot<'_>| s.started && !s.running && s.task.is_some();
+        let free = |s: &Slot<'_>| s.started && s.task.is_some();
         if let Some(pos) = b.slots.iter().position(|s| free(s) && !s.pruned && s.more) {
-            let slot = &mut b.slots[pos];
-            slot.running = true;
-            let task = slot.task.take()?;
+            let task = take(&mut b.slots[pos])?;
             return Some((pos, Job::Round { task, ahead: false }));
         }
-        if let Some(pos) = b
+        let pos = b
             .slots
             .iter()
-            .position(|s| free(s) && s.run.is_none() && (s.pruned || !s.more))
-        {
-            let slot = &mut b.slots[pos];
-            slot.running = true;
-            let task = slot.task.take()?;
-            return Some((pos, Job::Report(task)));
-        }
-        return None;
+            .position(|s| free(s) && s.run.is_none() && (s.pruned || !s.more))?;
+        return Some((pos, Job::Report(take(&mut b.slots[pos])?)));
     }
-    if !prune {
-        return None;
-    }
-    let pos = b
+    // Before the decision (only with pruning: without, it is taken at once).
+    let ahead = b
         .slots
         .iter()
         .enumerate()
-        .filter(|(_, s)| s.started && !s.running && s.more && s.task.is_some())
+        .filter(|(_, s)| s.started && s.more && s.task.is_some())
         .min_by(|(_, a), (_, c)| {
             let standing = |s: &Slot<'_>| s.score.map_or(Real::INFINITY, |s| s.standing);
             standing(a)
                 .total_cmp(&standing(c))
                 .then(a.class.cmp(&c.class))
         })
-        .map(|(pos, _)| pos)?;
+        .map(|(pos, _)| pos);
+    let Some(pos) = ahead else {
+        // The test's order: first rounds once nothing can run ahead.
+        let pos = b.slots.iter().position(|s| !s.started && !s.running)?;
+        b.slots[pos].running = true;
+        return Some((pos, Job::Start(b.slots[pos].class)));
+    };
     let slot = &mut b.slots[pos];
-    let task = slot.task.take()?;
+    let task = take(slot)?;
     if slot.snapshot.is_none() {
         slot.snapshot = Some((task.state.clone(), task.time_ms));
     }
-    slot.running = true;
     Some((pos, Job::Round { task, ahead: true }))
+}
+
+/// Tests only: run rounds ahead before any other first round, so that a single thread runs
+/// (and undoes) them in a known order. Plans must not change with it.
+#[cfg(test)]
+pub(super) static AHEAD_FIRST: AtomicBool = AtomicBool::new(false);
+
+/// Tests only: stopped classes put back to their first round's loop.
+#[cfg(test)]
+pub(super) static UNDONE: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
+#[cfg(test)]
+fn ahead_first() -> bool {
+    AHEAD_FIRST.load(Ordering::Relaxed)
+}
+
+#[cfg(not(test))]
+fn ahead_first() -> bool {
+    false
 }
 
 /// Runs a job, outside the lock.
 fn execute<'w>(shop: &Shop<'w>, pos: usize, job: Job<'w>) -> (ClassTask<'w>, Done) {
     let model = shop.world.model;
     match job {
-        Job::Start => {
-            let class = lock(&shop.board).slots[pos].class;
+        Job::Start(class) => {
             let (poly, sig, gcost) = &shop.seeds[class];
             let made;
             let poly = match (shop.raw, sig) {
@@ -340,6 +336,8 @@ fn finish<'w>(b: &mut Board<'w>, shop: &Shop<'w>, pos: usize, (task, done): (Cla
                 {
                     task.state = state;
                     task.time_ms = time_ms;
+                    #[cfg(test)]
+                    UNDONE.fetch_add(1, Ordering::Relaxed);
                 }
             }
         }
