@@ -407,6 +407,24 @@ impl Growth {
         &self.rounds
     }
 
+    /// The evaluation budget of the rounds left if every one of them runs and grows the curve
+    /// by a via-point (up to `max_via_points`): an upper estimate of the loop's work left, for
+    /// a scheduler (0 once the loop is done).
+    pub fn budget_left(&self, cfg: &GrowthConfig) -> usize {
+        if self.done {
+            return 0;
+        }
+        let via = self.points.len() - 2;
+        (0..cfg.max_rounds.max(1).saturating_sub(self.round))
+            .map(|k| {
+                let v = (via + k).min(cfg.max_via_points.max(via));
+                cfg.evaluations_per_dimension
+                    .saturating_mul(2 * v)
+                    .min(cfg.round_budget(v + 1))
+            })
+            .fold(0usize, usize::saturating_add)
+    }
+
     /// The curve [`Growth::result`] gives now.
     pub fn curve(&self, guard: &Guard<'_>) -> &Spline {
         self.best(guard).1
@@ -823,6 +841,8 @@ mod tests {
         };
         let cfg = GrowthConfig::default();
         let mut stepped = Growth::new(&seed, &model, &cfg, &guard).unwrap();
+        // Two via-points, three rounds growing one each: 30 x (4 + 6 + 8) evaluations.
+        assert_eq!(stepped.budget_left(&cfg), 30 * (4 + 6 + 8));
         let mut unless = stepped.clone();
         let mut called_off = stepped.clone();
         // Never called off: the same rounds, the same result, to the bit.
@@ -840,6 +860,7 @@ mod tests {
             stepped.result(&model, &cfg, &guard),
             unless.result(&model, &cfg, &guard)
         );
+        assert_eq!(stepped.budget_left(&cfg), 0);
         // Called off after 25 evaluations of its first round: nothing of it is kept, and the
         // round run again afterwards is the first round of an untouched loop.
         let before = called_off.result(&model, &cfg, &guard);

@@ -1584,6 +1584,13 @@ impl<'w> ClassTask<'w> {
         more
     }
 
+    /// The evaluation budget of its rounds left ([`Growth::budget_left`]).
+    fn budget_left(&self) -> usize {
+        self.state
+            .as_ref()
+            .map_or(0, |g| g.budget_left(&self.growth))
+    }
+
     /// Runs the rounds left.
     fn run(&mut self, model: &dyn ClearanceModel) {
         while self.step(model) {}

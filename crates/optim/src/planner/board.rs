@@ -186,9 +186,9 @@ fn take<'w>(slot: &mut Slot<'w>) -> Option<ClassTask<'w>> {
     Some(task)
 }
 
-/// The next job, marked as taken: a first round; after the decision, a round of the first
-/// class (longest seed first) with rounds left, else a report; before it, a round ahead for
-/// the class that stands best.
+/// The next job, marked as taken: a first round; after the decision, a round of the class
+/// with the most work left, else a report; before it, a round ahead for the class that
+/// stands best.
 fn pick<'w>(b: &mut Board<'w>) -> Option<(usize, Job<'w>)> {
     if (!ahead_first() || b.decided || !b.slots.iter().any(|s| s.started))
         && let Some(pos) = b.slots.iter().position(|s| !s.started && !s.running)
@@ -198,7 +198,16 @@ fn pick<'w>(b: &mut Board<'w>) -> Option<(usize, Job<'w>)> {
     }
     if b.decided {
         let free = |s: &Slot<'_>| s.started && s.task.is_some();
-        if let Some(pos) = b.slots.iter().position(|s| free(s) && !s.pruned && s.more) {
+        // The class with the most work left first (its rounds form a chain: started last,
+        // it would run alone at the end); ties in the given order.
+        if let Some((pos, _)) = b
+            .slots
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| free(s) && !s.pruned && s.more)
+            .map(|(pos, s)| (pos, s.task.as_ref().map_or(0, ClassTask::budget_left)))
+            .min_by_key(|&(pos, left)| (std::cmp::Reverse(left), pos))
+        {
             let task = take(&mut b.slots[pos])?;
             return Some((pos, Job::Round { task, ahead: false }));
         }
