@@ -1,6 +1,6 @@
 //! The classes' rounds as jobs on a shared board, so that no core idles while there is work:
-//! first rounds first, rounds ahead of the pruning decision on a free core, then every round
-//! and report left, one job at a time, whichever class is free.
+//! first rounds first, rounds ahead of the pruning decision on a free core, then the rounds
+//! left (the class with the most work left first) and the reports, one job at a time.
 //!
 //! A class's rounds depend only on the class (its seed, settings and guard), and the decision
 //! on the first rounds' scores only, so the plan does not depend on which thread ran what or
@@ -231,7 +231,7 @@ fn pick<'w>(b: &mut Board<'w>) -> Option<(usize, Job<'w>)> {
         })
         .map(|(pos, _)| pos);
     let Some(pos) = ahead else {
-        // The test's order: first rounds once nothing can run ahead.
+        // First rounds left: reached only in the test's order, once nothing runs ahead.
         let pos = b.slots.iter().position(|s| !s.started && !s.running)?;
         b.slots[pos].running = true;
         return Some((pos, Job::Start(b.slots[pos].class)));
