@@ -449,13 +449,19 @@ impl Growth {
         outer: &Guard<'_>,
     ) -> bool {
         if !self.done {
-            self.done = !self.round_and_grow(model, cfg, outer, &|| false);
-            self.round += 1;
-            if self.round >= cfg.max_rounds.max(1) {
-                self.done = true;
-            }
+            let ended = !self.round_and_grow(model, cfg, outer, &|| false);
+            self.count_round(ended, cfg);
         }
         !self.done
+    }
+
+    /// Counts a round just run (`ended`: the loop's own reason to stop) against the limit.
+    fn count_round(&mut self, ended: bool, cfg: &GrowthConfig) {
+        self.done = ended;
+        self.round += 1;
+        if self.round >= cfg.max_rounds.max(1) {
+            self.done = true;
+        }
     }
 
     /// [`Growth::step`] that can be called off: once `stop()` returns `true` the round's
@@ -480,11 +486,7 @@ impl Growth {
             *self = before;
             return None;
         }
-        self.done = ended;
-        self.round += 1;
-        if self.round >= cfg.max_rounds.max(1) {
-            self.done = true;
-        }
+        self.count_round(ended, cfg);
         Some(!self.done)
     }
 

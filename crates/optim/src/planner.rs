@@ -571,9 +571,9 @@ pub fn plan_world(
             done
         }
         None => {
-            // Longest seeds first: the classes' times differ by up to 3x, and a long class
-            // started last would run alone at the end. Each class is independent, so the
-            // order changes no result.
+            // Longest first (a scene's class paths, its seeds still to be made): the classes'
+            // times differ by up to 3x, and a long class started last would run alone at the
+            // end. Each class is independent, so the order changes no result.
             let mut order: Vec<usize> = (0..seeds.len()).collect();
             let seed_length =
                 |i: usize| -> Real { seeds[i].0.windows(2).map(|w| (w[1] - w[0]).norm()).sum() };
