@@ -249,12 +249,10 @@ impl ClearanceModel for CircleModel {
             let first = self.xs.partition_point(|&x| x < lo.x - margin);
             let end = self.xs.partition_point(|&x| x <= hi.x + margin);
             for k in first..end.max(first) {
-                let (cx, cy) = (self.xs[k], self.ys[k]);
-                let dx = (lo.x - cx).max(cx - hi.x).max(0.0);
-                let dy = (lo.y - cy).max(cy - hi.y).max(0.0);
+                let gap2 = box_gap2(&lo, &hi, self.xs[k], self.ys[k]);
                 let reach = cutoff_distance + self.rs[k];
                 kept[n_kept] = k;
-                n_kept += usize::from(reach >= 0.0 && dx * dx + dy * dy <= reach * reach);
+                n_kept += usize::from(reach >= 0.0 && gap2 <= reach * reach);
             }
             potential_block(
                 &mut lanes,
@@ -295,11 +293,8 @@ impl ClearanceModel for CircleModel {
         // clearance is at most `reach`.
         let near: Vec<Circle> = (0..self.xs.len())
             .filter(|&k| {
-                let (cx, cy) = (self.xs[k], self.ys[k]);
-                let dx = (lo.x - cx).max(cx - hi.x).max(0.0);
-                let dy = (lo.y - cy).max(cy - hi.y).max(0.0);
                 let r = reach + self.rs[k];
-                r >= 0.0 && dx * dx + dy * dy <= r * r * (1.0 + 1e-12)
+                r >= 0.0 && box_gap2(lo, hi, self.xs[k], self.ys[k]) <= r * r * (1.0 + 1e-12)
             })
             .map(|k| Circle::new(self.xs[k], self.ys[k], self.rs[k]))
             .collect();
@@ -416,11 +411,21 @@ impl Default for Lanes {
     }
 }
 
+/// The squared distance from the box `[lo, hi]` to the point `(cx, cy)` (0 inside). For a
+/// point (`lo = hi`) it is `dx^2 + dy^2` of `p - c` exactly: `max(x - cx, cx - x, 0)` is
+/// `|x - cx|`.
+#[inline]
+fn box_gap2(lo: &Point, hi: &Point, cx: Real, cy: Real) -> Real {
+    let dx = (lo.x - cx).max(cx - hi.x).max(0.0);
+    let dy = (lo.y - cy).max(cy - hi.y).max(0.0);
+    dx * dx + dy * dy
+}
+
 /// `min_k dist(box, (xs_k, ys_k)) - rs_k` over circles sorted by `xs` (+inf for none), for
 /// the box `[lo, hi]`: no point of the box (and so of a segment in it) is nearer to a circle.
 /// For a point (`lo = hi`) the distance is `|p - c|` computed as
-/// [`homospline_geom::Circle::signed_distance`] does (`max(x - cx, cx - x, 0)` is `|x - cx|`
-/// exactly), so equal to `CircleSet::clearance`'s. The scan starts at the box's `x` and walks
+/// [`homospline_geom::Circle::signed_distance`] does ([`box_gap2`]), so equal to
+/// `CircleSet::clearance`'s. The scan starts at the box's `x` and walks
 /// out both ways until the gap in `x` less `r_max` cannot beat the best: a few circles
 /// instead of all.
 fn least_distance(
@@ -431,12 +436,7 @@ fn least_distance(
     lo: &Point,
     hi: &Point,
 ) -> Real {
-    let at = |k: usize| {
-        let (cx, cy) = (xs[k], ys[k]);
-        let dx = (lo.x - cx).max(cx - hi.x).max(0.0);
-        let dy = (lo.y - cy).max(cy - hi.y).max(0.0);
-        (dx * dx + dy * dy).sqrt() - rs[k]
-    };
+    let at = |k: usize| box_gap2(lo, hi, xs[k], ys[k]).sqrt() - rs[k];
     let mut best = Real::INFINITY;
     let first = xs.partition_point(|&x| x < lo.x);
     for (k, &cx) in xs.iter().enumerate().skip(first) {

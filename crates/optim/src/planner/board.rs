@@ -191,10 +191,9 @@ fn take<'w>(slot: &mut Slot<'w>) -> Option<ClassTask<'w>> {
 /// stands best.
 fn pick<'w>(b: &mut Board<'w>) -> Option<(usize, Job<'w>)> {
     if (!ahead_first() || b.decided || !b.slots.iter().any(|s| s.started))
-        && let Some(pos) = b.slots.iter().position(|s| !s.started && !s.running)
+        && let Some(job) = start_next(b)
     {
-        b.slots[pos].running = true;
-        return Some((pos, Job::Start(b.slots[pos].class)));
+        return Some(job);
     }
     if b.decided {
         let free = |s: &Slot<'_>| s.started && s.task.is_some();
@@ -232,9 +231,7 @@ fn pick<'w>(b: &mut Board<'w>) -> Option<(usize, Job<'w>)> {
         .map(|(pos, _)| pos);
     let Some(pos) = ahead else {
         // First rounds left: reached only in the test's order, once nothing runs ahead.
-        let pos = b.slots.iter().position(|s| !s.started && !s.running)?;
-        b.slots[pos].running = true;
-        return Some((pos, Job::Start(b.slots[pos].class)));
+        return start_next(b);
     };
     let slot = &mut b.slots[pos];
     let task = take(slot)?;
@@ -242,6 +239,13 @@ fn pick<'w>(b: &mut Board<'w>) -> Option<(usize, Job<'w>)> {
         slot.snapshot = Some((task.state.clone(), task.time_ms));
     }
     Some((pos, Job::Round { task, ahead: true }))
+}
+
+/// The first round of the next class not started, marked as taken.
+fn start_next<'w>(b: &mut Board<'w>) -> Option<(usize, Job<'w>)> {
+    let pos = b.slots.iter().position(|s| !s.started && !s.running)?;
+    b.slots[pos].running = true;
+    Some((pos, Job::Start(b.slots[pos].class)))
 }
 
 /// Tests only: run rounds ahead before any other first round, so that a single thread runs
