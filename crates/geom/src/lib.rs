@@ -10,6 +10,8 @@
 //!   with the [`CircleSet`] entry point that picks a plain loop or parry's BVH by size.
 //! - [`polygon`]: a provable circle cover of simple polygons.
 //! - [`scene`]: the scene file of `docs/formats.md`, validated.
+//! - [`shortest`]: the exact shortest path that keeps a clearance from circles (the tangent
+//!   graph), the optimum that checks a plan's length.
 //!
 //! ```
 //! use homospline_geom::{Point, Scene};
@@ -28,6 +30,7 @@ pub mod polygon;
 pub mod query;
 pub mod scene;
 pub mod shape;
+pub mod shortest;
 
 pub use math::{Point, Real, Vector};
 pub use polygon::{CoverError, Polygon, cover_polygon};

@@ -1,0 +1,502 @@
+//! The exact shortest path between two points that keeps a given clearance from a set of
+//! circles: the geometric optimum that no curve of that clearance can beat.
+//!
+//! A curve whose clearance is at least `c` stays out of every open disc of radius `r + c`
+//! around the circles, so its length is at least that of the shortest path in the plane
+//! minus those discs. That path is made of straight segments tangent to the grown discs and
+//! arcs of their boundaries (it never touches a point where two grown boundaries cross: the
+//! union of the discs fills more than a half-plane around such a point). It is found exactly
+//! on the *tangent graph*: its nodes are the start, the goal and every tangent point (from
+//! the two points and between every pair of circles, outer and inner), its edges the tangent
+//! segments that enter no disc and the arcs between consecutive nodes of one circle that
+//! enter no other disc; Dijkstra's algorithm finds the shortest route. `O(n^3)` in the
+//! circles: meant for checking plans (tens of circles), not for planning.
+//!
+//! The tests use it as an oracle: no reported curve may be shorter than the optimum at its
+//! certified clearance. The robot's bounds are not taken in, so the result is a lower bound
+//! for a robot that must stay inside them too.
+
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+use std::f64::consts::TAU;
+
+use thiserror::Error;
+
+use crate::math::{Point, Real, Vector};
+use crate::shape::Circle;
+
+/// An input the query cannot take.
+#[derive(Debug, Error, PartialEq)]
+pub enum ShortestPathError {
+    /// The clearance is negative or not finite.
+    #[error("clearance must be finite and >= 0, got {0}")]
+    Clearance(Real),
+    /// A point is not finite.
+    #[error("the {0} is not a finite point")]
+    Point(&'static str),
+    /// A circle has a non-finite centre or a radius that is not finite and positive.
+    #[error("circle {index} is invalid (centre and radius must be finite, radius > 0)")]
+    Circle {
+        /// Its index in the input.
+        index: usize,
+    },
+}
+
+/// One piece of a shortest path.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Piece {
+    /// A straight segment.
+    Segment {
+        /// Where it starts.
+        from: Point,
+        /// Where it ends.
+        to: Point,
+    },
+    /// An arc of a grown circle, from angle `from` to angle `to` (radians; counter-clockwise
+    /// when `to > from`).
+    Arc {
+        /// The grown circle.
+        circle: Circle,
+        /// Start angle.
+        from: Real,
+        /// End angle.
+        to: Real,
+    },
+}
+
+impl Piece {
+    /// The point at fraction `u` in `[0, 1]` of the piece.
+    pub fn point(&self, u: Real) -> Point {
+        match *self {
+            Piece::Segment { from, to } => from + (to - from) * u,
+            Piece::Arc { circle, from, to } => {
+                circle.center + at(from + (to - from) * u) * circle.radius
+            }
+        }
+    }
+
+    /// Its length.
+    pub fn length(&self) -> Real {
+        match *self {
+            Piece::Segment { from, to } => (to - from).norm(),
+            Piece::Arc { circle, from, to } => circle.radius * (to - from).abs(),
+        }
+    }
+}
+
+/// A shortest path: its length and its pieces from the start to the goal.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShortestPath {
+    /// The length (the pieces' sum).
+    pub length: Real,
+    /// Segments and arcs, in order.
+    pub pieces: Vec<Piece>,
+}
+
+/// Relative slack of the feasibility tests: a tangent segment touches its own discs, and
+/// rounding puts it a few ulps inside. Allowing that much (1e-9 of the radius) can only
+/// shorten the result, so it stays a lower bound, by at most that much.
+const SLACK: Real = 1e-9;
+
+/// The length of the shortest path from `start` to `goal` that keeps at least `clearance`
+/// from every circle (no bounds), or `None` when there is none: `start` or `goal` is less
+/// than `clearance` from a circle, or the grown discs wall one off from the other.
+///
+/// ```
+/// use homospline_geom::{Circle, Point, shortest::shortest_path_length};
+///
+/// // Around a unit circle grown by 1 between points 4 apart on each side of it.
+/// let (s, t) = (Point::new(-4.0, 0.0), Point::new(4.0, 0.0));
+/// let len = shortest_path_length(&s, &t, &[Circle::new(0.0, 0.0, 1.0)], 1.0).unwrap().unwrap();
+/// // Two tangents of length sqrt(16 - 4) and the arc between them.
+/// let exact = 2.0 * 12f64.sqrt() + 2.0 * (std::f64::consts::PI - 2.0 * (0.5f64).acos());
+/// assert!((len - exact).abs() < 1e-9);
+/// ```
+pub fn shortest_path_length(
+    start: &Point,
+    goal: &Point,
+    circles: &[Circle],
+    clearance: Real,
+) -> Result<Option<Real>, ShortestPathError> {
+    Ok(shortest_path(start, goal, circles, clearance)?.map(|p| p.length))
+}
+
+/// [`shortest_path_length`] with the path itself.
+pub fn shortest_path(
+    start: &Point,
+    goal: &Point,
+    circles: &[Circle],
+    clearance: Real,
+) -> Result<Option<ShortestPath>, ShortestPathError> {
+    if !(clearance.is_finite() && clearance >= 0.0) {
+        return Err(ShortestPathError::Clearance(clearance));
+    }
+    for (name, p) in [("start", start), ("goal", goal)] {
+        if !(p.x.is_finite() && p.y.is_finite()) {
+            return Err(ShortestPathError::Point(name));
+        }
+    }
+    for (index, c) in circles.iter().enumerate() {
+        if !(c.center.x.is_finite()
+            && c.center.y.is_finite()
+            && c.radius.is_finite()
+            && c.radius > 0.0)
+        {
+            return Err(ShortestPathError::Circle { index });
+        }
+    }
+    let discs: Vec<Circle> = circles.iter().map(|c| c.inflated(clearance)).collect();
+    if [start, goal]
+        .iter()
+        .any(|p| discs.iter().any(|d| inside(d, p)))
+    {
+        return Ok(None);
+    }
+    Ok(TangentGraph::new(start, goal, &discs).shortest())
+}
+
+/// Whether `p` is in the open disc, past the slack.
+fn inside(d: &Circle, p: &Point) -> bool {
+    (p - d.center).norm() < d.radius * (1.0 - SLACK)
+}
+
+/// Whether the segment `[a, b]` enters an open disc, past the slack.
+fn blocked(discs: &[Circle], a: &Point, b: &Point) -> bool {
+    discs
+        .iter()
+        .any(|d| crate::math::distance_point_segment(&d.center, a, b) < d.radius * (1.0 - SLACK))
+}
+
+/// The unit vector at angle `a`.
+fn at(a: Real) -> Vector {
+    Vector::new(a.cos(), a.sin())
+}
+
+/// `a` in `[0, 2 pi)`.
+fn wrap(a: Real) -> Real {
+    let w = a.rem_euclid(TAU);
+    if w >= TAU { 0.0 } else { w }
+}
+
+/// The tangent graph of the module doc.
+struct TangentGraph<'a> {
+    discs: &'a [Circle],
+    /// Node 0 is the start, node 1 the goal.
+    nodes: Vec<Point>,
+    /// Per disc, its nodes' angles and indices.
+    on_disc: Vec<Vec<(Real, usize)>>,
+    edges: Vec<Vec<Edge>>,
+}
+
+/// An edge of the tangent graph.
+#[derive(Clone, Copy)]
+struct Edge {
+    to: usize,
+    length: Real,
+    /// Disc and counter-clockwise angles of an arc; `None` for a segment.
+    arc: Option<(usize, Real, Real)>,
+    /// The arc runs from `a1` back to `a0`.
+    reversed: bool,
+}
+
+impl<'a> TangentGraph<'a> {
+    fn new(start: &Point, goal: &Point, discs: &'a [Circle]) -> Self {
+        let mut g = Self {
+            discs,
+            nodes: vec![*start, *goal],
+            on_disc: vec![Vec::new(); discs.len()],
+            edges: vec![Vec::new(); 2],
+        };
+        g.segment(None, None, *start, *goal);
+        for (i, d) in discs.iter().enumerate() {
+            // Tangents from each end point.
+            for (node, p) in [(0usize, *start), (1, *goal)] {
+                let v = p - d.center;
+                let dist = v.norm();
+                if dist <= d.radius {
+                    continue;
+                }
+                let base = v.y.atan2(v.x);
+                let half = (d.radius / dist).clamp(-1.0, 1.0).acos();
+                for a in [base + half, base - half] {
+                    let q = d.center + at(a) * d.radius;
+                    g.segment(Some(node), Some((i, a)), p, q);
+                }
+            }
+            // Outer and inner tangents to every later disc.
+            for (j, e) in discs.iter().enumerate().skip(i + 1) {
+                let v = e.center - d.center;
+                let dist = v.norm();
+                if dist == 0.0 {
+                    continue;
+                }
+                let base = v.y.atan2(v.x);
+                // Outer: the normal n has n . v / |v| = (r_i - r_j) / d, both points at +n.
+                let cos_outer = (d.radius - e.radius) / dist;
+                if cos_outer.abs() < 1.0 {
+                    let half = cos_outer.acos();
+                    for a in [base + half, base - half] {
+                        let (p, q) = (d.center + at(a) * d.radius, e.center + at(a) * e.radius);
+                        g.bitangent((i, a), (j, a), p, q);
+                    }
+                }
+                // Inner: n . v / |v| = (r_i + r_j) / d, the point on j at -n.
+                let cos_inner = (d.radius + e.radius) / dist;
+                if cos_inner < 1.0 {
+                    let half = cos_inner.acos();
+                    for a in [base + half, base - half] {
+                        let b = a + std::f64::consts::PI;
+                        let (p, q) = (d.center + at(a) * d.radius, e.center + at(b) * e.radius);
+                        g.bitangent((i, a), (j, b), p, q);
+                    }
+                }
+            }
+        }
+        g.arcs();
+        g
+    }
+
+    /// A node at angle `a` on disc `i`, unless another disc covers it.
+    fn node_on(&mut self, (i, a): (usize, Real), p: Point) -> Option<usize> {
+        if self
+            .discs
+            .iter()
+            .enumerate()
+            .any(|(k, d)| k != i && inside(d, &p))
+        {
+            return None;
+        }
+        let n = self.nodes.len();
+        self.nodes.push(p);
+        self.edges.push(Vec::new());
+        self.on_disc[i].push((wrap(a), n));
+        Some(n)
+    }
+
+    /// An edge both ways: a segment (`arc: None`) or the arc of disc `i` from angle `a0`
+    /// to `a1` counter-clockwise, traversed reversed from `v` to `u`.
+    fn link(&mut self, u: usize, v: usize, w: Real, arc: Option<(usize, Real, Real)>) {
+        self.edges[u].push(Edge {
+            to: v,
+            length: w,
+            arc,
+            reversed: false,
+        });
+        self.edges[v].push(Edge {
+            to: u,
+            length: w,
+            arc,
+            reversed: true,
+        });
+    }
+
+    /// The segment from the end point `from` (or `None`: the start) to a tangent point, or
+    /// the start-goal segment, if it enters no disc.
+    fn segment(&mut self, from: Option<usize>, to: Option<(usize, Real)>, p: Point, q: Point) {
+        if blocked(self.discs, &p, &q) {
+            return;
+        }
+        match (from, to) {
+            (Some(u), Some(t)) => {
+                if let Some(v) = self.node_on(t, q) {
+                    self.link(u, v, (q - p).norm(), None);
+                }
+            }
+            _ => self.link(0, 1, (q - p).norm(), None),
+        }
+    }
+
+    fn bitangent(&mut self, a: (usize, Real), b: (usize, Real), p: Point, q: Point) {
+        if blocked(self.discs, &p, &q) {
+            return;
+        }
+        if let Some(u) = self.node_on(a, p)
+            && let Some(v) = self.node_on(b, q)
+        {
+            self.link(u, v, (q - p).norm(), None);
+        }
+    }
+
+    /// The arcs between consecutive nodes of each disc that enter no other disc.
+    fn arcs(&mut self) {
+        for i in 0..self.discs.len() {
+            let mut list = std::mem::take(&mut self.on_disc[i]);
+            list.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+            let d = self.discs[i];
+            let n = list.len();
+            if n >= 2 {
+                for k in 0..n {
+                    let (a0, u) = list[k];
+                    let (mut a1, v) = list[(k + 1) % n];
+                    if k + 1 == n {
+                        a1 += TAU;
+                    }
+                    if !self.arc_is_free(i, a0, a1) {
+                        continue;
+                    }
+                    self.link(u, v, d.radius * (a1 - a0), Some((i, a0, a1)));
+                }
+            }
+            self.on_disc[i] = list;
+        }
+    }
+
+    /// Whether the arc of disc `i` from angle `a0` to `a1` (counter-clockwise, `a1 >= a0`,
+    /// `a0` in `[0, 2 pi)`) stays out of every other open disc.
+    fn arc_is_free(&self, i: usize, a0: Real, a1: Real) -> bool {
+        let d = self.discs[i];
+        self.discs.iter().enumerate().all(|(k, e)| {
+            if k == i {
+                return true;
+            }
+            let v = e.center - d.center;
+            let dist = v.norm();
+            let (ri, rk) = (d.radius, e.radius * (1.0 - SLACK));
+            if dist >= ri + rk || dist + rk <= ri {
+                // Apart, or disc k inside disc i: circle i never enters it.
+                return true;
+            }
+            if dist + ri <= rk {
+                // Circle i lies inside disc k (its nodes were dropped already).
+                return false;
+            }
+            // Circle i is inside disc k on the open interval (phi - h, phi + h).
+            let phi = v.y.atan2(v.x);
+            let h = ((ri * ri + dist * dist - rk * rk) / (2.0 * ri * dist))
+                .clamp(-1.0, 1.0)
+                .acos();
+            let lo = wrap(phi - h);
+            // The forbidden interval [lo, lo + 2h] against the arc [a0, a1], both taken
+            // modulo 2 pi: they overlap if the forbidden one starts inside the arc or the
+            // arc starts inside the forbidden one.
+            let start_in_arc = (lo - a0).rem_euclid(TAU) < a1 - a0;
+            let arc_in_forbidden = (a0 - lo).rem_euclid(TAU) < 2.0 * h;
+            !(start_in_arc || arc_in_forbidden)
+        })
+    }
+
+    /// Dijkstra from node 0 to node 1, and the route's pieces.
+    fn shortest(&self) -> Option<ShortestPath> {
+        #[derive(PartialEq)]
+        struct Item(Real, usize);
+        impl Eq for Item {}
+        impl Ord for Item {
+            fn cmp(&self, o: &Self) -> Ordering {
+                o.0.total_cmp(&self.0).then(o.1.cmp(&self.1))
+            }
+        }
+        impl PartialOrd for Item {
+            fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+                Some(self.cmp(o))
+            }
+        }
+        let mut dist = vec![Real::INFINITY; self.nodes.len()];
+        let mut came: Vec<Option<(usize, Edge)>> = vec![None; self.nodes.len()];
+        let mut heap = BinaryHeap::new();
+        dist[0] = 0.0;
+        heap.push(Item(0.0, 0));
+        while let Some(Item(du, u)) = heap.pop() {
+            if u == 1 {
+                break;
+            }
+            if du > dist[u] {
+                continue;
+            }
+            for e in &self.edges[u] {
+                let dv = du + e.length;
+                if dv < dist[e.to] {
+                    dist[e.to] = dv;
+                    came[e.to] = Some((u, *e));
+                    heap.push(Item(dv, e.to));
+                }
+            }
+        }
+        if !dist[1].is_finite() {
+            return None;
+        }
+        let mut pieces = Vec::new();
+        let mut v = 1;
+        while let Some((u, e)) = came[v] {
+            pieces.push(match e.arc {
+                None => Piece::Segment {
+                    from: self.nodes[u],
+                    to: self.nodes[v],
+                },
+                Some((i, a0, a1)) => Piece::Arc {
+                    circle: self.discs[i],
+                    from: if e.reversed { a1 } else { a0 },
+                    to: if e.reversed { a0 } else { a1 },
+                },
+            });
+            v = u;
+        }
+        pieces.reverse();
+        Some(ShortestPath {
+            length: dist[1],
+            pieces,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_clear_segment_is_its_own_shortest_path() {
+        let c = [Circle::new(0.0, 5.0, 1.0)];
+        let (s, t) = (Point::new(-3.0, 0.0), Point::new(3.0, 0.0));
+        assert_eq!(shortest_path_length(&s, &t, &c, 1.0), Ok(Some(6.0)));
+    }
+
+    #[test]
+    fn ends_too_close_or_walled_off_have_no_path() {
+        let s = Point::new(0.0, 0.0);
+        let t = Point::new(10.0, 0.0);
+        let near = [Circle::new(1.0, 0.0, 0.5)];
+        assert_eq!(shortest_path_length(&s, &t, &near, 1.0), Ok(None));
+        // A ring of touching circles around the goal.
+        let ring: Vec<Circle> = (0..12)
+            .map(|k| {
+                let a = TAU * k as Real / 12.0;
+                Circle::new(10.0 + 3.0 * a.cos(), 3.0 * a.sin(), 0.9)
+            })
+            .collect();
+        assert_eq!(shortest_path_length(&s, &t, &ring, 0.0), Ok(None));
+        assert!(shortest_path_length(&s, &t, &ring, -1.0).is_err());
+        assert!(shortest_path_length(&s, &t, &[Circle::new(0.0, 9.0, 0.0)], 0.0).is_err());
+    }
+
+    #[test]
+    fn an_arc_through_another_disc_is_not_free() {
+        // Circle 0 at the origin, radius 3; circle 1 covers its arc within 38.9 degrees of
+        // the positive x axis (cos h = (9 + 9 - 4) / 18).
+        let discs = [Circle::new(0.0, 0.0, 3.0), Circle::new(3.0, 0.0, 2.0)];
+        let g = TangentGraph::new(&Point::new(-9.0, 0.0), &Point::new(9.0, 9.0), &discs);
+        let h = (14.0 / 18.0 as Real).acos();
+        assert!(!g.arc_is_free(0, TAU - 1.0, TAU + 1.0));
+        assert!(!g.arc_is_free(0, 0.5 * h, 0.6 * h));
+        assert!(!g.arc_is_free(0, 0.9 * h, 2.0));
+        assert!(g.arc_is_free(0, 1.01 * h, 3.0));
+        assert!(g.arc_is_free(0, 3.0, TAU - 1.01 * h));
+        // Circle 1 inside circle 0's disc over its left part: its right arcs are free.
+        assert!(g.arc_is_free(1, TAU - 1.0, TAU + 1.0));
+        assert!(!g.arc_is_free(1, 3.0, 3.2));
+    }
+
+    #[test]
+    fn two_overlapping_circles_are_passed_round_their_outer_arcs() {
+        // Two unit circles overlapping into a peanut across the line; the path goes round
+        // above or below (symmetric), over the two outer arcs.
+        let c = [Circle::new(-0.5, 0.0, 1.0), Circle::new(0.5, 0.0, 1.0)];
+        let (s, t) = (Point::new(-5.0, 0.0), Point::new(5.0, 0.0));
+        let len = shortest_path_length(&s, &t, &c, 0.0).unwrap().unwrap();
+        // Tangent from (-5, 0) to the left circle (distance 4.5 from its centre), the outer
+        // tangent along y = 1 (length 1), the same on the right.
+        let d: Real = 4.5;
+        let tangent = (d * d - 1.0).sqrt();
+        let arc = std::f64::consts::FRAC_PI_2 - (1.0 / d).acos();
+        let exact = 2.0 * (tangent + arc) + 1.0;
+        assert!((len - exact).abs() < 1e-9, "{len} vs {exact}");
+    }
+}

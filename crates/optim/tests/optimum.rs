@@ -1,0 +1,69 @@
+//! No plan beats the geometry: every collision-free class's curve, and its reported path,
+//! is at least as long as the exact shortest path that keeps the same clearance
+//! ([`homospline_geom::shortest`]). A certified clearance or a reported length that were too
+//! good would break it.
+
+use homospline_geom::shortest::shortest_path_length;
+use homospline_geom::{Circle, Real, Scene};
+use homospline_optim::{PlanConfig, plan};
+use homospline_testkit::{fixture_scenes, random_fixture_scenes, world_scene};
+
+fn polyline_length(p: &[homospline_geom::Point]) -> Real {
+    p.windows(2).map(|w| (w[1] - w[0]).norm()).sum()
+}
+
+#[test]
+fn no_class_is_shorter_than_the_optimum_at_its_clearance() {
+    let mut scenes: Vec<Scene> = fixture_scenes();
+    scenes.extend(random_fixture_scenes());
+    scenes.extend((0..40).map(world_scene));
+    let mut checked = 0;
+    for scene in &scenes {
+        let circles: Vec<Circle> = scene.circle_set().circles().to_vec();
+        let p = plan(scene, &PlanConfig::default()).unwrap();
+        for c in p.classes.iter().filter(|c| c.collision_free) {
+            let at = |clearance: Real| {
+                shortest_path_length(&scene.start, &scene.goal, &circles, clearance)
+                    .unwrap()
+                    .unwrap_or_else(|| {
+                        panic!(
+                            "{} {}: no path keeps {clearance}, yet the class does",
+                            scene.name, c.signature
+                        )
+                    })
+            };
+            // The curve: certified to keep `certified_clearance`; its length is a quadrature,
+            // exact to far better than 1e-9.
+            let curve_opt = at(c.certified_clearance);
+            assert!(
+                c.length >= curve_opt * (1.0 - 1e-9),
+                "{} {}: curve {} shorter than the optimum {curve_opt} at clearance {}",
+                scene.name,
+                c.signature,
+                c.length,
+                c.certified_clearance
+            );
+            // The reported path: a polyline whose segments were checked exactly to keep
+            // `min_clearance`.
+            let path_opt = at(c.min_clearance);
+            let path_len = polyline_length(&c.path);
+            assert!(
+                path_len >= path_opt * (1.0 - 1e-12),
+                "{} {}: path {path_len} shorter than the optimum {path_opt} at clearance {}",
+                scene.name,
+                c.signature,
+                c.min_clearance
+            );
+            // The path's chords cut the curve's corners: never longer than the curve.
+            assert!(
+                path_len <= c.length * (1.0 + 1e-9),
+                "{} {}",
+                scene.name,
+                c.signature
+            );
+            checked += 1;
+        }
+    }
+    // Most classes of these scenes are collision-free: the check is not vacuous.
+    assert!(checked > 150, "only {checked} classes checked");
+}
