@@ -561,6 +561,12 @@ struct PlanArgs {
     /// rounds (marked `pruned`); `off` runs every class to its end (default 2.5)
     #[arg(long, value_name = "RATIO|off")]
     prune: Option<String>,
+    /// Also give each collision-free class's optimum (scenes): the length of the shortest
+    /// path that keeps its certified clearance from every circle (exact, over every class,
+    /// the bounds left out; no curve of that clearance is shorter), in the table and as
+    /// `optimum_length` in the JSON
+    #[arg(long)]
+    optimum: bool,
     /// Write the plan result (formats.md) here.
     #[arg(long, value_name = "FILE")]
     json: Option<PathBuf>,
@@ -715,6 +721,11 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
         Input::Scene(s) => Some(s),
         Input::Map(_) => None,
     };
+    if a.optimum && scene_of.is_none() {
+        bail!(bad(
+            "--optimum needs a scene of circles: a map's walls are cells".to_owned()
+        ));
+    }
     let cfg = plan_config(&options, scene_of).map_err(bad)?;
     let alpha = cfg.growth.cost.alpha;
     let (result, picture) = match &input {
@@ -761,8 +772,19 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
         }
     };
     say_raw!("{}", report::plan_table(&result));
+    let optima = match scene_of {
+        Some(scene) if a.optimum => report::optima(scene, &result),
+        _ => Vec::new(),
+    };
+    if a.optimum {
+        say_raw!("{}", report::optimum_table(&result, &optima));
+    }
     if let Some(p) = &a.json {
-        write(p, "plan JSON", report::plan_json(&result).as_bytes())?;
+        write(
+            p,
+            "plan JSON",
+            report::plan_json_with(&result, &optima).as_bytes(),
+        )?;
     }
     if let (Some(p), Some(pic)) = (&a.svg, picture) {
         write(p, "picture", pic.as_bytes())?;

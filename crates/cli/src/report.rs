@@ -3,7 +3,8 @@
 
 use std::fmt::Write;
 
-use homospline_geom::Point;
+use homospline_geom::shortest::shortest_path_length;
+use homospline_geom::{Point, Scene};
 use homospline_optim::Plan;
 use homospline_spline::CostTerms;
 use homospline_spline::cost::TERMS;
@@ -35,6 +36,9 @@ struct ClassJson<'a> {
     in_class: bool,
     overlap: f64,
     pruned: bool,
+    /// With `plan --optimum`: the shortest path's length at the certified clearance.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    optimum_length: Option<f64>,
     iterations: usize,
     evaluations: usize,
     time_ms: f64,
@@ -80,13 +84,19 @@ fn finite(x: f64) -> f64 {
 /// The plan as the JSON of `docs/formats.md` (plus `pareto`, `certified_clearance`, `safe`,
 /// `in_class`, `overlap`, `pruned` and every cost term).
 pub fn plan_json(plan: &Plan) -> String {
+    plan_json_with(plan, &[])
+}
+
+/// [`plan_json`] with each class's optimum ([`optima`]) as `optimum_length` where known.
+pub fn plan_json_with(plan: &Plan, optima: &[Option<f64>]) -> String {
     let doc = PlanJson {
         scene: &plan.scene,
         seed: plan.seed.name(),
         classes: plan
             .classes
             .iter()
-            .map(|c| ClassJson {
+            .enumerate()
+            .map(|(i, c)| ClassJson {
                 rank: c.rank,
                 signature: &c.signature,
                 seed_path: pts(&c.seed_path),
@@ -101,6 +111,7 @@ pub fn plan_json(plan: &Plan) -> String {
                 in_class: c.in_class,
                 overlap: c.overlap,
                 pruned: c.pruned,
+                optimum_length: optima.get(i).copied().flatten(),
                 iterations: c.iterations,
                 evaluations: c.evaluations,
                 time_ms: c.time_ms,
@@ -191,6 +202,52 @@ pub fn plan_table(plan: &Plan) -> String {
                 "no collision-free class (meeting the clearance floor): no plan"
             );
         }
+    }
+    s
+}
+
+/// Each class's optimum: the length of the shortest path from the scene's start to its goal
+/// that keeps the class's certified clearance from every (inflated) circle
+/// ([`homospline_geom::shortest`]: exact, over every class, the bounds left out), for the
+/// collision-free classes; `None` for the others. No curve of that clearance is shorter.
+pub fn optima(scene: &Scene, plan: &Plan) -> Vec<Option<f64>> {
+    let circles = scene.circle_set().circles().to_vec();
+    plan.classes
+        .iter()
+        .map(|c| {
+            c.collision_free
+                .then(|| {
+                    shortest_path_length(&scene.start, &scene.goal, &circles, c.certified_clearance)
+                        .ok()
+                        .flatten()
+                })
+                .flatten()
+        })
+        .collect()
+}
+
+/// The lines `plan --optimum` adds to the table: each class's length against its optimum.
+pub fn optimum_table(plan: &Plan, optima: &[Option<f64>]) -> String {
+    let mut s = String::from(
+        "optimum: the shortest path of any class keeping each class's certified clearance (bounds left out)\n",
+    );
+    for (c, o) in plan.classes.iter().zip(optima) {
+        let _ = match o {
+            Some(o) => writeln!(
+                s,
+                "  {:<14} length {:>9.3}  shortest of any class at clearance {:.3}: {:>9.3}  (+{:.2} %)",
+                short(&c.signature, 14),
+                c.length,
+                c.certified_clearance,
+                o,
+                100.0 * (c.length / o - 1.0)
+            ),
+            None => writeln!(
+                s,
+                "  {:<14} not collision-free: no optimum",
+                short(&c.signature, 14)
+            ),
+        };
     }
     s
 }

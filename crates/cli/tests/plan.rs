@@ -394,3 +394,69 @@ fn prune_marks_the_stopped_classes_and_off_runs_every_class_to_its_end() {
         );
     }
 }
+
+/// `--optimum` gives each collision-free class the shortest length of any class at its
+/// certified clearance, never above the class's own, in the table and the JSON; the JSON
+/// has no such field without it, and a map is refused by name.
+#[test]
+fn the_optimum_is_reported_and_never_above_a_class_length() {
+    let json = tmp("optimum.json");
+    let out = homospline()
+        .args([
+            "plan",
+            "fixtures/scenes/concave-cup.yaml",
+            "--optimum",
+            "--json",
+            json.to_str().unwrap(),
+        ])
+        .current_dir(root())
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let table = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        table.contains("shortest of any class at clearance"),
+        "{table}"
+    );
+    let v = read_json(&json);
+    let mut seen = 0;
+    for c in v["classes"].as_array().unwrap() {
+        match c["optimum_length"].as_f64() {
+            Some(o) => {
+                assert_eq!(c["collision_free"], true);
+                let len = c["length"].as_f64().unwrap();
+                assert!(o > 0.0 && o <= len, "optimum {o} against length {len}");
+                seen += 1;
+            }
+            None => assert_eq!(c["collision_free"], false),
+        }
+    }
+    assert!(seen > 0);
+    let plain = tmp("no-optimum.json");
+    assert_ok(
+        &homospline()
+            .args(["plan", "--json", plain.to_str().unwrap()])
+            .output()
+            .unwrap(),
+    );
+    assert!(
+        read_json(&plain)["classes"][0]
+            .get("optimum_length")
+            .is_none()
+    );
+    let map = homospline()
+        .args([
+            "plan",
+            "fixtures/maps/movingai/maze-32-32-2.map",
+            "--start",
+            "5,5",
+            "--goal",
+            "20,20",
+            "--optimum",
+        ])
+        .current_dir(root())
+        .output()
+        .unwrap();
+    assert_eq!(map.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&map.stderr).contains("--optimum needs a scene of circles"));
+}
