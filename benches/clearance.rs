@@ -1,5 +1,6 @@
 //! Criterion bench of the clearance queries, plain loop against parry's BVH, on 30 and on
-//! 5,000 circles: the figures behind `CircleSet::BVH_THRESHOLD`.
+//! 5,000 circles: the figures behind `CircleSet::BVH_THRESHOLD`; and of the exact shortest
+//! path at dm on the fixture scenes (`geom::shortest`, what `plan --optimum` adds).
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use homospline_geom::{Circle, CircleSet, Point, QueryBackend, Vector};
@@ -71,11 +72,29 @@ fn bench(c: &mut Criterion) {
     }
 }
 
+fn shortest(c: &mut Criterion) {
+    let mut g = c.benchmark_group("shortest");
+    for scene in homospline_testkit::fixture_scenes() {
+        let circles = scene.circle_set().circles().to_vec();
+        g.bench_function(format!("{}/{}", scene.name, circles.len()), |b| {
+            b.iter(|| {
+                homospline_geom::shortest::shortest_path_length(
+                    &scene.start,
+                    &scene.goal,
+                    black_box(&circles),
+                    3.0,
+                )
+            })
+        });
+    }
+    g.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default()
         .warm_up_time(std::time::Duration::from_millis(300))
         .measurement_time(std::time::Duration::from_secs(1));
-    targets = bench
+    targets = bench, shortest
 }
 criterion_main!(benches);
