@@ -213,10 +213,13 @@ impl<'a> TangentGraph<'a> {
             for (node, p) in [(0usize, *start), (1, *goal)] {
                 let v = p - d.center;
                 let dist = v.norm();
+                let base = v.y.atan2(v.x);
                 if dist <= d.radius {
+                    // On the grown circle (within the slack: it is not inside): the point is
+                    // a node of the circle itself, and the path may start along its arc.
+                    g.on_disc[i].push((wrap(base), node));
                     continue;
                 }
-                let base = v.y.atan2(v.x);
                 let half = (d.radius / dist).clamp(-1.0, 1.0).acos();
                 for a in [base + half, base - half] {
                     let q = d.center + at(a) * d.radius;
@@ -447,6 +450,15 @@ mod tests {
         let c = [Circle::new(0.0, 5.0, 1.0)];
         let (s, t) = (Point::new(-3.0, 0.0), Point::new(3.0, 0.0));
         assert_eq!(shortest_path_length(&s, &t, &c, 1.0), Ok(Some(6.0)));
+    }
+
+    #[test]
+    fn ends_on_a_grown_circle_go_round_its_arc() {
+        // Both ends exactly at the clearance from a unit circle: half the grown circle.
+        let c = [Circle::new(0.0, 0.0, 1.0)];
+        let (s, t) = (Point::new(-2.0, 0.0), Point::new(2.0, 0.0));
+        let len = shortest_path_length(&s, &t, &c, 1.0).unwrap().unwrap();
+        assert!((len - 2.0 * std::f64::consts::PI).abs() < 1e-12, "{len}");
     }
 
     #[test]
