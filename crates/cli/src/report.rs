@@ -3,8 +3,9 @@
 
 use std::fmt::Write;
 
-use homospline_geom::shortest::shortest_path_length;
+use homospline_geom::shortest::TangentGraph;
 use homospline_geom::{Point, Scene};
+use homospline_homotopy::{Rays, shortest_in_class};
 use homospline_optim::Plan;
 use homospline_spline::CostTerms;
 use homospline_spline::cost::TERMS;
@@ -36,9 +37,12 @@ struct ClassJson<'a> {
     in_class: bool,
     overlap: f64,
     pruned: bool,
-    /// With `plan --optimum`: the shortest path's length at the certified clearance.
+    /// With `plan --optimum`: the shortest path's length at the certified clearance, in the
+    /// class and of any class.
     #[serde(skip_serializing_if = "Option::is_none")]
     optimum_length: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    optimum_length_any_class: Option<f64>,
     iterations: usize,
     evaluations: usize,
     time_ms: f64,
@@ -87,8 +91,9 @@ pub fn plan_json(plan: &Plan) -> String {
     plan_json_with(plan, &[])
 }
 
-/// [`plan_json`] with each class's optimum ([`optima`]) as `optimum_length` where known.
-pub fn plan_json_with(plan: &Plan, optima: &[Option<f64>]) -> String {
+/// [`plan_json`] with each class's optima ([`optima`]) as `optimum_length` (its class) and
+/// `optimum_length_any_class` where known.
+pub fn plan_json_with(plan: &Plan, optima: &[Option<Optimum>]) -> String {
     let doc = PlanJson {
         scene: &plan.scene,
         seed: plan.seed.name(),
@@ -111,7 +116,12 @@ pub fn plan_json_with(plan: &Plan, optima: &[Option<f64>]) -> String {
                 in_class: c.in_class,
                 overlap: c.overlap,
                 pruned: c.pruned,
-                optimum_length: optima.get(i).copied().flatten(),
+                optimum_length: optima
+                    .get(i)
+                    .copied()
+                    .flatten()
+                    .and_then(|o| o.class.length()),
+                optimum_length_any_class: optima.get(i).copied().flatten().and_then(|o| o.any),
                 iterations: c.iterations,
                 evaluations: c.evaluations,
                 time_ms: c.time_ms,
@@ -206,47 +216,104 @@ pub fn plan_table(plan: &Plan) -> String {
     s
 }
 
-/// Each class's optimum: the length of the shortest path from the scene's start to its goal
-/// that keeps the class's certified clearance from every (inflated) circle
-/// ([`homospline_geom::shortest`]: exact, over every class, the bounds left out), for the
-/// collision-free classes; `None` for the others. No curve of that clearance is shorter.
-pub fn optima(scene: &Scene, plan: &Plan) -> Vec<Option<f64>> {
+/// What `plan --optimum` finds for one collision-free class: the length of the exact shortest
+/// path from the scene's start to its goal that keeps the class's certified clearance from
+/// every (inflated) circle, in the class of its reported path and of any class (the bounds
+/// left out). No curve of that clearance is shorter.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Optimum {
+    /// The optimum of the class.
+    pub class: ClassOptimum,
+    /// The optimum of any class.
+    pub any: Option<f64>,
+}
+
+/// The optimum of a class, as the search found it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ClassOptimum {
+    /// Its length.
+    Found(f64),
+    /// None is within the curve's length: the curve or its certificate would be wrong.
+    NoneWithin,
+    /// The search gave up (too many words within the length: many obstacles).
+    GaveUp,
+}
+
+impl ClassOptimum {
+    fn length(self) -> Option<f64> {
+        match self {
+            ClassOptimum::Found(l) => Some(l),
+            _ => None,
+        }
+    }
+}
+
+/// Each class's [`Optimum`] (`None` for a class that is not collision-free).
+pub fn optima(scene: &Scene, plan: &Plan) -> Vec<Option<Optimum>> {
     let circles = scene.circle_set().circles().to_vec();
+    let rays = Rays::for_scene(scene);
     plan.classes
         .iter()
         .map(|c| {
-            c.collision_free
-                .then(|| {
-                    shortest_path_length(&scene.start, &scene.goal, &circles, c.certified_clearance)
-                        .ok()
-                        .flatten()
-                })
-                .flatten()
+            if !c.collision_free {
+                return None;
+            }
+            let g = TangentGraph::build(&scene.start, &scene.goal, &circles, c.certified_clearance)
+                .ok()
+                .flatten()?;
+            let word = rays.signature(&c.path);
+            let bound = c.length * (1.0 + 1e-9) + 1e-9;
+            Some(Optimum {
+                class: match shortest_in_class(&g, &rays, |w| *w == word, bound) {
+                    Ok(Some(p)) => ClassOptimum::Found(p.length),
+                    Ok(None) => ClassOptimum::NoneWithin,
+                    Err(_) => ClassOptimum::GaveUp,
+                },
+                any: g.shortest().map(|p| p.length),
+            })
         })
         .collect()
 }
 
-/// The lines `plan --optimum` adds to the table: each class's length against its optimum.
-pub fn optimum_table(plan: &Plan, optima: &[Option<f64>]) -> String {
+/// The lines `plan --optimum` adds to the table: each class's length against its optima.
+pub fn optimum_table(plan: &Plan, optima: &[Option<Optimum>]) -> String {
     let mut s = String::from(
-        "optimum: the shortest path of any class keeping each class's certified clearance (bounds left out)\n",
+        "optimum: the shortest path keeping each class's certified clearance, in its class and of any class (bounds left out)\n",
     );
+    let pct = |len: f64, o: f64| 100.0 * (len / o - 1.0);
     for (c, o) in plan.classes.iter().zip(optima) {
+        let name = short(&c.signature, 14);
         let _ = match o {
-            Some(o) => writeln!(
+            Some(Optimum {
+                class: ClassOptimum::Found(k),
+                any,
+            }) => writeln!(
                 s,
-                "  {:<14} length {:>9.3}  shortest of any class at clearance {:.3}: {:>9.3}  (+{:.2} %)",
-                short(&c.signature, 14),
+                "  {name:<14} length {:>9.3}  at clearance {:.3}: its class {k:>9.3} (+{:.2} %), any class {:>9.3}",
                 c.length,
                 c.certified_clearance,
-                o,
-                100.0 * (c.length / o - 1.0)
+                pct(c.length, *k),
+                any.unwrap_or(f64::NAN),
             ),
-            None => writeln!(
+            Some(Optimum {
+                class: ClassOptimum::GaveUp,
+                any,
+            }) => writeln!(
                 s,
-                "  {:<14} not collision-free: no optimum",
-                short(&c.signature, 14)
+                "  {name:<14} length {:>9.3}  at clearance {:.3}: its class not searched to the end (too many words), any class {:>9.3}",
+                c.length,
+                c.certified_clearance,
+                any.unwrap_or(f64::NAN),
             ),
+            Some(Optimum {
+                class: ClassOptimum::NoneWithin,
+                ..
+            }) => writeln!(
+                s,
+                "  {name:<14} CHECK FAILED: no path of its class keeping {:.3} is as short as its length {:.3}",
+                c.certified_clearance, c.length
+            ),
+            None => writeln!(s, "  {name:<14} not collision-free: no optimum"),
         };
     }
     s

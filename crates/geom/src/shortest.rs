@@ -128,6 +128,16 @@ pub fn shortest_path(
     circles: &[Circle],
     clearance: Real,
 ) -> Result<Option<ShortestPath>, ShortestPathError> {
+    Ok(TangentGraph::build(start, goal, circles, clearance)?.and_then(|g| g.shortest()))
+}
+
+/// The inputs' checks.
+fn validate(
+    start: &Point,
+    goal: &Point,
+    circles: &[Circle],
+    clearance: Real,
+) -> Result<(), ShortestPathError> {
     if !(clearance.is_finite() && clearance >= 0.0) {
         return Err(ShortestPathError::Clearance(clearance));
     }
@@ -145,14 +155,7 @@ pub fn shortest_path(
             return Err(ShortestPathError::Circle { index });
         }
     }
-    let discs: Vec<Circle> = circles.iter().map(|c| c.inflated(clearance)).collect();
-    if [start, goal]
-        .iter()
-        .any(|p| discs.iter().any(|d| inside(d, p)))
-    {
-        return Ok(None);
-    }
-    Ok(TangentGraph::new(start, goal, &discs).shortest())
+    Ok(())
 }
 
 /// Whether `p` is in the open disc, past the slack.
@@ -178,33 +181,68 @@ fn wrap(a: Real) -> Real {
     if w >= TAU { 0.0 } else { w }
 }
 
-/// The tangent graph of the module doc.
-struct TangentGraph<'a> {
-    discs: &'a [Circle],
-    /// Node 0 is the start, node 1 the goal.
+/// The tangent graph of the module doc, for searches of one's own (a homotopy class's
+/// shortest path searches it with each edge's ray crossings). Node [`TangentGraph::START`]
+/// is the start, [`TangentGraph::GOAL`] the goal; every edge is a piece of free space (up to
+/// the slack) and is listed from both of its ends, oriented away from the node.
+#[derive(Clone, Debug)]
+pub struct TangentGraph {
+    discs: Vec<Circle>,
     nodes: Vec<Point>,
     /// Per disc, its nodes' angles and indices.
     on_disc: Vec<Vec<(Real, usize)>>,
     edges: Vec<Vec<Edge>>,
 }
 
-/// An edge of the tangent graph.
-#[derive(Clone, Copy)]
-struct Edge {
-    to: usize,
-    length: Real,
-    /// Disc and counter-clockwise angles of an arc; `None` for a segment.
-    arc: Option<(usize, Real, Real)>,
-    /// The arc runs from `a1` back to `a0`.
-    reversed: bool,
+/// An edge of the tangent graph, from the node whose list holds it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Edge {
+    /// The node it leads to.
+    pub to: usize,
+    /// The segment or arc, oriented from the node whose list holds it to `to`.
+    pub piece: Piece,
 }
 
-impl<'a> TangentGraph<'a> {
-    fn new(start: &Point, goal: &Point, discs: &'a [Circle]) -> Self {
+impl TangentGraph {
+    /// The start's node.
+    pub const START: usize = 0;
+    /// The goal's node.
+    pub const GOAL: usize = 1;
+
+    /// The graph of the paths from `start` to `goal` that keep `clearance` from `circles`;
+    /// `None` when `start` or `goal` is less than `clearance` from a circle.
+    pub fn build(
+        start: &Point,
+        goal: &Point,
+        circles: &[Circle],
+        clearance: Real,
+    ) -> Result<Option<Self>, ShortestPathError> {
+        validate(start, goal, circles, clearance)?;
+        let discs: Vec<Circle> = circles.iter().map(|c| c.inflated(clearance)).collect();
+        if [start, goal]
+            .iter()
+            .any(|p| discs.iter().any(|d| inside(d, p)))
+        {
+            return Ok(None);
+        }
+        Ok(Some(Self::new(start, goal, discs)))
+    }
+
+    /// The nodes' points.
+    pub fn nodes(&self) -> &[Point] {
+        &self.nodes
+    }
+
+    /// The edges leaving `node`.
+    pub fn edges(&self, node: usize) -> &[Edge] {
+        &self.edges[node]
+    }
+
+    fn new(start: &Point, goal: &Point, discs: Vec<Circle>) -> Self {
         let mut g = Self {
-            discs,
-            nodes: vec![*start, *goal],
             on_disc: vec![Vec::new(); discs.len()],
+            discs: discs.clone(),
+            nodes: vec![*start, *goal],
             edges: vec![Vec::new(); 2],
         };
         g.segment(None, None, *start, *goal);
@@ -277,46 +315,63 @@ impl<'a> TangentGraph<'a> {
     }
 
     /// An edge both ways: a segment (`arc: None`) or the arc of disc `i` from angle `a0`
-    /// to `a1` counter-clockwise, traversed reversed from `v` to `u`.
-    fn link(&mut self, u: usize, v: usize, w: Real, arc: Option<(usize, Real, Real)>) {
+    /// to `a1` counter-clockwise (from `u` to `v`).
+    fn link(&mut self, u: usize, v: usize, arc: Option<(usize, Real, Real)>) {
+        let (forth, back) = match arc {
+            None => {
+                let (a, b) = (self.nodes[u], self.nodes[v]);
+                (
+                    Piece::Segment { from: a, to: b },
+                    Piece::Segment { from: b, to: a },
+                )
+            }
+            Some((i, a0, a1)) => {
+                let circle = self.discs[i];
+                (
+                    Piece::Arc {
+                        circle,
+                        from: a0,
+                        to: a1,
+                    },
+                    Piece::Arc {
+                        circle,
+                        from: a1,
+                        to: a0,
+                    },
+                )
+            }
+        };
         self.edges[u].push(Edge {
             to: v,
-            length: w,
-            arc,
-            reversed: false,
+            piece: forth,
         });
-        self.edges[v].push(Edge {
-            to: u,
-            length: w,
-            arc,
-            reversed: true,
-        });
+        self.edges[v].push(Edge { to: u, piece: back });
     }
 
     /// The segment from the end point `from` (or `None`: the start) to a tangent point, or
     /// the start-goal segment, if it enters no disc.
     fn segment(&mut self, from: Option<usize>, to: Option<(usize, Real)>, p: Point, q: Point) {
-        if blocked(self.discs, &p, &q) {
+        if blocked(&self.discs, &p, &q) {
             return;
         }
         match (from, to) {
             (Some(u), Some(t)) => {
                 if let Some(v) = self.node_on(t, q) {
-                    self.link(u, v, (q - p).norm(), None);
+                    self.link(u, v, None);
                 }
             }
-            _ => self.link(0, 1, (q - p).norm(), None),
+            _ => self.link(0, 1, None),
         }
     }
 
     fn bitangent(&mut self, a: (usize, Real), b: (usize, Real), p: Point, q: Point) {
-        if blocked(self.discs, &p, &q) {
+        if blocked(&self.discs, &p, &q) {
             return;
         }
         if let Some(u) = self.node_on(a, p)
             && let Some(v) = self.node_on(b, q)
         {
-            self.link(u, v, (q - p).norm(), None);
+            self.link(u, v, None);
         }
     }
 
@@ -325,7 +380,6 @@ impl<'a> TangentGraph<'a> {
         for i in 0..self.discs.len() {
             let mut list = std::mem::take(&mut self.on_disc[i]);
             list.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
-            let d = self.discs[i];
             let n = list.len();
             if n >= 2 {
                 for k in 0..n {
@@ -337,7 +391,7 @@ impl<'a> TangentGraph<'a> {
                     if !self.arc_is_free(i, a0, a1) {
                         continue;
                     }
-                    self.link(u, v, d.radius * (a1 - a0), Some((i, a0, a1)));
+                    self.link(u, v, Some((i, a0, a1)));
                 }
             }
             self.on_disc[i] = list;
@@ -378,8 +432,9 @@ impl<'a> TangentGraph<'a> {
         })
     }
 
-    /// Dijkstra from node 0 to node 1, and the route's pieces.
-    fn shortest(&self) -> Option<ShortestPath> {
+    /// The shortest path from the start to the goal (Dijkstra), `None` when the grown
+    /// circles wall one off from the other.
+    pub fn shortest(&self) -> Option<ShortestPath> {
         #[derive(PartialEq)]
         struct Item(Real, usize);
         impl Eq for Item {}
@@ -406,7 +461,7 @@ impl<'a> TangentGraph<'a> {
                 continue;
             }
             for e in &self.edges[u] {
-                let dv = du + e.length;
+                let dv = du + e.piece.length();
                 if dv < dist[e.to] {
                     dist[e.to] = dv;
                     came[e.to] = Some((u, *e));
@@ -420,17 +475,7 @@ impl<'a> TangentGraph<'a> {
         let mut pieces = Vec::new();
         let mut v = 1;
         while let Some((u, e)) = came[v] {
-            pieces.push(match e.arc {
-                None => Piece::Segment {
-                    from: self.nodes[u],
-                    to: self.nodes[v],
-                },
-                Some((i, a0, a1)) => Piece::Arc {
-                    circle: self.discs[i],
-                    from: if e.reversed { a1 } else { a0 },
-                    to: if e.reversed { a0 } else { a1 },
-                },
-            });
+            pieces.push(e.piece);
             v = u;
         }
         pieces.reverse();
@@ -484,7 +529,11 @@ mod tests {
         // Circle 0 at the origin, radius 3; circle 1 covers its arc within 38.9 degrees of
         // the positive x axis (cos h = (9 + 9 - 4) / 18).
         let discs = [Circle::new(0.0, 0.0, 3.0), Circle::new(3.0, 0.0, 2.0)];
-        let g = TangentGraph::new(&Point::new(-9.0, 0.0), &Point::new(9.0, 9.0), &discs);
+        let g = TangentGraph::new(
+            &Point::new(-9.0, 0.0),
+            &Point::new(9.0, 9.0),
+            discs.to_vec(),
+        );
         let h = (14.0 / 18.0 as Real).acos();
         assert!(!g.arc_is_free(0, TAU - 1.0, TAU + 1.0));
         assert!(!g.arc_is_free(0, 0.5 * h, 0.6 * h));

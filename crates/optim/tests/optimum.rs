@@ -1,10 +1,12 @@
 //! No plan beats the geometry: every collision-free class's curve, and its reported path,
-//! is at least as long as the exact shortest path that keeps the same clearance
-//! ([`homospline_geom::shortest`]). A certified clearance or a reported length that were too
-//! good would break it.
+//! is at least as long as the exact shortest path that keeps the same clearance, of its own
+//! class ([`homospline_homotopy::shortest`]) and so of any class
+//! ([`homospline_geom::shortest`]). A certified clearance or a reported length that were
+//! too good would break it.
 
-use homospline_geom::shortest::shortest_path_length;
+use homospline_geom::shortest::{TangentGraph, shortest_path_length};
 use homospline_geom::{Circle, Real, Scene};
+use homospline_homotopy::{Rays, shortest_in_class};
 use homospline_optim::{PlanConfig, plan};
 use homospline_testkit::{fixture_scenes, random_fixture_scenes, world_scene};
 
@@ -20,6 +22,7 @@ fn no_class_is_shorter_than_the_optimum_at_its_clearance() {
     let mut checked = 0;
     for scene in &scenes {
         let circles: Vec<Circle> = scene.circle_set().circles().to_vec();
+        let rays = Rays::for_scene(scene);
         let p = plan(scene, &PlanConfig::default()).unwrap();
         for c in p.classes.iter().filter(|c| c.collision_free) {
             let at = |clearance: Real| {
@@ -42,6 +45,26 @@ fn no_class_is_shorter_than_the_optimum_at_its_clearance() {
                 c.signature,
                 c.length,
                 c.certified_clearance
+            );
+            // Its class's optimum is within its length (it is a route of the class).
+            let g = TangentGraph::build(&scene.start, &scene.goal, &circles, c.certified_clearance)
+                .unwrap()
+                .unwrap();
+            let word = rays.signature(&c.path);
+            let class_opt =
+                shortest_in_class(&g, &rays, |w| *w == word, c.length * (1.0 + 1e-9) + 1e-9)
+                    .unwrap_or_else(|e| panic!("{} {}: {e}", scene.name, c.signature));
+            let class_opt = class_opt.unwrap_or_else(|| {
+                panic!(
+                    "{} {}: no path of its class keeping {} is as short as the curve {}",
+                    scene.name, c.signature, c.certified_clearance, c.length
+                )
+            });
+            assert!(
+                class_opt.length >= curve_opt * (1.0 - 1e-9),
+                "{} {}",
+                scene.name,
+                c.signature
             );
             // The reported path: a polyline whose segments were checked exactly to keep
             // `min_clearance`.

@@ -1,0 +1,213 @@
+//! The shortest path of one homotopy class that keeps a clearance from circles: the tangent
+//! graph of [`homospline_geom::shortest`] searched with each route's reduced word of ray
+//! crossings, Dijkstra in the universal cover of free space, up to a length bound.
+//!
+//! The shortest path of a class is taut: tangent segments and arcs of the grown circles,
+//! all of them edges of the tangent graph. A route's class is its reduced word, so a search
+//! whose states are (node, word so far) finds the shortest route of every word it reaches;
+//! a bound on the length keeps the words finite. It is A*: a state is taken in the order of
+//! its distance plus its node's distance to the goal in the plane (any class; exact, so the
+//! search takes in only routes that can come within the bound), and it gives up past
+//! [`MAX_STATES`] states rather than fill the memory (dozens of obstacles each passed
+//! either way make that many words). An arc's word is taken on the arc sampled
+//! every 1e-3 radians: the chords stay within `1.3e-7` of the radius inside the grown
+//! circle, where no ray's origin can lie (an origin is the centre of a circle, whose own
+//! grown disc would then cover the arc).
+
+use std::cmp::Ordering;
+use std::collections::{BinaryHeap, HashMap};
+
+use thiserror::Error;
+
+use homospline_geom::shortest::{Piece, ShortestPath, TangentGraph};
+use homospline_geom::{Point, Real};
+
+use crate::signature::{Rays, Signature};
+
+/// The word of one piece.
+fn word(rays: &Rays, piece: &Piece) -> Signature {
+    let pts: Vec<Point> = match *piece {
+        Piece::Segment { from, to } => vec![from, to],
+        Piece::Arc { from, to, .. } => {
+            let n = (((to - from).abs() / 1e-3).ceil() as usize).max(1);
+            (0..=n)
+                .map(|k| piece.point(k as Real / n as Real))
+                .collect()
+        }
+    };
+    rays.signature(&pts)
+}
+
+/// The search gives up past this many (node, word) states.
+pub const MAX_STATES: usize = 1 << 20;
+
+/// A search that gave up.
+#[derive(Debug, Error, PartialEq)]
+#[error("the class search gave up after {0} states (node and word) within the length bound")]
+pub struct TooManyStates(pub usize);
+
+/// Each node's distance to the goal in the graph, any class (Dijkstra from the goal; every
+/// edge is listed from both ends).
+fn to_goal(graph: &TangentGraph) -> Vec<Real> {
+    let mut dist = vec![Real::INFINITY; graph.nodes().len()];
+    dist[TangentGraph::GOAL] = 0.0;
+    let mut heap = BinaryHeap::from([Item(0.0, TangentGraph::GOAL)]);
+    while let Some(Item(d, u)) = heap.pop() {
+        if d > dist[u] {
+            continue;
+        }
+        for e in graph.edges(u) {
+            let dv = d + e.piece.length();
+            if dv < dist[e.to] {
+                dist[e.to] = dv;
+                heap.push(Item(dv, e.to));
+            }
+        }
+    }
+    dist
+}
+
+/// A search state: its node, its word, its distance, and the state and edge it came by.
+type State = (usize, Signature, Real, Option<(usize, usize)>);
+
+/// A heap entry: the least key first.
+#[derive(PartialEq)]
+struct Item(Real, usize);
+impl Eq for Item {}
+impl Ord for Item {
+    fn cmp(&self, o: &Self) -> Ordering {
+        o.0.total_cmp(&self.0).then(o.1.cmp(&self.1))
+    }
+}
+impl PartialOrd for Item {
+    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+        Some(self.cmp(o))
+    }
+}
+
+/// The shortest route from the start to the goal of `graph` whose reduced word `accept`s
+/// (a class's signature; the class is the word's), among those no longer than `bound`;
+/// `None` when there is none. With `bound` the length of a curve of the class that keeps
+/// the graph's clearance, `None` would mean that the curve beats the optimum.
+pub fn shortest_in_class(
+    graph: &TangentGraph,
+    rays: &Rays,
+    accept: impl Fn(&Signature) -> bool,
+    bound: Real,
+) -> Result<Option<ShortestPath>, TooManyStates> {
+    let h = to_goal(graph);
+    // Each edge's word, computed once.
+    let words: Vec<Vec<Signature>> = (0..graph.nodes().len())
+        .map(|u| {
+            graph
+                .edges(u)
+                .iter()
+                .map(|e| word(rays, &e.piece))
+                .collect()
+        })
+        .collect();
+    // States: (node, word); per state its distance and the state and edge it came by.
+    let mut ids: HashMap<(usize, Signature), usize> = HashMap::new();
+    let mut states: Vec<State> = Vec::new();
+    let start = (TangentGraph::START, Signature::identity());
+    ids.insert(start.clone(), 0);
+    states.push((start.0, start.1, 0.0, None));
+    let mut heap = BinaryHeap::from([Item(h[TangentGraph::START], 0)]);
+    while let Some(Item(key, id)) = heap.pop() {
+        let d = states[id].2;
+        if key > d + h[states[id].0] {
+            continue;
+        }
+        let (u, w) = (states[id].0, states[id].1.clone());
+        if u == TangentGraph::GOAL && accept(&w) {
+            let mut pieces = Vec::new();
+            let mut at = id;
+            while let Some((from, k)) = states[at].3 {
+                pieces.push(graph.edges(states[from].0)[k].piece);
+                at = from;
+            }
+            pieces.reverse();
+            return Ok(Some(ShortestPath { length: d, pieces }));
+        }
+        for (k, e) in graph.edges(u).iter().enumerate() {
+            let dv = d + e.piece.length();
+            if dv + h[e.to] > bound {
+                continue;
+            }
+            let key = (e.to, w.concat(&words[u][k]));
+            let next = match ids.get(&key) {
+                Some(&v) if states[v].2 <= dv => continue,
+                Some(&v) => v,
+                None if states.len() >= MAX_STATES => return Err(TooManyStates(states.len())),
+                None => {
+                    let v = states.len();
+                    ids.insert(key.clone(), v);
+                    states.push((key.0, key.1, dv, None));
+                    v
+                }
+            };
+            states[next].2 = dv;
+            states[next].3 = Some((id, k));
+            heap.push(Item(dv + h[e.to], next));
+        }
+    }
+    Ok(None)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use homospline_geom::Circle;
+
+    #[test]
+    fn the_two_ways_round_a_circle_are_two_classes() {
+        // A circle below the line S-T, off centre: above it is the shorter way, below it the
+        // longer; both are found, each in its class, and the straight segment is in the
+        // class that passes above.
+        let circles = [Circle::new(0.0, -0.5, 1.0)];
+        let (s, t) = (Point::new(-5.0, 0.0), Point::new(5.0, 0.0));
+        let rays = Rays::new(vec![circles[0].center]);
+        let g = TangentGraph::build(&s, &t, &circles, 0.0).unwrap().unwrap();
+        let above = rays.signature(&[s, Point::new(0.0, 3.0), t]);
+        let below = rays.signature(&[s, Point::new(0.0, -3.0), t]);
+        assert_ne!(above, below);
+        let a = shortest_in_class(&g, &rays, |w| *w == above, 1e9)
+            .unwrap()
+            .unwrap();
+        let b = shortest_in_class(&g, &rays, |w| *w == below, 1e9)
+            .unwrap()
+            .unwrap();
+        let best = g.shortest().unwrap();
+        assert!((a.length - best.length).abs() < 1e-12);
+        assert!(b.length > a.length);
+        // Tangents from (-5, 0) and (5, 0) to the circle and the arc between; the centre is
+        // `base` below the line seen from either end.
+        let d = (25.0f64 + 0.25).sqrt();
+        let (base, half) = ((0.5f64 / 5.0).atan(), (1.0 / d).acos());
+        let way =
+            |arc_half: Real| 2.0 * (d * d - 1.0).sqrt() + std::f64::consts::PI - 2.0 * arc_half;
+        let (exact_above, exact_below) = (way(half + base), way(half - base));
+        assert!(
+            (a.length - exact_above).abs() < 1e-9,
+            "{} vs {exact_above}",
+            a.length
+        );
+        assert!(
+            (b.length - exact_below).abs() < 1e-9,
+            "{} vs {exact_below}",
+            b.length
+        );
+        // Bounded below its length, it is not found.
+        assert_eq!(
+            shortest_in_class(&g, &rays, |w| *w == below, b.length - 1e-6),
+            Ok(None)
+        );
+        // The path's own word is its class's.
+        let pts: Vec<Point> = b
+            .pieces
+            .iter()
+            .flat_map(|p| (0..=64).map(move |k| p.point(k as Real / 64.0)))
+            .collect();
+        assert_eq!(rays.signature(&pts), below);
+    }
+}
