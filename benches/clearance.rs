@@ -1,6 +1,7 @@
 //! Criterion bench of the clearance queries, plain loop against parry's BVH, on 30 and on
 //! 5,000 circles: the figures behind `CircleSet::BVH_THRESHOLD`; and of the exact shortest
-//! path at dm on the fixture scenes (`geom::shortest`, what `plan --optimum` adds).
+//! path at dm on the fixture scenes (`geom::shortest`) and of the chosen class's own
+//! (`homotopy::shortest_in_class`): what `plan --optimum` adds.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use homospline_geom::{Circle, CircleSet, Point, QueryBackend, Vector};
@@ -83,6 +84,30 @@ fn shortest(c: &mut Criterion) {
                     &scene.goal,
                     black_box(&circles),
                     3.0,
+                )
+            })
+        });
+        // The chosen class's own optimum at its certified clearance, bounded by its length,
+        // as `plan --optimum` searches it (graph included).
+        let p = homospline_optim::plan(&scene, &homospline_optim::PlanConfig::default()).unwrap();
+        let chosen = &p.classes[p.best.unwrap() - 1];
+        let rays = homospline_homotopy::Rays::for_scene(&scene);
+        let word = rays.signature(&chosen.path);
+        g.bench_function(format!("{}/class", scene.name), |b| {
+            b.iter(|| {
+                let graph = homospline_geom::shortest::TangentGraph::build(
+                    &scene.start,
+                    &scene.goal,
+                    black_box(&circles),
+                    chosen.certified_clearance,
+                )
+                .unwrap()
+                .unwrap();
+                homospline_homotopy::shortest_in_class(
+                    &graph,
+                    &rays,
+                    |w| *w == word,
+                    chosen.length * (1.0 + 1e-9),
                 )
             })
         });

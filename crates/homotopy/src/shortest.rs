@@ -96,15 +96,9 @@ pub fn shortest_in_class(
     bound: Real,
 ) -> Result<Option<ShortestPath>, TooManyStates> {
     let h = to_goal(graph);
-    // Each edge's word, computed once.
-    let words: Vec<Vec<Signature>> = (0..graph.nodes().len())
-        .map(|u| {
-            graph
-                .edges(u)
-                .iter()
-                .map(|e| word(rays, &e.piece))
-                .collect()
-        })
+    // Each edge's word, computed when the search first takes the edge.
+    let mut words: Vec<Vec<Option<Signature>>> = (0..graph.nodes().len())
+        .map(|u| vec![None; graph.edges(u).len()])
         .collect();
     // States: (node, word); per state its distance and the state and edge it came by.
     let mut ids: HashMap<(usize, Signature), usize> = HashMap::new();
@@ -134,7 +128,8 @@ pub fn shortest_in_class(
             if dv + h[e.to] > bound {
                 continue;
             }
-            let key = (e.to, w.concat(&words[u][k]));
+            let edge_word = words[u][k].get_or_insert_with(|| word(rays, &e.piece));
+            let key = (e.to, w.concat(edge_word));
             let next = match ids.get(&key) {
                 Some(&v) if states[v].2 <= dv => continue,
                 Some(&v) => v,
