@@ -561,10 +561,10 @@ struct PlanArgs {
     /// rounds (marked `pruned`); `off` runs every class to its end (default 2.5)
     #[arg(long, value_name = "RATIO|off")]
     prune: Option<String>,
-    /// Also give each collision-free class's optimum (scenes): the length of the shortest
-    /// path that keeps its certified clearance from every circle (exact, over every class,
-    /// the bounds left out; no curve of that clearance is shorter), in the table and as
-    /// `optimum_length` in the JSON
+    /// Also give each collision-free class's optima (scenes): the lengths of the shortest
+    /// paths that keep its certified clearance from every circle, in its class and of any
+    /// class (exact, the bounds left out; no curve of that clearance is shorter), in the
+    /// table and as `optimum_length` and `optimum_length_any_class` in the JSON
     #[arg(long)]
     optimum: bool,
     /// Write the plan result (formats.md) here.

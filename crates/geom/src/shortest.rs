@@ -95,7 +95,8 @@ pub struct ShortestPath {
 
 /// Relative slack of the feasibility tests: a tangent segment touches its own discs, and
 /// rounding puts it a few ulps inside. Allowing that much (1e-9 of the radius) can only
-/// shorten the result, so it stays a lower bound, by at most that much.
+/// shorten the result, so it stays a lower bound (where two discs overlap by less than the
+/// slack, a path may slip between them: still a lower bound, though not a tight one).
 const SLACK: Real = 1e-9;
 
 /// The length of the shortest path from `start` to `goal` that keeps at least `clearance`
@@ -283,7 +284,8 @@ impl TangentGraph {
                 }
                 // Inner: n . v / |v| = (r_i + r_j) / d, the point on j at -n.
                 let cos_inner = (d.radius + e.radius) / dist;
-                if cos_inner < 1.0 {
+                // `<=`: discs that touch have a zero-length inner tangent through the contact.
+                if cos_inner <= 1.0 {
                     let half = cos_inner.acos();
                     for a in [base + half, base - half] {
                         let b = a + std::f64::consts::PI;

@@ -414,7 +414,11 @@ impl Growth {
         if self.done {
             return 0;
         }
-        let via = self.points.len() - 2;
+        // A bare segment's first round may start by growing a via-point (`round_and_grow`).
+        let via = match self.points.len() - 2 {
+            0 if self.round == 0 => cfg.max_via_points.min(1),
+            v => v,
+        };
         (0..cfg.max_rounds.max(1).saturating_sub(self.round))
             .map(|k| {
                 let v = (via + k).min(cfg.max_via_points.max(via));
@@ -525,7 +529,8 @@ impl Growth {
     ) -> bool {
         // A seed with no via-point (a class path pulled taut to the segment S-T) has nothing
         // to move. Where it falls short of the clearance target, the segment's midpoint
-        // becomes one (the curve is the same line), so that the round can bend the curve up
+        // becomes one (with natural ends the curve is the same line), so that the round can
+        // bend the curve up
         // to the target: else the class stayed on its seed, unsafe, while a curve of the
         // class keeping dm was often barely longer (on generated scenes, 0.4 % longer, while
         // the class chosen instead was 24 % longer; found by the class's exact optimum,
