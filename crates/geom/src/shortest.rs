@@ -16,7 +16,7 @@
 //! certified clearance. The robot's bounds are not taken in, so the result is a lower bound
 //! for a robot that must stay inside them too.
 
-use std::cmp::Ordering;
+use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 use std::f64::consts::TAU;
 
@@ -434,29 +434,47 @@ impl TangentGraph {
         })
     }
 
+    /// Each node's distance to `node` (every edge is listed from both ends, so it is the
+    /// distance from it too): for a search's heuristic.
+    pub fn distances_to(&self, node: usize) -> Vec<Real> {
+        self.dijkstra(node, None).0
+    }
+
     /// The shortest path from the start to the goal (Dijkstra), `None` when the grown
     /// circles wall one off from the other.
     pub fn shortest(&self) -> Option<ShortestPath> {
-        #[derive(PartialEq)]
-        struct Item(Real, usize);
-        impl Eq for Item {}
-        impl Ord for Item {
-            fn cmp(&self, o: &Self) -> Ordering {
-                o.0.total_cmp(&self.0).then(o.1.cmp(&self.1))
-            }
+        let (dist, came) = self.dijkstra(Self::START, Some(Self::GOAL));
+        if !dist[Self::GOAL].is_finite() {
+            return None;
         }
-        impl PartialOrd for Item {
-            fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
-                Some(self.cmp(o))
-            }
+        let mut pieces = Vec::new();
+        let mut v = Self::GOAL;
+        while let Some((u, e)) = came[v] {
+            pieces.push(e.piece);
+            v = u;
         }
+        pieces.reverse();
+        Some(ShortestPath {
+            length: dist[Self::GOAL],
+            pieces,
+        })
+    }
+
+    /// Dijkstra from `source`, stopping once `target` is settled: each node's distance, and
+    /// the node and edge it was reached by.
+    fn dijkstra(
+        &self,
+        source: usize,
+        target: Option<usize>,
+    ) -> (Vec<Real>, Vec<Option<(usize, Edge)>>) {
         let mut dist = vec![Real::INFINITY; self.nodes.len()];
         let mut came: Vec<Option<(usize, Edge)>> = vec![None; self.nodes.len()];
-        let mut heap = BinaryHeap::new();
-        dist[0] = 0.0;
-        heap.push(Item(0.0, 0));
-        while let Some(Item(du, u)) = heap.pop() {
-            if u == 1 {
+        dist[source] = 0.0;
+        // Entries (distance's bits, node): non-negative floats order as their bits.
+        let mut heap = BinaryHeap::from([Reverse((0u64, source))]);
+        while let Some(Reverse((bits, u))) = heap.pop() {
+            let du = Real::from_bits(bits);
+            if Some(u) == target {
                 break;
             }
             if du > dist[u] {
@@ -467,24 +485,11 @@ impl TangentGraph {
                 if dv < dist[e.to] {
                     dist[e.to] = dv;
                     came[e.to] = Some((u, *e));
-                    heap.push(Item(dv, e.to));
+                    heap.push(Reverse((dv.to_bits(), e.to)));
                 }
             }
         }
-        if !dist[1].is_finite() {
-            return None;
-        }
-        let mut pieces = Vec::new();
-        let mut v = 1;
-        while let Some((u, e)) = came[v] {
-            pieces.push(e.piece);
-            v = u;
-        }
-        pieces.reverse();
-        Some(ShortestPath {
-            length: dist[1],
-            pieces,
-        })
+        (dist, came)
     }
 }
 

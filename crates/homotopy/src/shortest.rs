@@ -14,7 +14,7 @@
 //! circle, where no ray's origin can lie (an origin is the centre of a circle, whose own
 //! grown disc would then cover the arc).
 
-use std::cmp::Ordering;
+use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap};
 
 use thiserror::Error;
@@ -46,44 +46,8 @@ pub const MAX_STATES: usize = 1 << 20;
 #[error("the class search gave up after {0} states (node and word) within the length bound")]
 pub struct TooManyStates(pub usize);
 
-/// Each node's distance to the goal in the graph, any class (Dijkstra from the goal; every
-/// edge is listed from both ends).
-fn to_goal(graph: &TangentGraph) -> Vec<Real> {
-    let mut dist = vec![Real::INFINITY; graph.nodes().len()];
-    dist[TangentGraph::GOAL] = 0.0;
-    let mut heap = BinaryHeap::from([Item(0.0, TangentGraph::GOAL)]);
-    while let Some(Item(d, u)) = heap.pop() {
-        if d > dist[u] {
-            continue;
-        }
-        for e in graph.edges(u) {
-            let dv = d + e.piece.length();
-            if dv < dist[e.to] {
-                dist[e.to] = dv;
-                heap.push(Item(dv, e.to));
-            }
-        }
-    }
-    dist
-}
-
 /// A search state: its node, its word, its distance, and the state and edge it came by.
 type State = (usize, Signature, Real, Option<(usize, usize)>);
-
-/// A heap entry: the least key first.
-#[derive(PartialEq)]
-struct Item(Real, usize);
-impl Eq for Item {}
-impl Ord for Item {
-    fn cmp(&self, o: &Self) -> Ordering {
-        o.0.total_cmp(&self.0).then(o.1.cmp(&self.1))
-    }
-}
-impl PartialOrd for Item {
-    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
-        Some(self.cmp(o))
-    }
-}
 
 /// The shortest route from the start to the goal of `graph` whose reduced word `accept`s
 /// (a class's signature; the class is the word's), among those no longer than `bound`;
@@ -95,7 +59,8 @@ pub fn shortest_in_class(
     accept: impl Fn(&Signature) -> bool,
     bound: Real,
 ) -> Result<Option<ShortestPath>, TooManyStates> {
-    let h = to_goal(graph);
+    // The heuristic: each node's distance to the goal, any class.
+    let h = graph.distances_to(TangentGraph::GOAL);
     // Each edge's word, computed when the search first takes the edge.
     let mut words: Vec<Vec<Option<Signature>>> = (0..graph.nodes().len())
         .map(|u| vec![None; graph.edges(u).len()])
@@ -106,8 +71,10 @@ pub fn shortest_in_class(
     let start = (TangentGraph::START, Signature::identity());
     ids.insert(start.clone(), 0);
     states.push((start.0, start.1, 0.0, None));
-    let mut heap = BinaryHeap::from([Item(h[TangentGraph::START], 0)]);
-    while let Some(Item(key, id)) = heap.pop() {
+    // Entries (key's bits, state): non-negative floats order as their bits.
+    let mut heap = BinaryHeap::from([Reverse((h[TangentGraph::START].to_bits(), 0))]);
+    while let Some(Reverse((bits, id))) = heap.pop() {
+        let key = Real::from_bits(bits);
         let d = states[id].2;
         if key > d + h[states[id].0] {
             continue;
@@ -143,7 +110,7 @@ pub fn shortest_in_class(
             };
             states[next].2 = dv;
             states[next].3 = Some((id, k));
-            heap.push(Item(dv + h[e.to], next));
+            heap.push(Reverse(((dv + h[e.to]).to_bits(), next)));
         }
     }
     Ok(None)
