@@ -8,8 +8,10 @@
 //! a bound on the length keeps the words finite. It is A*: a state is taken in the order of
 //! its distance plus its node's distance to the goal in the plane (any class; exact, so the
 //! search takes in only routes that can come within the bound), and it gives up past
-//! [`MAX_STATES`] states rather than fill the memory (dozens of obstacles each passed
-//! either way make that many words). An arc's word is taken on the arc sampled
+//! [`MAX_STATES`] states or [`MAX_LETTERS`] letters in their words rather than fill the
+//! memory (dozens of obstacles each passed either way make that many words; a loose bound
+//! lets routes wind round obstacles again and again, and their words grow long: unbounded,
+//! concave-cup's search held 24 GB before it had a million states). An arc's word is taken on the arc sampled
 //! every 1e-3 radians: the chords stay within `1.3e-7` of the radius inside the grown
 //! circle, where no ray's origin can lie (an origin is the centre of a circle, whose own
 //! grown disc would then cover the arc).
@@ -41,9 +43,16 @@ fn word(rays: &Rays, piece: &Piece) -> Signature {
 /// The search gives up past this many (node, word) states.
 pub const MAX_STATES: usize = 1 << 20;
 
-/// A search that gave up.
+/// The search gives up past this many letters in its states' words (each word is held
+/// twice, 4 bytes a letter: 2^23 letters are 64 MB).
+pub const MAX_LETTERS: usize = 1 << 23;
+
+/// A search that gave up: the states it held.
 #[derive(Debug, Error, PartialEq)]
-#[error("the class search gave up after {0} states (node and word) within the length bound")]
+#[error(
+    "the class search gave up after {0} states (node and word) within the length bound \
+     (at most {MAX_STATES} states, {MAX_LETTERS} letters in their words)"
+)]
 pub struct TooManyStates(pub usize);
 
 /// A search state: its node, its word, its distance, and the state and edge it came by.
@@ -68,6 +77,7 @@ pub fn shortest_in_class(
     // States: (node, word); per state its distance and the state and edge it came by.
     let mut ids: HashMap<(usize, Signature), usize> = HashMap::new();
     let mut states: Vec<State> = Vec::new();
+    let mut letters = 0;
     let start = (TangentGraph::START, Signature::identity());
     ids.insert(start.clone(), 0);
     states.push((start.0, start.1, 0.0, None));
@@ -100,9 +110,12 @@ pub fn shortest_in_class(
             let next = match ids.get(&key) {
                 Some(&v) if states[v].2 <= dv => continue,
                 Some(&v) => v,
-                None if states.len() >= MAX_STATES => return Err(TooManyStates(states.len())),
+                None if states.len() >= MAX_STATES || letters + key.1.0.len() > MAX_LETTERS => {
+                    return Err(TooManyStates(states.len()));
+                }
                 None => {
                     let v = states.len();
+                    letters += key.1.0.len();
                     ids.insert(key.clone(), v);
                     states.push((key.0, key.1, dv, None));
                     v
@@ -171,5 +184,27 @@ mod tests {
             .flat_map(|p| (0..=64).map(move |k| p.point(k as Real / 64.0)))
             .collect();
         assert_eq!(rays.signature(&pts), below);
+    }
+
+    #[test]
+    fn an_unbounded_search_for_a_word_never_found_gives_up_within_its_letters() {
+        // A ring of twelve overlapping circles, S and T outside it, a word no route has
+        // (every letter +1): without a bound the routes wind round the ring again and again,
+        // and the search must give up by the letters its words hold, not fill the memory
+        // (it held 24 GB before it had MAX_STATES states).
+        let circles: Vec<Circle> = (0..12)
+            .map(|i| {
+                let a = i as Real * std::f64::consts::TAU / 12.0;
+                Circle::new(10.0 * a.cos(), 10.0 * a.sin(), 2.5)
+            })
+            .collect();
+        let rays = Rays::new(circles.iter().map(|c| c.center).collect());
+        let (s, t) = (Point::new(-20.0, 1.0), Point::new(20.0, -1.0));
+        let g = TangentGraph::build(&s, &t, &circles, 0.5).unwrap().unwrap();
+        let never = |w: &Signature| w.0.len() > 3 && w.0.iter().all(|&l| l == 1);
+        match shortest_in_class(&g, &rays, never, Real::INFINITY) {
+            Err(TooManyStates(n)) => assert!(n < MAX_STATES, "{n} states"),
+            other => panic!("{other:?}"),
+        }
     }
 }
