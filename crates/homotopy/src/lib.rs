@@ -16,5 +16,7 @@ pub use search::{
     ClassPath, EdgeCost, SearchConfig, SearchError, SearchResult, classes_through_edge, in_class,
     k_best_classes, k_best_classes_each,
 };
-pub use shortest::{TooManyStates, shortest_in_class};
+pub use shortest::{
+    MAX_LETTERS, MAX_STATES, TooManyStates, shortest_in_class, shortest_in_class_within,
+};
 pub use signature::{Rays, Signature, h_distance, h_signature};

@@ -11,10 +11,8 @@
 //! [`MAX_STATES`] states or [`MAX_LETTERS`] letters in their words rather than fill the
 //! memory (dozens of obstacles each passed either way make that many words; a loose bound
 //! lets routes wind round obstacles again and again, and their words grow long: unbounded,
-//! concave-cup's search held 24 GB before it had a million states). An arc's word is taken on the arc sampled
-//! every 1e-3 radians: the chords stay within `1.3e-7` of the radius inside the grown
-//! circle, where no ray's origin can lie (an origin is the centre of a circle, whose own
-//! grown disc would then cover the arc).
+//! concave-cup's search held 24 GB before it had a million states). An arc's word is
+//! taken on chords whose lenses hold no ray origin (see `word`).
 
 use std::cmp::Reverse;
 use std::collections::{BinaryHeap, HashMap};
@@ -26,12 +24,32 @@ use homospline_geom::{Point, Real};
 
 use crate::signature::{Rays, Signature};
 
-/// The word of one piece.
+/// The word of one piece. An arc's is taken on chords: a ray can tell a chord from its arc
+/// only through the lens between them, whose points lie within the chord's sagitta of the
+/// circle. With no ray origin that near the circle, a ray's line meets the lens boundary
+/// twice, and a line meets the circle at most twice: it crosses the chord and the arc once
+/// each (the same letter; parallel lines keep their order along both), or the arc twice and
+/// the chord not at all. Those two crossings enclose only other such pairs (the lines are
+/// parallel, the cap beyond a line is convex), so they reduce away. The chords are chosen so
+/// that the sagitta is at most half the least distance from an origin to the circle, and at
+/// most 0.5 radians (1e-3 radians at least, where that distance is tiny).
 fn word(rays: &Rays, piece: &Piece) -> Signature {
     let pts: Vec<Point> = match *piece {
         Piece::Segment { from, to } => vec![from, to],
-        Piece::Arc { from, to, .. } => {
-            let n = (((to - from).abs() / 1e-3).ceil() as usize).max(1);
+        Piece::Arc { circle, from, to } => {
+            let gap = rays
+                .origins()
+                .iter()
+                .map(|o| ((o - circle.center).norm() - circle.radius).abs())
+                .fold(Real::INFINITY, Real::min);
+            // Sagitta r (1 - cos(step / 2)) <= gap / 2.
+            let cos_half = 1.0 - 0.5 * gap / circle.radius.max(Real::MIN_POSITIVE);
+            let step = if cos_half <= -1.0 {
+                0.5
+            } else {
+                (2.0 * cos_half.acos()).clamp(1e-3, 0.5)
+            };
+            let n = (((to - from).abs() / step).ceil() as usize).max(1);
             (0..=n)
                 .map(|k| piece.point(k as Real / n as Real))
                 .collect()
@@ -68,6 +86,20 @@ pub fn shortest_in_class(
     accept: impl Fn(&Signature) -> bool,
     bound: Real,
 ) -> Result<Option<ShortestPath>, TooManyStates> {
+    shortest_in_class_within(graph, rays, accept, bound, MAX_STATES)
+}
+
+/// [`shortest_in_class`], giving up past `max_states` states (at most [`MAX_STATES`]) or
+/// [`MAX_LETTERS`] letters: for a caller that needs an answer in microseconds (the planner's
+/// dm rule) and can do without one.
+pub fn shortest_in_class_within(
+    graph: &TangentGraph,
+    rays: &Rays,
+    accept: impl Fn(&Signature) -> bool,
+    bound: Real,
+    max_states: usize,
+) -> Result<Option<ShortestPath>, TooManyStates> {
+    let max_states = max_states.min(MAX_STATES);
     // The heuristic: each node's distance to the goal, any class.
     let h = graph.distances_to(TangentGraph::GOAL);
     // Each edge's word, computed when the search first takes the edge.
@@ -110,7 +142,7 @@ pub fn shortest_in_class(
             let next = match ids.get(&key) {
                 Some(&v) if states[v].2 <= dv => continue,
                 Some(&v) => v,
-                None if states.len() >= MAX_STATES || letters + key.1.0.len() > MAX_LETTERS => {
+                None if states.len() >= max_states || letters + key.1.0.len() > MAX_LETTERS => {
                     return Err(TooManyStates(states.len()));
                 }
                 None => {

@@ -319,6 +319,7 @@ impl PreparedMap {
             model: &self.model,
             rays: self.rays.clone(),
             grid_is_exact: true,
+            circles: None,
         };
         Ok(plan_world(
             &world,

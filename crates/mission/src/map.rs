@@ -359,6 +359,7 @@ impl Known for MapKnown<'_> {
                 model: &self.model,
                 rays: rays.clone(),
                 grid_is_exact: true,
+                circles: None,
             };
             plan_world(
                 &world,
