@@ -239,4 +239,30 @@ mod tests {
             other => panic!("{other:?}"),
         }
     }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(512))]
+
+        /// An arc's word on its coarse chords is its word on chords 1e-4 radians apart,
+        /// whatever the ray origins (some near the circle, some inside it).
+        #[test]
+        fn an_arcs_word_on_coarse_chords_is_its_word_on_fine_ones(
+            (cx, cy, r) in (-5.0..5.0f64, -5.0..5.0f64, 0.5..20.0f64),
+            (a, span) in (-4.0..4.0f64, -6.3..6.3f64),
+            origins in proptest::collection::vec((0.0..6.3f64, 0.0..1.6f64), 1..8),
+        ) {
+            let circle = Circle::new(cx, cy, r);
+            // Origins at 0 to 1.6 radii from the centre: inside, near and outside the circle.
+            let rays = Rays::new(
+                origins
+                    .iter()
+                    .map(|&(t, f)| Point::new(cx + f * r * t.cos(), cy + f * r * t.sin()))
+                    .collect(),
+            );
+            let arc = Piece::Arc { circle, from: a, to: a + span };
+            let n = ((span.abs() / 1e-4).ceil() as usize).max(1);
+            let fine: Vec<Point> = (0..=n).map(|k| arc.point(k as Real / n as Real)).collect();
+            proptest::prop_assert_eq!(word(&rays, &arc), rays.signature(&fine));
+        }
+    }
 }
