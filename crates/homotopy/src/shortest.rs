@@ -68,8 +68,8 @@ pub const MAX_LETTERS: usize = 1 << 23;
 /// A search that gave up: the states it held.
 #[derive(Debug, Error, PartialEq)]
 #[error(
-    "the class search gave up after {0} states (node and word) within the length bound \
-     (at most {MAX_STATES} states, {MAX_LETTERS} letters in their words)"
+    "the class search gave up after {0} states (node and word) within the length bound: \
+     its budget of states (at most {MAX_STATES}) or of {MAX_LETTERS} letters in their words"
 )]
 pub struct TooManyStates(pub usize);
 
@@ -220,7 +220,7 @@ mod tests {
 
     #[test]
     fn an_unbounded_search_for_a_word_never_found_gives_up_within_its_letters() {
-        // A ring of twelve overlapping circles, S and T outside it, a word no route has
+        // A ring of twelve circles, S and T outside it, a word no route has
         // (every letter +1): without a bound the routes wind round the ring again and again,
         // and the search must give up by the letters its words hold, not fill the memory
         // (it held 24 GB before it had MAX_STATES states).
