@@ -75,6 +75,16 @@ impl Piece {
         }
     }
 
+    /// Points along it from its start to its end: a segment's two ends; an arc's at equal
+    /// angles at most `max_angle` radians apart (both ends included).
+    pub fn points(&self, max_angle: Real) -> Vec<Point> {
+        let n = match *self {
+            Piece::Segment { .. } => 1,
+            Piece::Arc { from, to, .. } => (((to - from).abs() / max_angle).ceil() as usize).max(1),
+        };
+        (0..=n).map(|k| self.point(k as Real / n as Real)).collect()
+    }
+
     /// Its length.
     pub fn length(&self) -> Real {
         match *self {

@@ -19,8 +19,8 @@ use std::collections::{BinaryHeap, HashMap};
 
 use thiserror::Error;
 
+use homospline_geom::Real;
 use homospline_geom::shortest::{Piece, ShortestPath, TangentGraph};
-use homospline_geom::{Point, Real};
 
 use crate::signature::{Rays, Signature};
 
@@ -34,9 +34,9 @@ use crate::signature::{Rays, Signature};
 /// that the sagitta is at most half the least distance from an origin to the circle, and at
 /// most 0.5 radians (1e-3 radians at least, where that distance is tiny).
 fn word(rays: &Rays, piece: &Piece) -> Signature {
-    let pts: Vec<Point> = match *piece {
-        Piece::Segment { from, to } => vec![from, to],
-        Piece::Arc { circle, from, to } => {
+    let step = match *piece {
+        Piece::Segment { .. } => Real::INFINITY,
+        Piece::Arc { circle, .. } => {
             let gap = rays
                 .origins()
                 .iter()
@@ -44,18 +44,14 @@ fn word(rays: &Rays, piece: &Piece) -> Signature {
                 .fold(Real::INFINITY, Real::min);
             // Sagitta r (1 - cos(step / 2)) <= gap / 2.
             let cos_half = 1.0 - 0.5 * gap / circle.radius.max(Real::MIN_POSITIVE);
-            let step = if cos_half <= -1.0 {
+            if cos_half <= -1.0 {
                 0.5
             } else {
                 (2.0 * cos_half.acos()).clamp(1e-3, 0.5)
-            };
-            let n = (((to - from).abs() / step).ceil() as usize).max(1);
-            (0..=n)
-                .map(|k| piece.point(k as Real / n as Real))
-                .collect()
+            }
         }
     };
-    rays.signature(&pts)
+    rays.signature(&piece.points(step))
 }
 
 /// The search gives up past this many (node, word) states.
@@ -164,7 +160,7 @@ pub fn shortest_in_class_within(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use homospline_geom::Circle;
+    use homospline_geom::{Circle, Point};
 
     #[test]
     fn the_two_ways_round_a_circle_are_two_classes() {
@@ -260,9 +256,7 @@ mod tests {
                     .collect(),
             );
             let arc = Piece::Arc { circle, from: a, to: a + span };
-            let n = ((span.abs() / 1e-4).ceil() as usize).max(1);
-            let fine: Vec<Point> = (0..=n).map(|k| arc.point(k as Real / n as Real)).collect();
-            proptest::prop_assert_eq!(word(&rays, &arc), rays.signature(&fine));
+            proptest::prop_assert_eq!(word(&rays, &arc), rays.signature(&arc.points(1e-4)));
         }
     }
 }

@@ -10,7 +10,7 @@ use std::borrow::Cow;
 use std::sync::{Mutex, OnceLock};
 use std::time::Instant;
 
-use homospline_geom::shortest::{Piece, TangentGraph};
+use homospline_geom::shortest::TangentGraph;
 use homospline_geom::{Bounds, Circle, Point, Real, Scene, Vector};
 use homospline_homotopy::{
     ClassPath, Rays, SearchConfig, SearchError, Signature, k_best_classes, k_best_classes_each,
@@ -105,11 +105,10 @@ pub fn keeps_dm(
     };
     // In bounds: every piece's ends and, on an arc, points a degree apart.
     path.pieces.iter().all(|piece| {
-        let n = match piece {
-            Piece::Segment { .. } => 1,
-            Piece::Arc { from, to, .. } => (((to - from).abs() / 0.0175).ceil() as usize).max(1),
-        };
-        (0..=n).all(|k| world.bounds.contains(&piece.point(k as Real / n as Real)))
+        piece
+            .points(0.0175)
+            .iter()
+            .all(|p| world.bounds.contains(p))
     })
 }
 
