@@ -438,14 +438,20 @@ pub(crate) fn join_directly(
     });
     g.start = Some(ns);
     g.goal = Some(nt);
-    // Kept as it was before the module split: the connector's end is corner 0 (the grid's
-    // lower-left corner), which takes part in the simplification and the length before the
-    // polyline's ends are set to start and goal.
-    let mut e = connector(cg, ns, nt, &path, 0);
-    let last = e.polyline.len() - 1;
-    e.polyline[last] = [t.x, t.y];
-    e.polyline[0] = [s.x, s.y];
-    Ok(Some(e))
+    // From the start through the path's cell centres to the goal. (It used to go on to crack
+    // corner 0, the grid's lower-left corner, which took part in the simplification and the
+    // length: the edge's length took in the way to that corner, and the simplified polyline
+    // could overshoot the goal.)
+    let grid = cg.grid;
+    let mut pts: Vec<Point> = Vec::with_capacity(path.len() + 2);
+    pts.push(s);
+    pts.extend(path.iter().map(|&(i, j)| grid.center(i, j)));
+    pts.push(t);
+    let cl: Vec<Real> = path
+        .iter()
+        .map(|&(i, j)| cg.field.clearance_cells(i, j) * grid.cell())
+        .collect();
+    Ok(Some(edge_along(ns, nt, &simplify(&pts, grid.cell()), &cl)))
 }
 
 /// Breadth-first over free cells (4-connected, fixed neighbour order: deterministic) from

@@ -23,7 +23,11 @@ fn push_out(p: Point, circles: &CircleSet, margin: Real) -> Option<(Point, Real)
         if c.gradient == homospline_geom::Vector::zeros() {
             return None;
         }
-        p += c.gradient * (margin - c.distance);
+        // Aimed past the margin by half of it: aimed at the margin itself, a step could
+        // land a rounding error short of it, and every later step too (a point 0.011 inside
+        // a circle came out at clearance 0.002 - 2e-15 against a margin of 0.002, sixteen
+        // times, and its edge was kept on the raster, inside the circle).
+        p += c.gradient * (1.5 * margin - c.distance);
     }
     None
 }
@@ -40,6 +44,14 @@ fn clearance_of(p: &Point, circles: &CircleSet) -> Real {
     circles.clearance(p).map_or(Real::INFINITY, |c| c.distance)
 }
 
+/// How many times [`refine`] may halve one polyline segment. Only the pieces that cut a
+/// circle are halved, so the work is a few pieces per halving; what ends the halving is
+/// the piece's length reaching the margin (a thousandth of a cell), which a segment across
+/// a 4096-cell grid reaches after 22 halvings. A fixed depth of 6 failed on a long straight
+/// edge that grazed a circle: its first halvings were spent far from the circle, and the
+/// edge kept its raster polyline 0.012 inside it.
+const MAX_HALVINGS: u32 = 40;
+
 /// A segment and its ends' clearances.
 struct Piece {
     a: Point,
@@ -49,7 +61,8 @@ struct Piece {
 }
 
 /// Appends the points after `a` up to `b` to `out`, halving `ab` (pushed out) until every
-/// piece keeps out of the circles; `false` if that fails within `depth` halvings. `least`
+/// piece keeps out of the circles; `false` if that fails within `depth` halvings or once a
+/// piece that still cuts a circle is no longer than `margin`. `least`
 /// takes in the clearance of every piece appended whose clearance could be below `floor`:
 /// a piece whose ends' clearances `da`, `db` prove it clear by at least `floor` (the
 /// clearance is 1-Lipschitz, so it is at least `(da + db - |ab|) / 2` along the piece) is
@@ -74,7 +87,7 @@ fn refine(
         *least = least.min(d);
         return true;
     }
-    if depth == 0 {
+    if depth == 0 || (b - a).norm() <= margin {
         return false;
     }
     let Some((m, dm)) = push_out(Point::from((a.coords + b.coords) * 0.5), circles, margin) else {
@@ -149,7 +162,7 @@ pub(crate) fn keep_out_of_circles(graph: &mut VoronoiGraph, circles: &CircleSet,
                 b: q,
                 db: dq,
             };
-            ok &= refine(piece, circles, (margin, floor), 6, &mut pts, &mut exact);
+            ok &= refine(piece, circles, (margin, floor), MAX_HALVINGS, &mut pts, &mut exact);
             last = dq;
             if !ok {
                 break;
