@@ -162,7 +162,14 @@ pub(crate) fn keep_out_of_circles(graph: &mut VoronoiGraph, circles: &CircleSet,
                 b: q,
                 db: dq,
             };
-            ok &= refine(piece, circles, (margin, floor), MAX_HALVINGS, &mut pts, &mut exact);
+            ok &= refine(
+                piece,
+                circles,
+                (margin, floor),
+                MAX_HALVINGS,
+                &mut pts,
+                &mut exact,
+            );
             last = dq;
             if !ok {
                 break;

@@ -286,6 +286,10 @@ proptest! {
         prop_assume!([scene.start, scene.goal].iter().all(|p: &Point| circles.clearance(p).is_none_or(|c| c.distance > 0.0)));
         if let Ok((_, _, g)) = homospline_voronoi::build(&scene, resolution) {
             for (i, e) in g.edges.iter().enumerate() {
+                // An edge's length is its polyline's (a connector once took in a detour to
+                // the grid's corner).
+                let along: f64 = e.polyline.windows(2).map(|w| (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1])).sum();
+                prop_assert!((e.length - along).abs() <= 1e-9 * (1.0 + along), "edge {} has length {} along a polyline of {}", i, e.length, along);
                 for w in e.polyline.windows(2) {
                     let (a, b) = (Point::new(w[0][0], w[0][1]), Point::new(w[1][0], w[1][1]));
                     let d = circles.distance_to_segment(&a, &b).map_or(f64::INFINITY, |(d, _)| d);
