@@ -365,7 +365,14 @@ pub(crate) fn attach_to_cracks(
         clearance: clearance_at(cg.grid, cg.field, &p),
         kind,
     });
-    g.edges.push(connector(cg, id, at_node, &path, corner));
+    g.edges.push(connector(
+        cg,
+        id,
+        at_node,
+        None,
+        &path,
+        cg.corner_point(corner),
+    ));
     Ok(id)
 }
 
@@ -442,16 +449,7 @@ pub(crate) fn join_directly(
     // corner 0, the grid's lower-left corner, which took part in the simplification and the
     // length: the edge's length took in the way to that corner, and the simplified polyline
     // could overshoot the goal.)
-    let grid = cg.grid;
-    let mut pts: Vec<Point> = Vec::with_capacity(path.len() + 2);
-    pts.push(s);
-    pts.extend(path.iter().map(|&(i, j)| grid.center(i, j)));
-    pts.push(t);
-    let cl: Vec<Real> = path
-        .iter()
-        .map(|&(i, j)| cg.field.clearance_cells(i, j) * grid.cell())
-        .collect();
-    Ok(Some(edge_along(ns, nt, &simplify(&pts, grid.cell()), &cl)))
+    Ok(Some(connector(cg, ns, nt, Some(s), &path, t)))
 }
 
 /// Breadth-first over free cells (4-connected, fixed neighbour order: deterministic) from
@@ -522,19 +520,21 @@ fn direct_path(
     }
 }
 
-/// The edge from node `from` along the free cells of `path` (their centres) to crack corner
-/// `corner`, with the cells' clearances.
+/// The edge from node `from` (at `first`, when given, before the path) along the free cells
+/// of `path` (their centres) to `last`, node `to`, with the cells' clearances.
 fn connector(
     cg: &CrackGraph<'_>,
     from: usize,
     to: usize,
+    first: Option<Point>,
     path: &[(usize, usize)],
-    corner: usize,
+    last: Point,
 ) -> Edge {
     let grid = cg.grid;
     let mut pts: Vec<Point> = Vec::with_capacity(path.len() + 2);
+    pts.extend(first);
     pts.extend(path.iter().map(|&(i, j)| grid.center(i, j)));
-    pts.push(cg.corner_point(corner));
+    pts.push(last);
     let cl: Vec<Real> = path
         .iter()
         .map(|&(i, j)| cg.field.clearance_cells(i, j) * grid.cell())
