@@ -28,7 +28,7 @@ use homospline_geom::{Point, Real, Scene, Vector};
 use thiserror::Error;
 
 use crate::curve::{EndCondition, Parametrization, Spline};
-use crate::field::{ClearanceModel, FieldSample};
+use crate::field::{ClearanceModel, FIELD_BLOCK, FieldSample};
 use crate::quad::gauss_legendre_cached;
 pub use crate::roughness::RoughnessForm;
 use crate::roughness::roughness;
@@ -709,35 +709,97 @@ fn sample(spline: &Spline, cfg: &CostConfig, out: &mut Samples) {
     out.length = length;
 }
 
-/// Step 2: the field (potential and clearance) at every node, in one batch query. Far
-/// circles' potential may be left out within the configured tolerance.
-fn query_field(
-    model: &dyn ClearanceModel,
+/// The potential the field query may leave out per unit length: the topology term then
+/// loses at most `allowance * L = tolerance * (g2 R + g3 L + g4 D_knots) <= tolerance *
+/// total`, where `D_knots = omega^(dm - least knot clearance) <= D`, since `m(C)` is at most
+/// the clearance at any knot (and `m(C)` takes in the knots).
+fn field_allowance(
     samples: &Samples,
     roughness: Real,
     knot_clearance: Real,
     cfg: &CostConfig,
-    field: &mut Vec<FieldSample>,
-) {
-    field.clear();
-    field.resize(samples.points.len(), FieldSample::default());
-    // Left-out potential per unit length <= allowance, so the topology term loses at most
-    // allowance * L = tolerance * (g2 R + g3 L + g4 D_knots) <= tolerance * total, where
-    // D_knots = omega^(dm - least knot clearance) <= D, since m(C) is at most the clearance
-    // at any knot (and m(C) takes in the knots).
+) -> Real {
     let length = samples.length;
     let safety_floor = if cfg.w_safety > 0.0 && knot_clearance.is_finite() {
         cfg.w_safety * cfg.omega.powf(cfg.dm - knot_clearance)
     } else {
         0.0
     };
-    let allowance = if cfg.w_topology > 0.0 && length > 0.0 {
+    if cfg.w_topology > 0.0 && length > 0.0 {
         cfg.tolerance * (cfg.w_roughness * roughness + cfg.w_length * length + safety_floor)
             / (cfg.w_topology * length)
     } else {
         0.0
-    };
-    model.field_batch(&samples.points, cfg.alpha, allowance, field);
+    }
+}
+
+/// Nodes per stretch when an evaluation may stop within the field pass: a multiple of
+/// [`FIELD_BLOCK`], so that the field's values are those of one batch query, to the bit.
+const STRETCH: usize = 4 * FIELD_BLOCK;
+
+/// Steps 2 and 3: the field (potential and clearance) at every node, far circles' potential
+/// left out within the configured tolerance ([`field_allowance`]), and the integrals over
+/// the nodes ([`integrate_nodes`]); returns the node of least clearance. With the partials
+/// (`grad`) in one batch query. Without, the field is asked for values only, and with
+/// `enough` in stretches of [`STRETCH`] nodes: after each stretch but the last, `enough` is
+/// asked with terms bounding the finished ones (every integral so far is a sum of
+/// non-negative parts in node order, so at most its final value, and `m(C)` at most the
+/// least clearance of the nodes so far and of the knots); `Err(those terms)` when it answers
+/// `true`. A candidate that falls short of the dm rule's target stops at the first stretch
+/// that shows it, and one whose cost already exceeds what it must beat soon after. The
+/// values at the nodes and the sums are the same, to the bit, whether or not it stops.
+#[allow(clippy::too_many_arguments)]
+fn field_and_integrals(
+    model: &dyn ClearanceModel,
+    samples: &Samples,
+    least_knot: Real,
+    cfg: &CostConfig,
+    needs: Needs,
+    t: &mut CostTerms,
+    grad: Option<&mut Vec<NodePartial>>,
+    field: &mut Vec<FieldSample>,
+    enough: Option<&dyn Fn(&CostTerms) -> bool>,
+) -> Result<Option<Worst>, CostTerms> {
+    let allowance = field_allowance(samples, t.roughness, least_knot, cfg);
+    let n = samples.points.len();
+    field.clear();
+    field.resize(n, FieldSample::default());
+    if let Some(g) = grad {
+        model.field_batch(&samples.points, cfg.alpha, allowance, field);
+        return Ok(integrate_nodes::<true>(
+            samples,
+            field,
+            0..n,
+            cfg,
+            needs,
+            t,
+            Some(g),
+            None,
+        ));
+    }
+    let stretch = if enough.is_some() { STRETCH } else { n.max(1) };
+    let mut worst = None;
+    let mut from = 0;
+    while from < n {
+        let to = (from + stretch).min(n);
+        model.field_values(
+            &samples.points[from..to],
+            cfg.alpha,
+            allowance,
+            &mut field[from..to],
+        );
+        worst = integrate_nodes::<false>(samples, field, from..to, cfg, needs, t, None, worst);
+        if to < n
+            && let Some(enough) = enough
+            && let Some(w) = worst
+            && let Some(low) = bounding_terms(t, w.clearance.min(least_knot), cfg)
+            && enough(&low)
+        {
+            return Err(low);
+        }
+        from = to;
+    }
+    Ok(worst)
 }
 
 /// The node of least clearance.
@@ -774,40 +836,34 @@ struct Weighs {
     critical: bool,
 }
 
-/// Step 3: the integrals over the nodes (topology, maximal clearance, danger, critical,
-/// passing time) and, with `grad`, each node's partial derivatives; returns the node of least
-/// clearance. The loop is compiled twice, with and without the partials, so that a value
-/// alone does not pay for them.
-fn integrate(
-    samples: &Samples,
-    field: &[FieldSample],
-    cfg: &CostConfig,
-    needs: Needs,
-    t: &mut CostTerms,
-    grad: Option<&mut Vec<NodePartial>>,
-) -> Option<Worst> {
-    match grad {
-        Some(g) => integrate_nodes::<true>(samples, field, cfg, needs, t, Some(g)),
-        None => integrate_nodes::<false>(samples, field, cfg, needs, t, None),
-    }
-}
-
-/// [`integrate`], with the partials when `GRAD`.
+/// Step 3: the integrals over the nodes `range` (topology, maximal clearance, danger,
+/// critical, passing time) added to `t` and, with `GRAD`, each node's partial derivatives;
+/// returns the node of least clearance among `worst` (the nodes before) and these. The loop
+/// is compiled twice, with and without the partials, so that a value alone does not pay for
+/// them.
+#[allow(clippy::too_many_arguments)]
 fn integrate_nodes<const GRAD: bool>(
     samples: &Samples,
     field: &[FieldSample],
+    range: std::ops::Range<usize>,
     cfg: &CostConfig,
     needs: Needs,
     t: &mut CostTerms,
     mut grad: Option<&mut Vec<NodePartial>>,
+    mut worst: Option<Worst>,
 ) -> Option<Worst> {
-    let mut worst: Option<Worst> = None;
     // Terms of weight 0 are left out unless every term is asked for.
     let weighs = Weighs {
         danger: needs.all || cfg.w_danger > 0.0,
         critical: needs.all || cfg.w_critical > 0.0,
     };
-    for (idx, n) in samples.nodes.iter().enumerate() {
+    for (idx, n) in samples
+        .nodes
+        .iter()
+        .enumerate()
+        .take(range.end)
+        .skip(range.start)
+    {
         let (p, wq, v, a, speed) = (samples.points[idx], n.dt, n.v, n.a, n.speed);
         let vhat = if GRAD && speed > 0.0 {
             v / speed
@@ -1113,8 +1169,17 @@ fn run_in(
     {
         return Err(low);
     }
-    query_field(model, samples, t.roughness, least_knot, cfg, field);
-    let worst = integrate(samples, field, cfg, needs, &mut t, grad.as_deref_mut());
+    let worst = field_and_integrals(
+        model,
+        samples,
+        least_knot,
+        cfg,
+        needs,
+        &mut t,
+        grad.as_deref_mut(),
+        field,
+        enough,
+    )?;
     // Second stop: every integral, and `m(C)` at most the least node's and knot's clearance
     // (the refinement below only lowers it).
     if let Some(enough) = enough

@@ -16,7 +16,8 @@ pub const POTENTIAL_CUTOFF: Real = 30.0;
 
 /// Points per block of [`CircleModel::field_batch`]: circles are culled against the bounding
 /// box of each block of consecutive points, and the kernel runs over a block's lanes.
-const BLOCK: usize = 8;
+pub const FIELD_BLOCK: usize = 8;
+const BLOCK: usize = FIELD_BLOCK;
 
 /// `exp(x)` without branches or library calls, so that loops over it vectorise: range
 /// reduction `x = k ln 2 + r`, `|r| <= ln 2 / 2`, a degree-11 Taylor polynomial for `e^r`
@@ -90,7 +91,18 @@ pub trait ClearanceModel: Send + Sync {
     /// obstacles it skips sums to at most `allowance` (and always below `2 exp(-`
     /// [`POTENTIAL_CUTOFF`]`)` per obstacle when `allowance` is 0). The clearance and its
     /// gradient stay exact.
+    ///
+    /// A model may treat the points in blocks of [`FIELD_BLOCK`] consecutive points (the
+    /// circle model culls circles per block): a caller that splits a batch at multiples of
+    /// [`FIELD_BLOCK`] gets the same values, to the bit.
     fn field_batch(&self, pts: &[Point], alpha: Real, allowance: Real, out: &mut [FieldSample]);
+
+    /// [`ClearanceModel::field_batch`] for a caller that needs no gradient: the same
+    /// potential and clearance, to the bit; the gradients are left unspecified (zero for
+    /// circles). By default the full batch.
+    fn field_values(&self, pts: &[Point], alpha: Real, allowance: Real, out: &mut [FieldSample]) {
+        self.field_batch(pts, alpha, allowance, out);
+    }
 
     /// The clearance at each point of `pts`, written to `out`: the same values as
     /// [`ClearanceModel::clearance`], without the gradients (a model may batch them).
@@ -186,27 +198,15 @@ impl CircleModel {
     pub fn set(&self) -> &CircleSet {
         &self.set
     }
-}
 
-impl ClearanceModel for CircleModel {
-    fn truncates(&self) -> bool {
-        true
-    }
-
-    fn clearance(&self, p: &Point) -> (Real, Vector) {
-        match self.set.clearance(p) {
-            Some(c) => (c.distance, c.gradient),
-            None => (Real::INFINITY, Vector::zeros()),
-        }
-    }
-
-    fn clearances(&self, pts: &[Point], out: &mut [Real]) {
-        for (p, o) in pts.iter().zip(out.iter_mut()) {
-            *o = least_distance(&self.xs, &self.ys, &self.rs, self.r_max, p, p);
-        }
-    }
-
-    fn field_batch(&self, pts: &[Point], alpha: Real, allowance: Real, out: &mut [FieldSample]) {
+    /// [`ClearanceModel::field_batch`], with the gradients when `GRAD` (else zero).
+    fn field<const GRAD: bool>(
+        &self,
+        pts: &[Point],
+        alpha: Real,
+        allowance: Real,
+        out: &mut [FieldSample],
+    ) {
         // A skipped circle adds at most 2 exp(-cutoff) at every point of a block; with at most
         // n circles skipped, 2 n exp(-cutoff) <= allowance bounds their sum.
         let n_circles = self.xs.len().max(1) as Real;
@@ -254,18 +254,24 @@ impl ClearanceModel for CircleModel {
                 kept[n_kept] = k;
                 n_kept += usize::from(reach >= 0.0 && gap2 <= reach * reach);
             }
-            potential_block(
-                &mut lanes,
-                &kept[..n_kept],
-                &self.xs,
-                &self.ys,
-                &self.rs,
-                alpha,
-            );
+            let kept = &kept[..n_kept];
+            if GRAD {
+                potential_block(&mut lanes, kept, &self.xs, &self.ys, &self.rs, alpha);
+            } else {
+                potential_values(&mut lanes, kept, &self.xs, &self.ys, &self.rs, alpha);
+            }
             // Skipped circles are farther than the cutoff distance from every point; where no
             // kept circle is nearer than that, ask the exact query.
             for (l, (p, o)) in block_pts.iter().zip(block_out.iter_mut()).enumerate() {
-                let (clearance, clearance_grad) = if lanes.best[l] <= cutoff_distance {
+                let (clearance, clearance_grad) = if !GRAD {
+                    // The exact query's distance: the x-sorted scan gives the same bits.
+                    let d = if lanes.best[l] <= cutoff_distance {
+                        lanes.best[l]
+                    } else {
+                        least_distance(&self.xs, &self.ys, &self.rs, self.r_max, p, p)
+                    };
+                    (d, Vector::zeros())
+                } else if lanes.best[l] <= cutoff_distance {
                     let k = lanes.best_k[l];
                     let v = Vector::new(p.x - self.xs[k], p.y - self.ys[k]);
                     let d = v.norm();
@@ -281,6 +287,33 @@ impl ClearanceModel for CircleModel {
                 };
             }
         }
+    }
+}
+
+impl ClearanceModel for CircleModel {
+    fn truncates(&self) -> bool {
+        true
+    }
+
+    fn clearance(&self, p: &Point) -> (Real, Vector) {
+        match self.set.clearance(p) {
+            Some(c) => (c.distance, c.gradient),
+            None => (Real::INFINITY, Vector::zeros()),
+        }
+    }
+
+    fn clearances(&self, pts: &[Point], out: &mut [Real]) {
+        for (p, o) in pts.iter().zip(out.iter_mut()) {
+            *o = least_distance(&self.xs, &self.ys, &self.rs, self.r_max, p, p);
+        }
+    }
+
+    fn field_batch(&self, pts: &[Point], alpha: Real, allowance: Real, out: &mut [FieldSample]) {
+        self.field::<true>(pts, alpha, allowance, out);
+    }
+
+    fn field_values(&self, pts: &[Point], alpha: Real, allowance: Real, out: &mut [FieldSample]) {
+        self.field::<false>(pts, alpha, allowance, out);
     }
 
     fn restricted(
@@ -454,13 +487,41 @@ fn least_distance(
     best
 }
 
-/// Adds the potential of the circles `kept` at every lane and tracks the nearest circle.
+/// Adds the potential of the circles `kept` at every lane, with its gradient, and tracks the
+/// nearest circle.
 ///
 /// Branch-free over the lanes so that it vectorises; compiled for AVX2 too and chosen at run
 /// time. No fused multiply-add is enabled, and every operation is an IEEE one, so the AVX2
 /// and the baseline versions give bit-identical results.
 #[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq+avx2", "x86_64+avx2"))]
 fn potential_block(
+    lanes: &mut Lanes,
+    kept: &[usize],
+    xs: &[Real],
+    ys: &[Real],
+    rs: &[Real],
+    alpha: Real,
+) {
+    potential_kernel::<true>(lanes, kept, xs, ys, rs, alpha);
+}
+
+/// [`potential_block`] without the gradient: the same potential and nearest circle, to the
+/// bit, for an optimiser that compares values only.
+#[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq+avx2", "x86_64+avx2"))]
+fn potential_values(
+    lanes: &mut Lanes,
+    kept: &[usize],
+    xs: &[Real],
+    ys: &[Real],
+    rs: &[Real],
+    alpha: Real,
+) {
+    potential_kernel::<false>(lanes, kept, xs, ys, rs, alpha);
+}
+
+/// The body of both kernels, inlined into each (and so compiled for its targets).
+#[inline(always)]
+fn potential_kernel<const GRAD: bool>(
     lanes: &mut Lanes,
     kept: &[usize],
     xs: &[Real],
@@ -477,18 +538,23 @@ fn potential_block(
             // U = 2 / (1 + e), e = exp(2 alpha (d - r)); dU/dd = -alpha U (2 - U), and the
             // gradient is that times v / d. One division serves both: q = 1 / ((1 + e) d).
             // At the centre v = 0 and the gradient term vanishes (d is floored at 1e-150).
+            // Without the gradient U is computed the same way, so its bits are the same.
             let c = d - r;
             let den = 1.0 + exp_fast(two_alpha * c);
             let ds = d.max(1e-150);
             let q = 1.0 / (den * ds);
             let u = 2.0 * ds * q;
-            let g = -alpha * u * (2.0 - u) * (den * q);
             lanes.u[l] += u;
-            lanes.gx[l] += g * vx;
-            lanes.gy[l] += g * vy;
+            if GRAD {
+                let g = -alpha * u * (2.0 - u) * (den * q);
+                lanes.gx[l] += g * vx;
+                lanes.gy[l] += g * vy;
+            }
             let better = c < lanes.best[l];
             lanes.best[l] = if better { c } else { lanes.best[l] };
-            lanes.best_k[l] = if better { k } else { lanes.best_k[l] };
+            if GRAD {
+                lanes.best_k[l] = if better { k } else { lanes.best_k[l] };
+            }
         }
     }
 }
@@ -564,6 +630,40 @@ mod tests {
                     o.potential
                 );
                 assert_eq!(o.clearance, model.clearance(p).0, "at {p}");
+            }
+        }
+    }
+
+    #[test]
+    fn values_alone_and_split_batches_give_the_full_batch_bits() {
+        for n in [0, 1, 7, 60, 300] {
+            let model = CircleModel::new(scattered(n, 90.0, 66.0));
+            // Points far outside the circles too, where the exact query answers.
+            let pts: Vec<Point> = (0..203)
+                .map(|i| {
+                    let t = i as Real;
+                    Point::new((t * 1.37) % 150.0 - 30.0, (t * 0.73) % 120.0 - 30.0)
+                })
+                .collect();
+            for allowance in [0.0, 1e-6, 0.5] {
+                let mut full = vec![FieldSample::default(); pts.len()];
+                model.field_batch(&pts, 0.5, allowance, &mut full);
+                let mut values = vec![FieldSample::default(); pts.len()];
+                model.field_values(&pts, 0.5, allowance, &mut values);
+                let mut split = vec![FieldSample::default(); pts.len()];
+                for (p, o) in pts
+                    .chunks(3 * FIELD_BLOCK)
+                    .zip(split.chunks_mut(3 * FIELD_BLOCK))
+                {
+                    model.field_values(p, 0.5, allowance, o);
+                }
+                for (i, ((f, v), s)) in full.iter().zip(&values).zip(&split).enumerate() {
+                    let at = format!("{n} circles, allowance {allowance}, point {i}");
+                    assert_eq!(f.potential.to_bits(), v.potential.to_bits(), "{at}");
+                    assert_eq!(f.clearance.to_bits(), v.clearance.to_bits(), "{at}");
+                    assert_eq!(f.potential.to_bits(), s.potential.to_bits(), "{at}");
+                    assert_eq!(f.clearance.to_bits(), s.clearance.to_bits(), "{at}");
+                }
             }
         }
     }

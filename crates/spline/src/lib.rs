@@ -40,4 +40,4 @@ pub use cost::{
     evaluate_weighted_unless, gradient,
 };
 pub use curve::{EndCondition, Parametrization, Spline, SplineError};
-pub use field::{CircleModel, ClearanceModel};
+pub use field::{CircleModel, ClearanceModel, FIELD_BLOCK};

@@ -375,6 +375,18 @@ proptest! {
         // Never enough: never stopped.
         let never = homospline_spline::evaluate_weighted_unless(&s, &model, &cfg, &|_| false);
         prop_assert_eq!(never, Ok(exact));
+        // A clearance target, as the dm rule's guard asks: stopped (within the field pass,
+        // once a node shows it) only when the bound on m(C) is below the target.
+        let target = exact.min_clearance + share - 0.5;
+        let short = |low: &homospline_spline::CostTerms| low.min_clearance < target;
+        match homospline_spline::evaluate_weighted_unless(&s, &model, &cfg, &short) {
+            Ok(t) => prop_assert_eq!(t, exact),
+            Err(low) => {
+                prop_assert!(low.min_clearance < target);
+                prop_assert!(low.min_clearance >= exact.min_clearance);
+                prop_assert!(low.topology <= exact.topology && low.total <= exact.total);
+            }
+        }
     }
 
     #[test]
