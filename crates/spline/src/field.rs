@@ -17,7 +17,6 @@ pub const POTENTIAL_CUTOFF: Real = 30.0;
 /// Points per block of [`CircleModel::field_batch`]: circles are culled against the bounding
 /// box of each block of consecutive points, and the kernel runs over a block's lanes.
 pub const FIELD_BLOCK: usize = 8;
-const BLOCK: usize = FIELD_BLOCK;
 
 /// `exp(x)` without branches or library calls, so that loops over it vectorise: range
 /// reduction `x = k ln 2 + r`, `|r| <= ln 2 / 2`, a degree-11 Taylor polynomial for `e^r`
@@ -228,11 +227,14 @@ impl CircleModel {
             &mut on_heap
         };
         let n = pts.len().min(out.len());
-        for (block_pts, block_out) in pts[..n].chunks(BLOCK).zip(out[..n].chunks_mut(BLOCK)) {
+        for (block_pts, block_out) in pts[..n]
+            .chunks(FIELD_BLOCK)
+            .zip(out[..n].chunks_mut(FIELD_BLOCK))
+        {
             // Lanes past the end repeat the last point; their results are not read.
             let mut lanes = Lanes::default();
             let last = block_pts[block_pts.len() - 1];
-            for l in 0..BLOCK {
+            for l in 0..FIELD_BLOCK {
                 let p = block_pts.get(l).unwrap_or(&last);
                 lanes.x[l] = p.x;
                 lanes.y[l] = p.y;
@@ -421,25 +423,25 @@ impl ClearanceModel for NearCircles {
 
 /// One block of points and the sums [`potential_block`] accumulates for them.
 struct Lanes {
-    x: [Real; BLOCK],
-    y: [Real; BLOCK],
-    u: [Real; BLOCK],
-    gx: [Real; BLOCK],
-    gy: [Real; BLOCK],
-    best: [Real; BLOCK],
-    best_k: [usize; BLOCK],
+    x: [Real; FIELD_BLOCK],
+    y: [Real; FIELD_BLOCK],
+    u: [Real; FIELD_BLOCK],
+    gx: [Real; FIELD_BLOCK],
+    gy: [Real; FIELD_BLOCK],
+    best: [Real; FIELD_BLOCK],
+    best_k: [usize; FIELD_BLOCK],
 }
 
 impl Default for Lanes {
     fn default() -> Self {
         Self {
-            x: [0.0; BLOCK],
-            y: [0.0; BLOCK],
-            u: [0.0; BLOCK],
-            gx: [0.0; BLOCK],
-            gy: [0.0; BLOCK],
-            best: [Real::INFINITY; BLOCK],
-            best_k: [usize::MAX; BLOCK],
+            x: [0.0; FIELD_BLOCK],
+            y: [0.0; FIELD_BLOCK],
+            u: [0.0; FIELD_BLOCK],
+            gx: [0.0; FIELD_BLOCK],
+            gy: [0.0; FIELD_BLOCK],
+            best: [Real::INFINITY; FIELD_BLOCK],
+            best_k: [usize::MAX; FIELD_BLOCK],
         }
     }
 }
@@ -532,7 +534,7 @@ fn potential_kernel<const GRAD: bool>(
     let two_alpha = 2.0 * alpha;
     for &k in kept {
         let (cx, cy, r) = (xs[k], ys[k], rs[k]);
-        for l in 0..BLOCK {
+        for l in 0..FIELD_BLOCK {
             let (vx, vy) = (lanes.x[l] - cx, lanes.y[l] - cy);
             let d = (vx * vx + vy * vy).sqrt();
             // U = 2 / (1 + e), e = exp(2 alpha (d - r)); dU/dd = -alpha U (2 - U), and the
@@ -585,16 +587,22 @@ mod tests {
             .collect()
     }
 
+    /// `n` points by fixed strides over `[-margin, span_x - margin) x [-margin, span_y -
+    /// margin)`.
+    fn strided_points(n: usize, span_x: Real, span_y: Real, margin: Real) -> Vec<Point> {
+        (0..n)
+            .map(|i| {
+                let t = i as Real;
+                Point::new((t * 1.37) % span_x - margin, (t * 0.73) % span_y - margin)
+            })
+            .collect()
+    }
+
     #[test]
     fn batched_clearances_equal_the_single_queries_exactly() {
         for n in [0, 1, 7, 60, 300] {
             let model = CircleModel::new(scattered(n, 90.0, 66.0));
-            let pts: Vec<Point> = (0..500)
-                .map(|i| {
-                    let t = i as Real;
-                    Point::new((t * 1.37) % 110.0 - 10.0, (t * 0.73) % 86.0 - 10.0)
-                })
-                .collect();
+            let pts = strided_points(500, 110.0, 86.0, 10.0);
             let mut got = vec![0.0; pts.len()];
             model.clearances(&pts, &mut got);
             for (p, g) in pts.iter().zip(&got) {
@@ -639,12 +647,7 @@ mod tests {
         for n in [0, 1, 7, 60, 300] {
             let model = CircleModel::new(scattered(n, 90.0, 66.0));
             // Points far outside the circles too, where the exact query answers.
-            let pts: Vec<Point> = (0..203)
-                .map(|i| {
-                    let t = i as Real;
-                    Point::new((t * 1.37) % 150.0 - 30.0, (t * 0.73) % 120.0 - 30.0)
-                })
-                .collect();
+            let pts = strided_points(203, 150.0, 120.0, 30.0);
             for allowance in [0.0, 1e-6, 0.5] {
                 let mut full = vec![FieldSample::default(); pts.len()];
                 model.field_batch(&pts, 0.5, allowance, &mut full);
