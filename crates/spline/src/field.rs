@@ -231,14 +231,9 @@ impl CircleModel {
             .chunks(FIELD_BLOCK)
             .zip(out[..n].chunks_mut(FIELD_BLOCK))
         {
-            // Lanes past the end repeat the last point; their results are not read.
             let mut lanes = Lanes::default();
+            lanes.load(block_pts);
             let last = block_pts[block_pts.len() - 1];
-            for l in 0..FIELD_BLOCK {
-                let p = block_pts.get(l).unwrap_or(&last);
-                lanes.x[l] = p.x;
-                lanes.y[l] = p.y;
-            }
             let (mut lo, mut hi) = (last, last);
             for p in block_pts {
                 lo = lo.inf(p);
@@ -263,12 +258,24 @@ impl CircleModel {
                 potential_values(&mut lanes, kept, &self.xs, &self.ys, &self.rs, alpha);
             }
             // Skipped circles are farther than the cutoff distance from every point; where no
-            // kept circle is nearer than that, ask the exact query.
+            // kept circle is nearer than that, ask the exact query (for the whole block at
+            // once when every circle is scanned).
+            let far = |l: usize| lanes.best[l] > cutoff_distance;
+            let all =
+                (!GRAD && self.xs.len() <= SCAN_ALL && (0..block_pts.len()).any(far)).then(|| {
+                    let mut exact = Lanes::default();
+                    exact.x = lanes.x;
+                    exact.y = lanes.y;
+                    nearest_of_all(&mut exact, &self.xs, &self.ys, &self.rs);
+                    exact.best
+                });
             for (l, (p, o)) in block_pts.iter().zip(block_out.iter_mut()).enumerate() {
                 let (clearance, clearance_grad) = if !GRAD {
-                    // The exact query's distance: the x-sorted scan gives the same bits.
-                    let d = if lanes.best[l] <= cutoff_distance {
+                    // The exact query's distance: both scans give the same bits.
+                    let d = if !far(l) {
                         lanes.best[l]
+                    } else if let Some(all) = &all {
+                        all[l]
                     } else {
                         least_distance(&self.xs, &self.ys, &self.rs, self.r_max, p, p)
                     };
@@ -304,9 +311,27 @@ impl ClearanceModel for CircleModel {
         }
     }
 
+    fn exact_clearance(&self, p: &Point) -> Real {
+        // The distance of `clearance`, to the bit, without the nearest circle's direction.
+        least_distance(&self.xs, &self.ys, &self.rs, self.r_max, p, p)
+    }
+
     fn clearances(&self, pts: &[Point], out: &mut [Real]) {
-        for (p, o) in pts.iter().zip(out.iter_mut()) {
-            *o = least_distance(&self.xs, &self.ys, &self.rs, self.r_max, p, p);
+        let n = pts.len().min(out.len());
+        if self.xs.len() > SCAN_ALL {
+            for (p, o) in pts[..n].iter().zip(out[..n].iter_mut()) {
+                *o = least_distance(&self.xs, &self.ys, &self.rs, self.r_max, p, p);
+            }
+            return;
+        }
+        for (block_pts, block_out) in pts[..n]
+            .chunks(FIELD_BLOCK)
+            .zip(out[..n].chunks_mut(FIELD_BLOCK))
+        {
+            let mut lanes = Lanes::default();
+            lanes.load(block_pts);
+            nearest_of_all(&mut lanes, &self.xs, &self.ys, &self.rs);
+            block_out.copy_from_slice(&lanes.best[..block_out.len()]);
         }
     }
 
@@ -432,6 +457,19 @@ struct Lanes {
     best_k: [usize; FIELD_BLOCK],
 }
 
+impl Lanes {
+    /// The block's points; lanes past the end repeat the last point (their results are not
+    /// read).
+    fn load(&mut self, pts: &[Point]) {
+        let last = pts[pts.len() - 1];
+        for l in 0..FIELD_BLOCK {
+            let p = pts.get(l).unwrap_or(&last);
+            self.x[l] = p.x;
+            self.y[l] = p.y;
+        }
+    }
+}
+
 impl Default for Lanes {
     fn default() -> Self {
         Self {
@@ -487,6 +525,25 @@ fn least_distance(
         best = best.min(at(k));
     }
     best
+}
+
+/// Up to this many circles, a batch of exact clearances scans every circle for
+/// [`FIELD_BLOCK`] points at a time ([`nearest_of_all`], vectorised); beyond, each point's
+/// x-sorted scan ([`least_distance`]) visits fewer. Both give the same bits.
+const SCAN_ALL: usize = 64;
+
+/// The least `|p - c| - r` over every circle at every lane, into `lanes.best` (which must
+/// start at `+inf`): the distance computed as [`least_distance`] computes it (`|p.x - c.x|`
+/// squares to the bits of `(p.x - c.x)^2`), and the least of the same values.
+#[multiversion(targets("x86_64+avx512f+avx512vl+avx512dq+avx2", "x86_64+avx2"))]
+fn nearest_of_all(lanes: &mut Lanes, xs: &[Real], ys: &[Real], rs: &[Real]) {
+    for ((&cx, &cy), &r) in xs.iter().zip(ys).zip(rs) {
+        for l in 0..FIELD_BLOCK {
+            let (vx, vy) = (lanes.x[l] - cx, lanes.y[l] - cy);
+            let c = (vx * vx + vy * vy).sqrt() - r;
+            lanes.best[l] = if c < lanes.best[l] { c } else { lanes.best[l] };
+        }
+    }
 }
 
 /// Adds the potential of the circles `kept` at every lane, with its gradient, and tracks the
@@ -600,13 +657,20 @@ mod tests {
 
     #[test]
     fn batched_clearances_equal_the_single_queries_exactly() {
-        for n in [0, 1, 7, 60, 300] {
+        // Both sides of `SCAN_ALL` (every circle scanned, or the x-sorted scan), and batches
+        // that end inside a block.
+        for n in [0, 1, 7, 60, SCAN_ALL, SCAN_ALL + 1, 300] {
             let model = CircleModel::new(scattered(n, 90.0, 66.0));
-            let pts = strided_points(500, 110.0, 86.0, 10.0);
-            let mut got = vec![0.0; pts.len()];
-            model.clearances(&pts, &mut got);
-            for (p, g) in pts.iter().zip(&got) {
-                assert_eq!(*g, model.clearance(p).0, "{n} circles at {p}");
+            for len in [500, 13, 1] {
+                let pts = strided_points(len, 110.0, 86.0, 10.0);
+                let mut got = vec![0.0; pts.len()];
+                model.clearances(&pts, &mut got);
+                for (p, g) in pts.iter().zip(&got) {
+                    let want = model.clearance(p).0;
+                    assert_eq!(g.to_bits(), want.to_bits(), "{n} circles at {p}");
+                    let exact = model.exact_clearance(p);
+                    assert_eq!(exact.to_bits(), want.to_bits(), "{n} circles at {p}");
+                }
             }
         }
     }
