@@ -263,9 +263,11 @@ impl CircleModel {
             let far = |l: usize| lanes.best[l] > cutoff_distance;
             let all =
                 (!GRAD && self.xs.len() <= SCAN_ALL && (0..block_pts.len()).any(far)).then(|| {
-                    let mut exact = Lanes::default();
-                    exact.x = lanes.x;
-                    exact.y = lanes.y;
+                    let mut exact = Lanes {
+                        x: lanes.x,
+                        y: lanes.y,
+                        ..Lanes::default()
+                    };
                     nearest_of_all(&mut exact, &self.xs, &self.ys, &self.rs);
                     exact.best
                 });
