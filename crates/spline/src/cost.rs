@@ -762,7 +762,8 @@ fn field_and_integrals(
 ) -> Result<Option<Worst>, CostTerms> {
     let allowance = field_allowance(samples, t.roughness, least_knot, cfg);
     let n = samples.points.len();
-    field.clear();
+    // Every node's sample is written (by stretch) before it is read: the old ones are
+    // not cleared.
     field.resize(n, FieldSample::default());
     if let Some(g) = grad {
         model.field_batch(&samples.points, cfg.alpha, allowance, field);
