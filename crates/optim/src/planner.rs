@@ -56,9 +56,17 @@ pub const DM_RULE_SHARE: Real = 0.9;
 
 /// The least clearance of a class's graph path (at its vertices).
 fn bottleneck(poly: &[Point], model: &dyn ClearanceModel) -> Real {
-    poly.iter()
-        .map(|p| model.clearance(p).0)
-        .fold(Real::INFINITY, Real::min)
+    let mut clear = vec![0.0; poly.len()];
+    model.clearances(poly, &mut clear);
+    clear.into_iter().fold(Real::INFINITY, Real::min)
+}
+
+/// The clearance at `p` without its gradient ([`ClearanceModel::clearances`]: the same
+/// value as [`ClearanceModel::clearance`]'s, which a model may compute more cheaply).
+fn clearance_at(model: &dyn ClearanceModel, p: &Point) -> Real {
+    let mut d = [0.0];
+    model.clearances(std::slice::from_ref(p), &mut d);
+    d[0]
 }
 
 /// How much longer than its graph path a class's shortest path that keeps `dm` may be for
@@ -863,16 +871,16 @@ fn shortcut_ends(
 ) -> Vec<Point> {
     // The indices `k > 1` (within the window) of the points `poly[k]` that `poly[0]` joins.
     let reachable = |poly: &[Point]| -> Vec<usize> {
-        let window = 4.0 * model.clearance(&poly[0]).0.max(cell) + 8.0 * cell;
+        let mut stretch = clearance_at(model, &poly[0]);
+        let window = 4.0 * stretch.max(cell) + 8.0 * cell;
         let mut arc = 0.0;
-        let mut stretch = model.clearance(&poly[0]).0;
         let mut out = Vec::new();
         for k in 1..poly.len() - 1 {
             arc += (poly[k] - poly[k - 1]).norm();
             if arc > window {
                 break;
             }
-            stretch = stretch.min(model.clearance(&poly[k]).0);
+            stretch = stretch.min(clearance_at(model, &poly[k]));
             let target = (stretch - 0.5 * cell).max(0.5 * stretch);
             if k > 1 && clear_at_least(model, poly[0], poly[k], target, cell) {
                 out.push(k);
@@ -944,7 +952,11 @@ fn pull_taut(
         return poly.to_vec();
     }
     let margin = |c: Real| (c - 0.5 * cell).max(0.5 * c).min(PULL_MARGIN * cell);
-    let margins: Vec<Real> = poly.iter().map(|p| margin(model.clearance(p).0)).collect();
+    let mut margins = vec![0.0; poly.len()];
+    model.clearances(poly, &mut margins);
+    for m in &mut margins {
+        *m = margin(*m);
+    }
     // A vertex's margin applies to both its segments.
     let path: Vec<(Point, Real)> = poly
         .iter()
@@ -1175,14 +1187,20 @@ fn centre(poly: &[Point], model: &dyn ClearanceModel, cell: Real) -> Vec<Point> 
     let n = ((len / (0.5 * cell)).ceil() as usize).clamp(2, 20_000);
     let mut pts = resample(poly, n - 1);
     let last = pts.len() - 1;
-    for p in &mut pts[1..last] {
+    // Most points are already two cells clear: their clearances come in one batch.
+    let mut clear = vec![0.0; pts.len()];
+    model.clearances(&pts, &mut clear);
+    for (p, &c) in pts[1..last].iter_mut().zip(&clear[1..last]) {
+        if c >= 2.0 * cell {
+            continue;
+        }
         for _ in 0..8 {
             let (d, g) = model.clearance(p);
             if d >= 2.0 * cell || g.norm() < 1e-9 {
                 break;
             }
             let q = *p + g.normalize() * (0.25 * cell);
-            if model.clearance(&q).0 <= d {
+            if clearance_at(model, &q) <= d {
                 break;
             }
             *p = q;
