@@ -264,7 +264,14 @@ impl Rays {
     /// Appends the crossings of segment `a -> b` to `word`, in the order along the segment.
     pub fn cross_segment(&self, a: &Point, b: &Point, word: &mut Signature) {
         let mut cursor = None;
-        self.cross_segment_at(a, b, word, &mut cursor);
+        let ends = [self.key(a), self.key(b)];
+        self.cross_segment_at(a, b, ends, word, &mut cursor);
+    }
+
+    /// A point's `q = dir x p` and largest coordinate magnitude, which the crossing test of
+    /// either segment it ends reads.
+    fn key(&self, p: &Point) -> (Real, Real) {
+        (self.dir.x * p.y - self.dir.y * p.x, p.coords.amax())
     }
 
     /// [`Rays::cross_segment`] with a cursor into the rays sorted by `q`: consecutive
@@ -275,17 +282,15 @@ impl Rays {
         &self,
         a: &Point,
         b: &Point,
+        [(qa, ma), (qb, mb)]: [(Real, Real); 2],
         word: &mut Signature,
         cursor: &mut Option<usize>,
     ) {
-        // Ray i's side test is `q(p) - q(o_i) >= 0` up to rounding, `q(p) = dir x p`: only rays
-        // with `q(o_i)` between `q(a)` and `q(b)` (widened far beyond the rounding) can change
-        // sides; the exact test below decides, so the result is the same as testing all.
-        let (qa, qb) = (
-            self.dir.x * a.y - self.dir.y * a.x,
-            self.dir.x * b.y - self.dir.y * b.x,
-        );
-        let margin = 1e-9 * (1.0 + self.scale + a.coords.amax() + b.coords.amax());
+        // Ray i's side test is `q(p) - q(o_i) >= 0` up to rounding, `q(p) = dir x p` (`qa`,
+        // `qb`: [`Rays::key`]): only rays with `q(o_i)` between `q(a)` and `q(b)` (widened far
+        // beyond the rounding) can change sides; the exact test below decides, so the result
+        // is the same as testing all.
+        let margin = 1e-9 * (1.0 + self.scale + ma + mb);
         let (lo, hi) = (qa.min(qb) - margin, qa.max(qb) + margin);
         let first = match *cursor {
             Some(mut c) => {
@@ -372,8 +377,14 @@ impl Rays {
     pub fn signature(&self, path: &[Point]) -> Signature {
         let mut w = Signature::identity();
         let mut cursor = None;
+        let Some(first) = path.first() else {
+            return w;
+        };
+        let mut key_a = self.key(first);
         for s in path.windows(2) {
-            self.cross_segment_at(&s[0], &s[1], &mut w, &mut cursor);
+            let key_b = self.key(&s[1]);
+            self.cross_segment_at(&s[0], &s[1], [key_a, key_b], &mut w, &mut cursor);
+            key_a = key_b;
         }
         w
     }
