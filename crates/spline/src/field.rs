@@ -217,13 +217,17 @@ impl CircleModel {
         let two_alpha = 2.0 * alpha;
         let cutoff_distance = cutoff / two_alpha;
         // The kept circles' indices: on the stack for the usual few dozen circles (this runs
-        // once per optimiser evaluation), on the heap beyond.
-        let mut on_stack = [0usize; 128];
-        let mut on_heap = Vec::new();
-        let kept: &mut [usize] = if self.xs.len() <= on_stack.len() {
-            &mut on_stack[..self.xs.len()]
+        // once per stretch of an optimiser's evaluation: the array is zeroed each time, so
+        // it is no larger than the scene needs), on the heap beyond.
+        let (mut small, mut large, mut on_heap);
+        let kept: &mut [usize] = if self.xs.len() <= 32 {
+            small = [0usize; 32];
+            &mut small[..self.xs.len()]
+        } else if self.xs.len() <= 128 {
+            large = [0usize; 128];
+            &mut large[..self.xs.len()]
         } else {
-            on_heap.resize(self.xs.len(), 0);
+            on_heap = vec![0usize; self.xs.len()];
             &mut on_heap
         };
         let n = pts.len().min(out.len());
