@@ -536,7 +536,7 @@ fn least_distance(
 /// Up to this many circles, a batch of exact clearances scans every circle for
 /// [`FIELD_BLOCK`] points at a time ([`nearest_of_all`], vectorised); beyond, each point's
 /// x-sorted scan ([`least_distance`]) visits fewer. Both give the same bits.
-const SCAN_ALL: usize = 64;
+const SCAN_ALL: usize = 24;
 
 /// The least `|p - c| - r` over every circle at every lane, into `lanes.best` (which must
 /// start at `+inf`): the distance computed as [`least_distance`] computes it (`|p.x - c.x|`
