@@ -56,17 +56,17 @@ pub const DM_RULE_SHARE: Real = 0.9;
 
 /// The least clearance of a class's graph path (at its vertices).
 fn bottleneck(poly: &[Point], model: &dyn ClearanceModel) -> Real {
-    let mut clear = vec![0.0; poly.len()];
-    model.clearances(poly, &mut clear);
-    clear.into_iter().fold(Real::INFINITY, Real::min)
+    clearances_of(model, poly)
+        .into_iter()
+        .fold(Real::INFINITY, Real::min)
 }
 
-/// The clearance at `p` without its gradient ([`ClearanceModel::clearances`]: the same
-/// value as [`ClearanceModel::clearance`]'s, which a model may compute more cheaply).
-fn clearance_at(model: &dyn ClearanceModel, p: &Point) -> Real {
-    let mut d = [0.0];
-    model.clearances(std::slice::from_ref(p), &mut d);
-    d[0]
+/// The clearance at each of `pts`, without gradients, in one batch
+/// ([`ClearanceModel::clearances`]).
+fn clearances_of(model: &dyn ClearanceModel, pts: &[Point]) -> Vec<Real> {
+    let mut out = vec![0.0; pts.len()];
+    model.clearances(pts, &mut out);
+    out
 }
 
 /// How much longer than its graph path a class's shortest path that keeps `dm` may be for
@@ -871,7 +871,7 @@ fn shortcut_ends(
 ) -> Vec<Point> {
     // The indices `k > 1` (within the window) of the points `poly[k]` that `poly[0]` joins.
     let reachable = |poly: &[Point]| -> Vec<usize> {
-        let mut stretch = clearance_at(model, &poly[0]);
+        let mut stretch = model.clearance_value(&poly[0]);
         let window = 4.0 * stretch.max(cell) + 8.0 * cell;
         let mut arc = 0.0;
         let mut out = Vec::new();
@@ -880,7 +880,7 @@ fn shortcut_ends(
             if arc > window {
                 break;
             }
-            stretch = stretch.min(clearance_at(model, &poly[k]));
+            stretch = stretch.min(model.clearance_value(&poly[k]));
             let target = (stretch - 0.5 * cell).max(0.5 * stretch);
             if k > 1 && clear_at_least(model, poly[0], poly[k], target, cell) {
                 out.push(k);
@@ -952,11 +952,7 @@ fn pull_taut(
         return poly.to_vec();
     }
     let margin = |c: Real| (c - 0.5 * cell).max(0.5 * c).min(PULL_MARGIN * cell);
-    let mut margins = vec![0.0; poly.len()];
-    model.clearances(poly, &mut margins);
-    for m in &mut margins {
-        *m = margin(*m);
-    }
+    let margins: Vec<Real> = clearances_of(model, poly).into_iter().map(margin).collect();
     // A vertex's margin applies to both its segments.
     let path: Vec<(Point, Real)> = poly
         .iter()
@@ -1188,8 +1184,7 @@ fn centre(poly: &[Point], model: &dyn ClearanceModel, cell: Real) -> Vec<Point> 
     let mut pts = resample(poly, n - 1);
     let last = pts.len() - 1;
     // Most points are already two cells clear: their clearances come in one batch.
-    let mut clear = vec![0.0; pts.len()];
-    model.clearances(&pts, &mut clear);
+    let clear = clearances_of(model, &pts);
     for (p, &c) in pts[1..last].iter_mut().zip(&clear[1..last]) {
         if c >= 2.0 * cell {
             continue;
@@ -1200,7 +1195,7 @@ fn centre(poly: &[Point], model: &dyn ClearanceModel, cell: Real) -> Vec<Point> 
                 break;
             }
             let q = *p + g.normalize() * (0.25 * cell);
-            if clearance_at(model, &q) <= d {
+            if model.clearance_value(&q) <= d {
                 break;
             }
             *p = q;

@@ -988,11 +988,7 @@ fn refine_min_clearance(
     }
     let local = model.restricted(&lo, &hi, worst.clearance);
     let near: &dyn ClearanceModel = local.as_deref().unwrap_or(model);
-    let f = |t: Real| {
-        let mut d = [0.0];
-        near.clearances(&[spline.position(t)], &mut d);
-        d[0]
-    };
+    let f = |t: Real| near.clearance_value(&spline.position(t));
     let (tb, fb) = brent_min(f, (ta, tz), (t0, worst.clearance), 1e-10);
     // Brent searches the open bracket; a minimum at one of its ends (the start or the goal
     // inside an obstacle's reach) is taken there exactly.

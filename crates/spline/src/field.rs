@@ -111,6 +111,14 @@ pub trait ClearanceModel: Send + Sync {
         }
     }
 
+    /// The clearance at `p` without its gradient: [`ClearanceModel::clearances`] of the one
+    /// point (the same value as [`ClearanceModel::clearance`]'s, maybe computed more cheaply).
+    fn clearance_value(&self, p: &Point) -> Real {
+        let mut d = [0.0];
+        self.clearances(std::slice::from_ref(p), &mut d);
+        d[0]
+    }
+
     /// Whether the segment `[a, b]` is free of obstacles.
     fn line_of_sight(&self, a: &Point, b: &Point) -> bool;
 
@@ -198,6 +206,18 @@ impl CircleModel {
         &self.set
     }
 
+    /// The exact clearance at every lane of `lanes` ([`nearest_of_all`]: every circle
+    /// scanned).
+    fn nearest_in_block(&self, lanes: &Lanes) -> [Real; FIELD_BLOCK] {
+        let mut exact = Lanes {
+            x: lanes.x,
+            y: lanes.y,
+            ..Lanes::default()
+        };
+        nearest_of_all(&mut exact, &self.xs, &self.ys, &self.rs);
+        exact.best
+    }
+
     /// [`ClearanceModel::field_batch`], with the gradients when `GRAD` (else zero).
     fn field<const GRAD: bool>(
         &self,
@@ -265,16 +285,8 @@ impl CircleModel {
             // kept circle is nearer than that, ask the exact query (for the whole block at
             // once when every circle is scanned).
             let far = |l: usize| lanes.best[l] > cutoff_distance;
-            let all =
-                (!GRAD && self.xs.len() <= SCAN_ALL && (0..block_pts.len()).any(far)).then(|| {
-                    let mut exact = Lanes {
-                        x: lanes.x,
-                        y: lanes.y,
-                        ..Lanes::default()
-                    };
-                    nearest_of_all(&mut exact, &self.xs, &self.ys, &self.rs);
-                    exact.best
-                });
+            let all = (!GRAD && self.xs.len() <= SCAN_ALL && (0..block_pts.len()).any(far))
+                .then(|| self.nearest_in_block(&lanes));
             for (l, (p, o)) in block_pts.iter().zip(block_out.iter_mut()).enumerate() {
                 let (clearance, clearance_grad) = if !GRAD {
                     // The exact query's distance: both scans give the same bits.
@@ -336,8 +348,8 @@ impl ClearanceModel for CircleModel {
         {
             let mut lanes = Lanes::default();
             lanes.load(block_pts);
-            nearest_of_all(&mut lanes, &self.xs, &self.ys, &self.rs);
-            block_out.copy_from_slice(&lanes.best[..block_out.len()]);
+            let exact = self.nearest_in_block(&lanes);
+            block_out.copy_from_slice(&exact[..block_out.len()]);
         }
     }
 
