@@ -20,7 +20,7 @@ fn bench(c: &mut Criterion) {
                 ..PlanConfig::default()
             };
             let p = plan(&scene, &cfg).unwrap();
-            let evals: usize = p.classes.iter().map(|c| c.evaluations).sum();
+            let evals = p.evaluations();
             let cost: f64 = p.classes.iter().map(|c| c.cost.total).sum();
             // The stages' wall times, the mean of 20 plans after the first (the first pays
             // for the thread pool and cold caches).

@@ -703,7 +703,7 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
     // Hindsight: the best plan on the true world.
     let hindsight_length = plan(&world.truth, &cfg.plan)
         .ok()
-        .and_then(|p| p.best.map(|b| p.classes[b - 1].length));
+        .and_then(|p| p.chosen().map(|c| c.length));
     let known = SceneKnown {
         world,
         known: world.prior.clone(),
@@ -740,7 +740,7 @@ pub fn simulate_map(world: &MapWorld, cfg: &MissionConfig) -> Result<MissionResu
     let hindsight_length = homospline_maps::PreparedMap::new(&world.truth)
         .ok()
         .and_then(|m| m.plan(world.start, world.goal, &cfg.plan).ok())
-        .and_then(|p| p.best.map(|b| p.classes[b - 1].length));
+        .and_then(|p| p.chosen().map(|c| c.length));
     let known =
         MapKnown::new(world).map_err(|e| MissionError::Config(format!("{}: {e}", world.name)))?;
     let rays = known.naming_rays();

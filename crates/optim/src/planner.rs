@@ -346,6 +346,18 @@ pub struct Plan {
     pub graph: Option<VoronoiGraph>,
 }
 
+impl Plan {
+    /// The chosen class (rank [`Plan::best`]), if any.
+    pub fn chosen(&self) -> Option<&ClassPlan> {
+        self.best.map(|b| &self.classes[b - 1])
+    }
+
+    /// Cost evaluations over every class.
+    pub fn evaluations(&self) -> usize {
+        self.classes.iter().map(|c| c.evaluations).sum()
+    }
+}
+
 fn ms(t: Instant) -> Real {
     t.elapsed().as_secs_f64() * 1e3
 }

@@ -3,16 +3,8 @@
 //! budget found, on the fixture scenes and generated ones.
 
 use homospline_geom::Scene;
-use homospline_optim::{GrowthConfig, Plan, PlanConfig, plan};
+use homospline_optim::{GrowthConfig, PlanConfig, plan};
 use homospline_testkit::{fixture_scenes, random_fixture_scenes, world_scene};
-
-fn chosen_cost(p: &Plan) -> Option<f64> {
-    p.best.map(|b| p.classes[b - 1].cost.total)
-}
-
-fn evals(p: &Plan) -> usize {
-    p.classes.iter().map(|c| c.evaluations).sum()
-}
 
 fn with_budget(per_dimension: usize, rounds: usize) -> PlanConfig {
     PlanConfig {
@@ -69,7 +61,7 @@ fn scan_the_budget() {
             all.iter()
                 .map(|s| {
                     let p = plan(s, &with_budget(e, r)).unwrap();
-                    (chosen_cost(&p), evals(&p))
+                    (p.chosen().map(|c| c.cost.total), p.evaluations())
                 })
                 .collect()
         })

@@ -14,10 +14,6 @@ fn scenes() -> Vec<Scene> {
     v
 }
 
-fn chosen(p: &Plan) -> Option<&homospline_optim::ClassPlan> {
-    p.best.map(|b| &p.classes[b - 1])
-}
-
 fn with_prune(prune: Option<f64>) -> PlanConfig {
     PlanConfig {
         prune,
@@ -32,7 +28,7 @@ fn pruning_keeps_the_chosen_class_and_its_curve() {
         let full = plan(&scene, &with_prune(None)).unwrap();
         let fast = plan(&scene, &PlanConfig::default()).unwrap();
         assert!(full.classes.iter().all(|c| !c.pruned), "{}", scene.name);
-        let (a, b) = (chosen(&full), chosen(&fast));
+        let (a, b) = (full.chosen(), fast.chosen());
         assert_eq!(a.is_some(), b.is_some(), "{}", scene.name);
         if let (Some(a), Some(b)) = (a, b) {
             assert_eq!(a.signature, b.signature, "{}", scene.name);
@@ -63,7 +59,7 @@ fn pruning_keeps_the_chosen_class_and_its_curve() {
                     c.cost.total,
                     f.cost.total
                 );
-                let chosen_cost = chosen(&fast).map_or(f64::INFINITY, |b| b.cost.total);
+                let chosen_cost = fast.chosen().map_or(f64::INFINITY, |b| b.cost.total);
                 assert!(
                     c.cost.total > DEFAULT_PRUNE * chosen_cost * (1.0 - 1e-5),
                     "{} {}",
@@ -118,15 +114,14 @@ fn scan_the_ratio() {
         .iter()
         .map(|s| plan(s, &with_prune(None)).unwrap())
         .collect();
-    let evals = |p: &Plan| p.classes.iter().map(|c| c.evaluations).sum::<usize>();
-    let full_evals: usize = fulls.iter().map(evals).sum();
+    let full_evals: usize = fulls.iter().map(Plan::evaluations).sum();
     for ratio in [1.5, 2.0, 2.5, 3.0, 4.0] {
         let mut changed = Vec::new();
         let mut saved = 0usize;
         for (s, full) in all.iter().zip(&fulls) {
             let fast = plan(s, &with_prune(Some(ratio))).unwrap();
-            saved += evals(full) - evals(&fast);
-            let same = match (chosen(full), chosen(&fast)) {
+            saved += full.evaluations() - fast.evaluations();
+            let same = match (full.chosen(), fast.chosen()) {
                 (Some(a), Some(b)) => a.signature == b.signature && a.path == b.path,
                 (None, None) => true,
                 _ => false,
