@@ -106,7 +106,7 @@ def plan(
     prune: Optional[Union[str, float]] = None,
 ) -> Plan:
     """Plans a scene (the `plan` command); `soft_dm` turns the dm rule off; `prune` is
-    `"off"` or a ratio (`--prune`; default 2.5)."""
+    `"off"` or a ratio (`--prune`; default 1.5)."""
 
 def plan_map(
     occupancy: npt.NDArray[np.bool_],

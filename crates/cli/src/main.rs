@@ -558,7 +558,7 @@ struct PlanArgs {
     soft_dm: bool,
     /// Successive halving of the classes (scenes): after every class's first round, a class
     /// whose cost exceeds RATIO times that of the best class keeping dm runs no further
-    /// rounds (marked `pruned`); `off` runs every class to its end (default 2.5)
+    /// rounds (marked `pruned`); `off` runs every class to its end (default 1.5)
     #[arg(long, value_name = "RATIO|off")]
     prune: Option<String>,
     /// Also give each collision-free class's optima (scenes): the lengths of the shortest
