@@ -14,6 +14,7 @@
 //! imaginary parts over `2 pi` give a distance between classes.
 
 use homospline_geom::{Point, Real, Scene, Vector};
+use multiversion::multiversion;
 
 /// The ray system: one ray per representative point, all in one direction.
 #[derive(Clone, Debug, PartialEq)]
@@ -375,6 +376,15 @@ impl Rays {
 
     /// The signature of a polyline.
     pub fn signature(&self, path: &[Point]) -> Signature {
+        if self.origins.len() <= FEW_RAYS {
+            return self.signature_by_sides(path);
+        }
+        self.signature_by_q(path)
+    }
+
+    /// [`Rays::signature`] by the rays' `q` order ([`Rays::cross_segment_at`]): each segment
+    /// tests only the rays whose `q` lies between its ends'. For many rays.
+    fn signature_by_q(&self, path: &[Point]) -> Signature {
         let mut w = Signature::identity();
         let mut cursor = None;
         let Some(first) = path.first() else {
@@ -387,6 +397,84 @@ impl Rays {
             key_a = key_b;
         }
         w
+    }
+}
+
+/// With at most this many rays, [`Rays::signature`] tests every point against every ray's
+/// line ([`Rays::signature_by_sides`]): a few vectorised operations per ray and point,
+/// against [`Rays::cross_segment_at`]'s search and bookkeeping per segment (the class check
+/// of an optimiser's candidate, 50 or so points among a scene's few obstacles, was a seventh
+/// of a plan's instructions that way).
+pub const FEW_RAYS: usize = 16;
+
+impl Rays {
+    /// [`Rays::signature`] for at most [`FEW_RAYS`] rays: a segment can cross ray `i` only
+    /// where its ends lie on different sides of the ray's line ([`Rays::left`]'s exact test,
+    /// the same expression as [`Rays::cross_segment_at`]'s), found ray by ray over every
+    /// point at once (a loop the compiler vectorises); the crossings are pushed in the same
+    /// order (by segment, then by their parameter along it, then by letter), so the word is
+    /// the same as [`Rays::signature_by_q`]'s.
+    fn signature_by_sides(&self, path: &[Point]) -> Signature {
+        let mut w = Signature::identity();
+        let n = path.len();
+        if n < 2 {
+            return w;
+        }
+        let xs: Vec<Real> = path.iter().map(|p| p.x).collect();
+        let ys: Vec<Real> = path.iter().map(|p| p.y).collect();
+        let mut left = vec![0u8; n];
+        let mut flips = vec![0u8; n - 1];
+        // (segment, parameter along it, letter) of every crossing.
+        let mut hits: Vec<(usize, Real, i32)> = Vec::new();
+        for (i, o) in self.origins.iter().enumerate() {
+            sides_and_flips(&xs, &ys, o, &self.dir, &mut left, &mut flips);
+            // Segments whose ends are on different sides, 8 at a time.
+            for (c, chunk) in flips.chunks(8).enumerate() {
+                let mut word = [0u8; 8];
+                word[..chunk.len()].copy_from_slice(chunk);
+                if u64::from_ne_bytes(word) == 0 {
+                    continue;
+                }
+                for (j, _) in chunk.iter().enumerate().filter(|(_, f)| **f != 0) {
+                    let k = 8 * c + j;
+                    // Where the segment meets the ray's line, and whether that is on the ray.
+                    let (a, b) = (&path[k], &path[k + 1]);
+                    let (da, db) = (self.dir.perp(&(a - o)), self.dir.perp(&(b - o)));
+                    let t = da / (da - db);
+                    let x = a + (b - a) * t;
+                    if (x - o).dot(&self.dir) >= 0.0 {
+                        let letter = i as i32 + 1;
+                        hits.push((k, t, if left[k + 1] == 1 { letter } else { -letter }));
+                    }
+                }
+            }
+        }
+        hits.sort_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)).then(x.2.cmp(&y.2)));
+        for (_, _, l) in hits {
+            w.push(l);
+        }
+        w
+    }
+}
+
+/// [`Rays::left`] of every point `(xs[k], ys[k])` for the ray from `o` along `dir` (1 on the
+/// left or on the line; the same expression, `v = p - o`, `dir x v >= 0`), and whether each
+/// segment's ends are on different sides.
+#[multiversion(targets("x86_64+avx512f+avx512vl+avx512bw+avx2", "x86_64+avx2"))]
+fn sides_and_flips(
+    xs: &[Real],
+    ys: &[Real],
+    o: &Point,
+    dir: &Vector,
+    left: &mut [u8],
+    flips: &mut [u8],
+) {
+    let (ox, oy, dx, dy) = (o.x, o.y, dir.x, dir.y);
+    for ((l, &x), &y) in left.iter_mut().zip(xs).zip(ys) {
+        *l = u8::from(dx * (y - oy) - dy * (x - ox) >= 0.0);
+    }
+    for (f, pair) in flips.iter_mut().zip(left.windows(2)) {
+        *f = pair[0] ^ pair[1];
     }
 }
 
@@ -437,4 +525,50 @@ pub fn h_distance(a: &[(Real, Real)], b: &[(Real, Real)]) -> Real {
         .zip(b)
         .map(|(x, y)| ((x.1 - y.1) / std::f64::consts::TAU).abs())
         .fold(0.0, Real::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn point() -> impl Strategy<Value = Point> {
+        // Half-unit coordinates: many points fall exactly on a ray's line or on an origin's
+        // level, where the side test's ties decide.
+        (-40i32..40, -40i32..40).prop_map(|(x, y)| Point::new(x as Real / 2.0, y as Real / 2.0))
+    }
+
+    proptest! {
+        /// The side-mask word is the `q`-order word, letter for letter, for any polyline
+        /// among up to [`FEW_RAYS`] origins (and, with more origins, still when asked).
+        #[test]
+        fn words_by_sides_equal_words_by_q(
+            origins in proptest::collection::vec(point(), 1..=24),
+            path in proptest::collection::vec(
+                prop_oneof![point(), (-20.0..20.0f64, -20.0..20.0f64).prop_map(|(x, y)| Point::new(x, y))],
+                0..60,
+            ),
+        ) {
+            let mut origins = origins;
+            origins.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+            origins.dedup();
+            let rays = Rays::new(origins);
+            prop_assert_eq!(rays.signature_by_sides(&path), rays.signature_by_q(&path));
+        }
+    }
+
+    #[test]
+    fn a_loop_round_one_origin_reads_its_letter_by_either_way() {
+        let rays = Rays::new(vec![Point::new(0.0, 0.0), Point::new(5.0, 0.0)]);
+        let square = [
+            Point::new(-1.0, -1.0),
+            Point::new(1.0, -1.0),
+            Point::new(1.0, 1.0),
+            Point::new(-1.0, 1.0),
+            Point::new(-1.0, -1.0),
+        ];
+        let w = rays.signature_by_sides(&square);
+        assert_eq!(w, rays.signature_by_q(&square));
+        assert_eq!(w.to_string().len(), 2, "{w}");
+    }
 }
