@@ -2,7 +2,7 @@
 //! and local updates against full rebuilds.
 
 use homospline_geom::{Bounds, Circle, Obstacle, Point, Scene};
-use homospline_voronoi::field::obstacle_keys;
+use homospline_voronoi::field::{PARALLEL_CELLS, obstacle_keys};
 use homospline_voronoi::{DistanceField, GraphError, Grid, VoronoiGraph};
 use proptest::prelude::*;
 
@@ -49,9 +49,9 @@ proptest! {
     /// sampled cells.
     #[test]
     fn parallel_brushfire_is_exact_and_the_same_for_any_thread_count(
-        w in 130usize..260, h in 126usize..200,
-        obstacles in prop::collection::vec((0usize..260, 0usize..200, 0usize..4), 1..40),
-        probes in prop::collection::vec((0usize..260, 0usize..200), 64),
+        w in 730usize..800, h in 720usize..780,
+        obstacles in prop::collection::vec((0usize..800, 0usize..780, 0usize..12), 1..60),
+        probes in prop::collection::vec((0usize..800, 0usize..780), 64),
     ) {
         let mut bits = vec![false; w * h];
         for &(ci, cj, r) in &obstacles {
@@ -62,7 +62,7 @@ proptest! {
             }
         }
         let grid = random_grid(w, h, &bits);
-        prop_assume!(w * h >= 1 << 14);
+        prop_assert!(w * h >= PARALLEL_CELLS);
         let in_pool = |n: usize| {
             rayon::ThreadPoolBuilder::new().num_threads(n).build().unwrap().install(|| DistanceField::build(&grid))
         };
