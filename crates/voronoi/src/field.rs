@@ -288,22 +288,25 @@ impl Sweep {
 }
 
 /// The row pass's scratch: the lower envelope of `f_q(x) = K (x - q)^2 + G(q)`. Piece `t` of
-/// the envelope is parabola `v[t]` (with `F = G + K q^2` in `fv[t]`), starting at
-/// `s_t = zn[t] / (2 K zq[t])` (piece 0 starts at -inf).
+/// the envelope is parabola `v` (with `F = G + K q^2` in `fv`), starting at
+/// `s_t = zn / (2 K zq)` (piece 0 starts at -inf; its `zn`, `zq` are not read).
 struct Envelope {
-    v: Vec<usize>,
-    fv: Vec<i64>,
-    zn: Vec<i64>,
-    zq: Vec<i64>,
+    pieces: Vec<Piece>,
+}
+
+/// One piece of an [`Envelope`].
+#[derive(Clone, Copy, Default)]
+struct Piece {
+    v: usize,
+    fv: i64,
+    zn: i64,
+    zq: i64,
 }
 
 impl Envelope {
     fn new(w: usize) -> Self {
         Self {
-            v: vec![0; w],
-            fv: vec![0; w],
-            zn: vec![0; w],
-            zq: vec![0; w],
+            pieces: vec![Piece::default(); w],
         }
     }
 
@@ -311,7 +314,7 @@ impl Envelope {
     /// row's largest squared distance (0 for a row without a source).
     fn apply(&mut self, row: &mut [i64]) -> i64 {
         let k = 1i64 << KEY_BITS;
-        let Self { v, fv, zn, zq } = self;
+        let pieces = &mut self.pieces[..row.len()];
         let mut top = 0usize;
         for (q, &gq) in row.iter().enumerate() {
             if gq == NONE {
@@ -321,36 +324,47 @@ impl Envelope {
             // Drop pieces that the new parabola hides: where it meets the last piece,
             // s = (F(q) - F(p)) / (2 K (q - p)), is not after that piece's start.
             while top > 1 {
-                let num = fq - fv[top - 1];
-                let dq = (q - v[top - 1]) as i64;
-                if le_ratio(num, dq, zn[top - 1], zq[top - 1]) {
+                let last = pieces[top - 1];
+                if le_ratio(fq - last.fv, (q - last.v) as i64, last.zn, last.zq) {
                     top -= 1;
                 } else {
                     break;
                 }
             }
-            v[top] = q;
-            fv[top] = fq;
-            if top > 0 {
-                zn[top] = fq - fv[top - 1];
-                zq[top] = (q - v[top - 1]) as i64;
-            }
+            let (zn, zq) = match top {
+                0 => (0, 0),
+                _ => {
+                    let last = pieces[top - 1];
+                    (fq - last.fv, (q - last.v) as i64)
+                }
+            };
+            pieces[top] = Piece {
+                v: q,
+                fv: fq,
+                zn,
+                zq,
+            };
             top += 1;
         }
         if top == 0 {
             return 0;
         }
         // In place: a piece's G(q) is F(q) - K q^2, so the row is no longer read.
+        let pieces = &pieces[..top];
         let mut idx = 0;
+        let mut here = pieces[0];
         let mut row_max = 0;
         for (x, o) in row.iter_mut().enumerate() {
             // s < x  <=>  zn < 2 K zq x, far inside i64 for any grid whose values fit.
-            while idx + 1 < top && zn[idx + 1] < ((x as i64 * zq[idx + 1]) << (KEY_BITS + 1)) {
+            while let Some(next) = pieces.get(idx + 1)
+                && next.zn < ((x as i64 * next.zq) << (KEY_BITS + 1))
+            {
                 idx += 1;
+                here = *next;
             }
-            let q = v[idx] as i64;
+            let q = here.v as i64;
             let dx = x as i64 - q;
-            *o = k * dx * dx + (fv[idx] - k * q * q);
+            *o = k * dx * dx + (here.fv - k * q * q);
             row_max = row_max.max(*o >> KEY_BITS);
         }
         row_max
