@@ -213,12 +213,12 @@ fn transform(
     (g, max_d2)
 }
 
-/// Windows of at least this many cells are transformed in parallel. Below it the threads'
-/// start-up and joins cost more than they save: on 2 cores, a paper scene's grid (258 x 258,
-/// 66,564 cells) built its graph 0.1 ms (8 to 15 %) faster with a serial transform, and one
-/// of 516 x 516 as fast; at 1032 x 1032 the parallel transform was 3 to 12 % faster
-/// (sixteenth session, interleaved runs of `homospline_voronoi::build`; it was `1 << 14`).
-pub const PARALLEL_CELLS: usize = 1 << 19;
+/// Windows of at least this many cells are transformed in parallel. (A loop of graph builds
+/// alone ran a paper scene's 258 x 258 grid 0.1 ms faster serially, but inside the plan,
+/// whose pool is awake from its classes, the serial transform made narrow-pass's whole plan
+/// 0.4 ms slower in interleaved criterion runs: 2^19, tried in the sixteenth session, was
+/// not kept.)
+pub const PARALLEL_CELLS: usize = 1 << 14;
 
 /// The narrowest strip of columns worth a thread of its own.
 const STRIP_MIN: usize = 64;

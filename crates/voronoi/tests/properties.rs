@@ -49,9 +49,9 @@ proptest! {
     /// sampled cells.
     #[test]
     fn parallel_brushfire_is_exact_and_the_same_for_any_thread_count(
-        w in 730usize..800, h in 720usize..780,
-        obstacles in prop::collection::vec((0usize..800, 0usize..780, 0usize..12), 1..60),
-        probes in prop::collection::vec((0usize..800, 0usize..780), 64),
+        w in 130usize..260, h in 127usize..200,
+        obstacles in prop::collection::vec((0usize..260, 0usize..200, 0usize..4), 1..40),
+        probes in prop::collection::vec((0usize..260, 0usize..200), 64),
     ) {
         let mut bits = vec![false; w * h];
         for &(ci, cj, r) in &obstacles {
