@@ -1,0 +1,60 @@
+//! A scan of how far the cost's `m(C)` (quadrature nodes, refined by Brent's method near the
+//! worst node only) can overstate a class's clearance: classes whose cost's `m(C)` keeps `dm`
+//! but whose certified clearance does not.
+
+use homospline_optim::{PlanConfig, plan};
+use homospline_testkit::{fixture_scenes, random_fixture_scenes, world_scene};
+
+/// Run by hand: `cargo test --release -p homospline-optim --test dm_gap -- --ignored
+/// --nocapture` (a few seconds). `SCAN_SCENES=N` generated scenes (300). Prints every such
+/// class (scene, signature, rounds, the cost's `m(C)`, the reported path's sampled clearance,
+/// the certified clearance) and a summary. Sixteenth session, default settings, 320 scenes:
+/// of 1,550 classes, 1,266 had the cost's `m(C)` at or above `dm`; 181 of them are certified
+/// below it (by up to 1.5 units: world-276's class -5-1-2-3-6-4, a curve of two segments over
+/// 82 units whose nodes straddle a circle, reads 3.004 and is certified 1.828), none of them
+/// a chosen class; 148 of the 181 are classes stopped after one round, 33 ran all three
+/// (convex's class e among them: 3.011 against 2.958, reported `safe: false`). The report is right (the ranking reads the certified clearance), but such
+/// a class was optimised against a constraint it did not see.
+#[test]
+#[ignore]
+fn scan_the_dm_gap() {
+    let scenes_n: u64 = std::env::var("SCAN_SCENES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(300);
+    let mut all = fixture_scenes();
+    all.extend(random_fixture_scenes());
+    all.extend((0..scenes_n).map(world_scene));
+    let cfg = PlanConfig::default();
+    let dm = cfg.growth.cost.dm;
+    let (mut classes, mut kept, mut below, mut chosen_below) = (0, 0, 0, 0);
+    let mut worst: f64 = 0.0;
+    for s in &all {
+        let p = plan(s, &cfg).unwrap();
+        for (i, c) in p.classes.iter().enumerate() {
+            classes += 1;
+            if c.cost.min_clearance < dm {
+                continue;
+            }
+            kept += 1;
+            if c.certified_clearance < dm {
+                below += 1;
+                worst = worst.max(dm - c.certified_clearance);
+                chosen_below += usize::from(p.best == Some(i + 1));
+                println!(
+                    "{} {} rounds {} m(C) {:.4} sampled {:.4} certified {:.4}",
+                    s.name,
+                    c.signature,
+                    c.iterations,
+                    c.cost.min_clearance,
+                    c.min_clearance,
+                    c.certified_clearance
+                );
+            }
+        }
+    }
+    println!(
+        "{classes} classes; {kept} with the cost's m(C) >= dm, {below} of them certified below \
+         dm (by up to {worst:.4}); {chosen_below} chosen"
+    );
+}
