@@ -4,7 +4,7 @@
 
 use homospline_geom::Scene;
 use homospline_optim::{GrowthConfig, PlanConfig, plan};
-use homospline_testkit::{fixture_scenes, random_fixture_scenes, world_scene};
+use homospline_testkit::scan_scenes;
 
 fn with_budget(per_dimension: usize, rounds: usize) -> PlanConfig {
     PlanConfig {
@@ -28,13 +28,7 @@ fn with_budget(per_dimension: usize, rounds: usize) -> PlanConfig {
 #[test]
 #[ignore]
 fn scan_the_budget() {
-    let scenes_n: u64 = std::env::var("SCAN_SCENES")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(300);
-    let mut all: Vec<Scene> = fixture_scenes();
-    all.extend(random_fixture_scenes());
-    all.extend((0..scenes_n).map(world_scene));
+    let all: Vec<Scene> = scan_scenes(300);
     let from_env: Option<Vec<(usize, usize)>> = std::env::var("SCAN_BUDGETS").ok().map(|v| {
         v.split(',')
             .map(|b| {

@@ -2,8 +2,9 @@
 //! worst node only) can overstate a class's clearance: classes whose cost's `m(C)` keeps `dm`
 //! but whose certified clearance does not.
 
+use homospline_geom::Scene;
 use homospline_optim::{PlanConfig, plan};
-use homospline_testkit::{fixture_scenes, random_fixture_scenes, world_scene};
+use homospline_testkit::scan_scenes;
 
 /// Run by hand: `cargo test --release -p homospline-optim --test dm_gap -- --ignored
 /// --nocapture` (a few seconds). `SCAN_SCENES=N` generated scenes (300). Prints every such
@@ -18,13 +19,7 @@ use homospline_testkit::{fixture_scenes, random_fixture_scenes, world_scene};
 #[test]
 #[ignore]
 fn scan_the_dm_gap() {
-    let scenes_n: u64 = std::env::var("SCAN_SCENES")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(300);
-    let mut all = fixture_scenes();
-    all.extend(random_fixture_scenes());
-    all.extend((0..scenes_n).map(world_scene));
+    let all: Vec<Scene> = scan_scenes(300);
     let cfg = PlanConfig::default();
     let dm = cfg.growth.cost.dm;
     let (mut classes, mut kept, mut below, mut chosen_below) = (0, 0, 0, 0);

@@ -11,7 +11,7 @@
 use homospline_geom::Scene;
 use homospline_optim::{PlanConfig, plan};
 use homospline_spline::{CircleModel, Spline, cost::evaluate};
-use homospline_testkit::{fixture_scenes, random_fixture_scenes, world_scene};
+use homospline_testkit::scan_scenes;
 
 fn with_quadrature(nodes: usize, pieces: usize) -> PlanConfig {
     let mut cfg = PlanConfig::default();
@@ -26,13 +26,7 @@ fn with_quadrature(nodes: usize, pieces: usize) -> PlanConfig {
 #[test]
 #[ignore]
 fn scan_the_quadrature() {
-    let scenes_n: u64 = std::env::var("SCAN_SCENES")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(300);
-    let mut all: Vec<Scene> = fixture_scenes();
-    all.extend(random_fixture_scenes());
-    all.extend((0..scenes_n).map(world_scene));
+    let all: Vec<Scene> = scan_scenes(300);
     let quads: Vec<(usize, usize)> = std::env::var("SCAN_QUADS")
         .unwrap_or("5x2,5x1,4x2,4x1,3x2".into())
         .split(',')

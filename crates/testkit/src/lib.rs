@@ -130,6 +130,19 @@ pub fn random_fixture_scenes() -> Vec<Scene> {
     small.chain(large).collect()
 }
 
+/// The scenes of the ignored scan tests: the fixture scenes, the seeded random fixtures and
+/// `SCAN_SCENES` generated worlds ([`world_scene`] 0, 1, ...; `default` when unset).
+pub fn scan_scenes(default: u64) -> Vec<Scene> {
+    let n: u64 = std::env::var("SCAN_SCENES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default);
+    let mut all = fixture_scenes();
+    all.extend(random_fixture_scenes());
+    all.extend((0..n).map(world_scene));
+    all
+}
+
 /// The default team of the generated worlds: a UGV at 1 unit/s seeing 6 units, and `uavs`
 /// scouts taking off at the start, 3 units/s, seeing 8 units.
 pub fn team(scene: &Scene, uavs: usize) -> Team {
