@@ -5,7 +5,7 @@
 use homospline_geom::Scene;
 use homospline_optim::planner::DEFAULT_PRUNE;
 use homospline_optim::{Plan, PlanConfig, plan};
-use homospline_testkit::{fixture_scenes, random_fixture_scenes, world_scene};
+use homospline_testkit::{fixture_scenes, random_fixture_scenes, scan_scenes};
 
 /// The fixture scenes and the seeded random scenes of `fixtures/random`.
 fn scenes() -> Vec<Scene> {
@@ -107,12 +107,12 @@ fn a_ratio_below_one_is_refused() {
 /// generator), how many plans choose another class or curve than the plan without pruning,
 /// at each ratio, how much more the chosen plan then costs (its regret against the full
 /// plan's), and the evaluations saved, in all and on the five paper scenes.
-/// `SCAN_RATIOS=1.5,2.5` sets the ratios (README, *Decisions*, has the table).
+/// `SCAN_RATIOS=1.5,2.5` sets the ratios, `SCAN_SCENES=N` the generated scenes (1000); the
+/// README's *Decisions* has the table.
 #[test]
 #[ignore]
 fn scan_the_ratio() {
-    let mut all = scenes();
-    all.extend((0..1000u64).map(world_scene));
+    let all = scan_scenes(1000);
     let fulls: Vec<Plan> = all
         .iter()
         .map(|s| plan(s, &with_prune(None)).unwrap())
