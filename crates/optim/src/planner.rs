@@ -171,10 +171,11 @@ pub struct PlanConfig {
     /// first round cost 1.98 times the reference's won, and the plan chosen instead costs
     /// 1.4 % more), as do 1.4 to 1.75, while 1.25 changes three (one of them 45 % dearer)
     /// and 2 to 4 none; 1.5 saves 60 % of the evaluations there (2.5: 53 %), and on the
-    /// paper scenes 30 to 47 % of them (2.5: none on three of the five). Nelder-Mead only: L-BFGS's rounds are too short for the barrier after
-    /// the first round to pay. `None` runs every class to its end (a mission does: its other
-    /// classes are its alternatives). Applies where the classes are optimised after the
-    /// search (scenes), not to a map's classes, optimised while the search goes on.
+    /// paper scenes 30 to 47 % of them (2.5: none on three of the five). Nelder-Mead only:
+    /// L-BFGS's rounds are too short for the barrier after the first round to pay. `None`
+    /// runs every class to its end (a mission does: its other classes are its alternatives).
+    /// Applies where the classes are optimised after the search (scenes), not to a map's
+    /// classes, optimised while the search goes on.
     pub prune: Option<Real>,
 }
 

@@ -14,8 +14,9 @@ use homospline_testkit::scan_scenes;
 /// below it (by up to 1.5 units: world-276's class -5-1-2-3-6-4, a curve of two segments over
 /// 82 units whose nodes straddle a circle, reads 3.004 and is certified 1.828), none of them
 /// a chosen class; 148 of the 181 are classes stopped after one round, 33 ran all three
-/// (convex's class e among them: 3.011 against 2.958, reported `safe: false`). The report is right (the ranking reads the certified clearance), but such
-/// a class was optimised against a constraint it did not see.
+/// (convex's class e among them: 3.011 against 2.958, reported `safe: false`). The report
+/// is right (the ranking reads the certified clearance), but such a class was optimised
+/// against a constraint it did not see.
 #[test]
 #[ignore]
 fn scan_the_dm_gap() {
