@@ -5,9 +5,11 @@
 use homospline_geom::{Bounds, Point, Real};
 use homospline_homotopy::{Rays, Signature};
 use homospline_spline::{
-    ClearanceModel, CostConfig, CostTerms, EndCondition, Parametrization, Spline, SplineError,
-    evaluate, evaluate_weighted_unless, gradient, is_collision_free, min_clearance,
+    ClearanceModel, ClearanceSearch, CostConfig, CostTerms, EndCondition, Parametrization, Spline,
+    SplineError, evaluate, evaluate_weighted_unless, gradient, is_clear_by, is_collision_free,
+    min_clearance,
 };
+use std::borrow::Cow;
 use std::cell::RefCell;
 
 use crate::lbfgs::Lbfgs;
@@ -191,6 +193,12 @@ impl Guard<'_> {
     }
 }
 
+/// How far below its clearance target a growth loop's final curve may be proven clear
+/// before the loop takes its `m(C)` to have missed a dip ([`Growth::step`]): a curve held at
+/// the target by the default search, whose least clearance Brent's method finds to `1e-10`
+/// in `t`, passes.
+pub const STRICT_SLACK: Real = 1e-9;
+
 /// The value of a candidate below the clearance target is more than this; every cost is
 /// far less (the largest seen, on maps, are in the tens of thousands).
 pub const SHORT_OF_TARGET: Real = 1e9;
@@ -361,6 +369,10 @@ pub struct Growth {
     kept_best: Best,
     round: usize,
     done: bool,
+    /// The cost's `m(C)` is searched between every two quadrature nodes
+    /// ([`ClearanceSearch::EveryStretch`]): set once a round's curve, by the default search
+    /// at or above the clearance target, was not proven that clear.
+    strict: bool,
 }
 
 impl Growth {
@@ -393,7 +405,22 @@ impl Growth {
             probation: None,
             round: 0,
             done: false,
+            strict: false,
         })
+    }
+
+    /// The settings the loop evaluates its curves with: `cfg`, with the cost's `m(C)`
+    /// searched between every two quadrature nodes once the loop has found the default search
+    /// overstating a curve's clearance (see [`Growth::step`]). A caller that weighs the
+    /// loop's curve (a planner ranking classes) should evaluate it with these.
+    pub fn settings<'a>(&self, cfg: &'a GrowthConfig) -> Cow<'a, GrowthConfig> {
+        if self.strict && cfg.cost.clearance_search != ClearanceSearch::EveryStretch {
+            let mut strict = cfg.clone();
+            strict.cost.clearance_search = ClearanceSearch::EveryStretch;
+            Cow::Owned(strict)
+        } else {
+            Cow::Borrowed(cfg)
+        }
     }
 
     /// Whether the loop has stopped (its round limit, a round that did not improve, the
@@ -446,6 +473,16 @@ impl Growth {
 
     /// Runs one round (the optimiser from the current curve) and the growth after it;
     /// returns whether another round follows.
+    ///
+    ///
+    /// With a clearance target, the loop's final curve, if it keeps the target by the cost's
+    /// `m(C)`, is also proven to keep it ([`homospline_spline::is_clear_by`], less
+    /// [`STRICT_SLACK`]). If it cannot be, the default search of `m(C)` (around the worst
+    /// quadrature node) missed a dip between two other nodes and the optimiser steered by a
+    /// constraint it did not see: one more round runs from that curve with `m(C)` searched
+    /// between every two nodes ([`Growth::settings`]), which first climbs back to the target.
+    /// That search costs about a third more per evaluation, so only such a class pays for it;
+    /// its rounds then number one more than the limit.
     pub fn step(
         &mut self,
         model: &dyn ClearanceModel,
@@ -453,8 +490,12 @@ impl Growth {
         outer: &Guard<'_>,
     ) -> bool {
         if !self.done {
-            let ended = !self.round_and_grow(model, cfg, outer, &|| false);
+            let settings = self.settings(cfg);
+            let ended = !self.round_and_grow(model, &settings, outer, &|| false);
             self.count_round(ended, cfg);
+            if self.done {
+                self.repair(model, cfg, outer, &|| false);
+            }
         }
         !self.done
     }
@@ -485,12 +526,18 @@ impl Growth {
             return Some(false);
         }
         let before = self.clone();
-        let ended = !self.round_and_grow(model, cfg, outer, stop);
+        let settings = self.settings(cfg);
+        let ended = !self.round_and_grow(model, &settings, outer, stop);
+        if !stop() {
+            self.count_round(ended, cfg);
+            if self.done {
+                self.repair(model, cfg, outer, stop);
+            }
+        }
         if stop() {
             *self = before;
             return None;
         }
-        self.count_round(ended, cfg);
         Some(!self.done)
     }
 
@@ -507,7 +554,7 @@ impl Growth {
         // The reported terms leave nothing out (no truncation of far circles' potential).
         let exact = CostConfig {
             tolerance: 0.0,
-            ..cfg.cost.clone()
+            ..self.settings(cfg).cost.clone()
         };
         let terms = evaluate(&spline, model, &exact);
         Grown {
@@ -675,6 +722,50 @@ impl Growth {
             return false;
         }
         self.grow_one(model, cfg, outer, guard)
+    }
+
+    /// The loop has ended on a curve that keeps the clearance target by the default search
+    /// of `m(C)` but is not proven that clear (less [`STRICT_SLACK`]): the search missed a
+    /// dip between two quadrature nodes, and the loop steered by a constraint it did not
+    /// see. One more round is run from that curve with `m(C)` searched between every two
+    /// nodes ([`ClearanceSearch::EveryStretch`]), which first climbs back to the target;
+    /// every curve the loop holds is valued so from then on ([`Growth::settings`]).
+    fn repair(
+        &mut self,
+        model: &dyn ClearanceModel,
+        cfg: &GrowthConfig,
+        outer: &Guard<'_>,
+        stop: &dyn Fn() -> bool,
+    ) {
+        let target = outer.clearance_target;
+        if self.strict || !target.is_finite() {
+            return;
+        }
+        let (points, spline) = {
+            let (p, sp) = self.best(outer);
+            (p.to_vec(), sp.clone())
+        };
+        if evaluate(&spline, model, &cfg.cost).min_clearance < target
+            || is_clear_by(&spline, model, target - STRICT_SLACK)
+        {
+            return;
+        }
+        self.strict = true;
+        let strict = self.settings(cfg).into_owned();
+        let value_of = |sp: &Spline| {
+            let m = evaluate(sp, model, &strict.cost).min_clearance;
+            let cost = outer.ratchet(m).cost(sp, model, &strict);
+            (m, cost)
+        };
+        let (m, cost) = value_of(&self.kept_best.spline);
+        self.kept_best.value = outer_value(outer, m, cost);
+        self.end = fixed_end(&points, &strict);
+        (self.current, self.best_cost) = value_of(&spline);
+        self.points = points;
+        self.spline = spline;
+        self.probation = None;
+        self.round_and_grow(model, &strict, outer, stop);
+        self.done = true;
     }
 
     /// One more via-point on the current curve, where it helps most: in the segment that

@@ -1684,7 +1684,7 @@ impl<'w> ClassTask<'w> {
             };
         };
         let sp = g.curve(&self.guard);
-        let terms = evaluate_weighted(sp, model, &self.growth.cost);
+        let terms = evaluate_weighted(sp, model, &g.settings(&self.growth).cost);
         let standing = self.guard.value(&terms);
         let reference = standing < SHORT_OF_TARGET
             && self.guard.clearance_target >= self.growth.cost.dm

@@ -69,16 +69,22 @@ fn push_segment(
     }
 }
 
-/// Proves the intervals on `stack` clear, as [`is_collision_free`] does.
-fn prove(spline: &Spline, model: &dyn ClearanceModel, stack: &mut Vec<Interval>) -> bool {
+/// Proves the intervals on `stack` more than `above` clear, as [`is_collision_free`] does
+/// with 0.
+fn prove(
+    spline: &Spline,
+    model: &dyn ClearanceModel,
+    stack: &mut Vec<Interval>,
+    above: Real,
+) -> bool {
     while let Some((seg, s0, s1, depth, d0, d1)) = stack.pop() {
-        if d0 <= 0.0 || d1 <= 0.0 {
+        if d0 <= above || d1 <= above {
             return false;
         }
         let (p0, _, a0) = spline.eval_segment(seg, s0);
         let (p1, _, a1) = spline.eval_segment(seg, s1);
         let e = (s1 - s0).powi(2) / 8.0 * a0.norm().max(a1.norm());
-        if model.segment_clearance_between(&p0, &p1, d0, d1) - e > 0.0 {
+        if model.segment_clearance_between(&p0, &p1, d0, d1) - e > above {
             continue;
         }
         if depth >= 60 {
@@ -101,7 +107,7 @@ pub fn uncertified_segments(spline: &Spline, model: &dyn ClearanceModel) -> Vec<
         .filter(|&seg| {
             stack.clear();
             push_segment(spline, model, seg, &mut stack);
-            !prove(spline, model, &mut stack)
+            !prove(spline, model, &mut stack, 0.0)
         })
         .collect()
 }
@@ -112,8 +118,16 @@ pub fn uncertified_segments(spline: &Spline, model: &dyn ClearanceModel) -> Vec<
 /// after 60 halvings). Cheaper than a bracket when only the answer matters; it can prove
 /// a curve free that `min_clearance` with a coarse `tol` leaves unproven within `tol` of 0.
 pub fn is_collision_free(spline: &Spline, model: &dyn ClearanceModel) -> bool {
+    is_clear_by(spline, model, 0.0)
+}
+
+/// Whether `spline` is proven more than `margin` clear of every obstacle: the test of
+/// [`is_collision_free`] (which is this with 0) against `margin`. `false` at the first point
+/// found within `margin`, or an interval that cannot be proven after 60 halvings (a curve
+/// whose least clearance is `margin` exactly).
+pub fn is_clear_by(spline: &Spline, model: &dyn ClearanceModel, margin: Real) -> bool {
     let mut stack = initial_intervals(spline, model);
-    prove(spline, model, &mut stack)
+    prove(spline, model, &mut stack, margin)
 }
 
 /// Brackets the minimum clearance of `spline` to within `tol` (> 0).

@@ -162,6 +162,16 @@ pub trait ClearanceModel: Send + Sync {
         None
     }
 
+    /// A radius `r >= 0` that bounds how sharply the clearance can bend along a curve: where
+    /// the clearance `d` of a curve `q(t)` is positive, `d'' <= |q'|^2 / (d + r) + |q''|`
+    /// (true of the distance to any union of discs of radius at least `r`, and of any union
+    /// of convex sets with `r = 0`). The cost's `m(C)` then looks between every two
+    /// quadrature nodes where this bound lets the clearance dip below its least value so
+    /// far. `None` (the default): only the worst node's neighbourhood is searched.
+    fn bend_radius(&self) -> Option<Real> {
+        None
+    }
+
     /// Whether [`ClearanceModel::field_batch`] leaves out potential within its `allowance`:
     /// the cost then spends a clearance query per knot to raise the allowance by the safety
     /// term's lower bound. By default not.
@@ -185,6 +195,8 @@ pub struct CircleModel {
     ys: Vec<Real>,
     rs: Vec<Real>,
     r_max: Real,
+    /// The least radius (`inf` without circles).
+    r_min: Real,
 }
 
 impl CircleModel {
@@ -198,6 +210,10 @@ impl CircleModel {
             ys: sorted.iter().map(|c| c.center.y).collect(),
             rs: sorted.iter().map(|c| c.radius).collect(),
             r_max: sorted.iter().map(|c| c.radius).fold(0.0, Real::max),
+            r_min: sorted
+                .iter()
+                .map(|c| c.radius)
+                .fold(Real::INFINITY, Real::min),
         }
     }
 
@@ -320,6 +336,13 @@ impl CircleModel {
 impl ClearanceModel for CircleModel {
     fn truncates(&self) -> bool {
         true
+    }
+
+    fn bend_radius(&self) -> Option<Real> {
+        // The distance to a disc of radius `r` is `|q - c| - r`, whose second derivative
+        // along `q` is at most `|q'|^2 / |q - c| + |q''|`, and `|q - c| = d + r`; the least
+        // clearance of several discs lies above each disc's interpolation between two points.
+        Some(self.r_min.max(0.0))
     }
 
     fn clearance(&self, p: &Point) -> (Real, Vector) {

@@ -34,10 +34,10 @@ pub mod field;
 pub mod quad;
 pub mod roughness;
 
-pub use certify::{CertifiedClearance, is_collision_free, min_clearance};
+pub use certify::{CertifiedClearance, is_clear_by, is_collision_free, min_clearance};
 pub use cost::{
-    CostConfig, CostConfigError, CostTerms, RoughnessForm, evaluate, evaluate_weighted,
-    evaluate_weighted_unless, gradient,
+    ClearanceSearch, CostConfig, CostConfigError, CostTerms, RoughnessForm, evaluate,
+    evaluate_weighted, evaluate_weighted_unless, gradient,
 };
 pub use curve::{EndCondition, Parametrization, Spline, SplineError};
 pub use field::{CircleModel, ClearanceModel, FIELD_BLOCK};

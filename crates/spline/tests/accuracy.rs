@@ -3,8 +3,8 @@
 
 use homospline_geom::{Circle, Point, Real, Vector};
 use homospline_spline::{
-    CircleModel, ClearanceModel, CostConfig, EndCondition, Parametrization, RoughnessForm, Spline,
-    evaluate, is_collision_free, min_clearance,
+    CircleModel, ClearanceModel, ClearanceSearch, CostConfig, EndCondition, Parametrization,
+    RoughnessForm, Spline, evaluate, is_clear_by, is_collision_free, min_clearance,
 };
 use proptest::prelude::*;
 
@@ -479,6 +479,95 @@ proptest! {
         prop_assert!(m >= least - 1e-12, "m(C) {m} below the least clearance {least}");
         prop_assert!(m - least < 1e-12, "m(C) {m} vs the least clearance {least}");
     }
+}
+
+/// The paper's cost with `m(C)` searched between every two quadrature nodes.
+fn every_stretch() -> CostConfig {
+    CostConfig {
+        clearance_search: ClearanceSearch::EveryStretch,
+        ..CostConfig::paper_voronoi()
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// With [`ClearanceSearch::EveryStretch`], `m(C)` of a collision-free curve is its least
+    /// clearance to within the search's tolerance (1e-4), against the certified bracket
+    /// (1e-7): long curves among circles of all sizes, whose quadrature nodes can be units
+    /// apart. It is an attained clearance, so never below the least.
+    #[test]
+    fn every_stretch_finds_the_least_clearance(
+        s in random_spline(),
+        circles in prop::collection::vec((0.0..60.0, 0.0..60.0, 0.2..6.0), 1..20),
+    ) {
+        let model = CircleModel::new(
+            circles.into_iter().map(|(x, y, r)| Circle::new(x, y, r)).collect(),
+        );
+        let c = min_clearance(&s, &model, 1e-7);
+        prop_assume!(c.lower > 0.0);
+        let m = evaluate(&s, &model, &every_stretch()).min_clearance;
+        prop_assert!(m >= c.lower - 1e-12, "m(C) {} below the least clearance {}", m, c.lower);
+        prop_assert!(m <= c.upper + 1e-4 + 1e-9, "m(C) {} above the least clearance {}", m, c.upper);
+    }
+
+    /// `is_clear_by(margin)` proves what the certified bracket says: a curve whose bracket
+    /// lies above the margin is proven clear by it, and one that comes within it anywhere
+    /// (its attained least clearance) is not.
+    #[test]
+    fn clear_by_agrees_with_the_certified_bracket(
+        s in random_spline(),
+        circles in prop::collection::vec((0.0..60.0, 0.0..60.0, 0.5..6.0), 1..20),
+    ) {
+        let model = CircleModel::new(
+            circles.into_iter().map(|(x, y, r)| Circle::new(x, y, r)).collect(),
+        );
+        let c = min_clearance(&s, &model, 1e-6);
+        prop_assert!(is_clear_by(&s, &model, c.lower - 1e-3));
+        prop_assert!(!is_clear_by(&s, &model, c.upper));
+        prop_assert_eq!(is_clear_by(&s, &model, 0.0), is_collision_free(&s, &model));
+    }
+}
+
+/// A small circle beside a long, nearly straight curve, slid along it: between two
+/// quadrature nodes the curve passes nearer to it than either node is. The default search
+/// (around the worst node) misses such a dip for some positions; `EveryStretch` finds it
+/// at every position, to within its tolerance.
+#[test]
+fn every_stretch_finds_a_dip_between_nodes_that_the_worst_node_misses() {
+    let pts = [
+        Point::new(0.0, 0.0),
+        Point::new(40.0, 1.0),
+        Point::new(80.0, 0.0),
+    ];
+    let s = Spline::natural(&pts).unwrap();
+    let mut missed: Real = 0.0;
+    for k in 0..200 {
+        let x = 2.0 + 0.38 * k as Real;
+        // The small circle sits about 2.5 units off the curve; the big one 2.9 off it near
+        // the goal, where the nodes' least clearance then is, unless the nodes beside the
+        // small circle come nearer.
+        let y = |x: Real| s.position((x / 80.0).clamp(0.0, 1.0)).y;
+        let model = CircleModel::new(vec![
+            Circle::new(x, y(x) + 3.0, 0.5),
+            Circle::new(70.0, y(70.0) - 4.9, 2.0),
+        ]);
+        let c = min_clearance(&s, &model, 1e-7);
+        assert!(c.lower > 0.0);
+        let worst = evaluate(&s, &model, &CostConfig::paper_voronoi()).min_clearance;
+        let every = evaluate(&s, &model, &every_stretch()).min_clearance;
+        assert!(
+            every >= c.lower - 1e-12 && every <= c.upper + 1e-4,
+            "at x = {x}: m(C) {every} against [{}, {}]",
+            c.lower,
+            c.upper
+        );
+        missed = missed.max(worst - c.upper);
+    }
+    assert!(
+        missed > 0.1,
+        "the default search missed by at most {missed}"
+    );
 }
 
 #[test]
