@@ -474,15 +474,6 @@ impl Growth {
     /// Runs one round (the optimiser from the current curve) and the growth after it;
     /// returns whether another round follows.
     ///
-    ///
-    /// With a clearance target, the loop's final curve, if it keeps the target by the cost's
-    /// `m(C)`, is also proven to keep it ([`homospline_spline::is_clear_by`], less
-    /// [`STRICT_SLACK`]). If it cannot be, the default search of `m(C)` (around the worst
-    /// quadrature node) missed a dip between two other nodes and the optimiser steered by a
-    /// constraint it did not see: one more round runs from that curve with `m(C)` searched
-    /// between every two nodes ([`Growth::settings`]), which first climbs back to the target.
-    /// That search costs about a third more per evaluation, so only such a class pays for it;
-    /// its rounds then number one more than the limit.
     pub fn step(
         &mut self,
         model: &dyn ClearanceModel,
@@ -493,9 +484,6 @@ impl Growth {
             let settings = self.settings(cfg);
             let ended = !self.round_and_grow(model, &settings, outer, &|| false);
             self.count_round(ended, cfg);
-            if self.done {
-                self.repair(model, cfg, outer, &|| false);
-            }
         }
         !self.done
     }
@@ -528,16 +516,11 @@ impl Growth {
         let before = self.clone();
         let settings = self.settings(cfg);
         let ended = !self.round_and_grow(model, &settings, outer, stop);
-        if !stop() {
-            self.count_round(ended, cfg);
-            if self.done {
-                self.repair(model, cfg, outer, stop);
-            }
-        }
         if stop() {
             *self = before;
             return None;
         }
+        self.count_round(ended, cfg);
         Some(!self.done)
     }
 
@@ -724,32 +707,45 @@ impl Growth {
         self.grow_one(model, cfg, outer, guard)
     }
 
-    /// The loop has ended on a curve that keeps the clearance target by the default search
-    /// of `m(C)` but is not proven that clear (less [`STRICT_SLACK`]): the search missed a
-    /// dip between two quadrature nodes, and the loop steered by a constraint it did not
-    /// see. One more round is run from that curve with `m(C)` searched between every two
-    /// nodes ([`ClearanceSearch::EveryStretch`]), which first climbs back to the target;
-    /// every curve the loop holds is valued so from then on ([`Growth::settings`]).
-    fn repair(
+    /// Whether the loop has ended on a curve that keeps the clearance target by the cost's
+    /// `m(C)` but is not proven to ([`homospline_spline::is_clear_by`], less
+    /// [`STRICT_SLACK`]): the default search of `m(C)`, around the worst quadrature node,
+    /// missed a dip between two other nodes, and the optimiser steered by a constraint it
+    /// did not see ([`Growth::repair`]).
+    pub fn needs_repair(
+        &self,
+        model: &dyn ClearanceModel,
+        cfg: &GrowthConfig,
+        outer: &Guard<'_>,
+    ) -> bool {
+        let target = outer.clearance_target;
+        if !self.done || self.strict || !target.is_finite() {
+            return false;
+        }
+        let spline = self.best(outer).1;
+        evaluate(spline, model, &cfg.cost).min_clearance >= target
+            && !is_clear_by(spline, model, target - STRICT_SLACK)
+    }
+
+    /// If the loop [`Growth::needs_repair`], one more round from its best curve with `m(C)`
+    /// searched between every two nodes ([`ClearanceSearch::EveryStretch`]), which first
+    /// climbs back to the target; every curve the loop holds is valued so from then on
+    /// ([`Growth::settings`]). That search costs about a third more per evaluation, and the
+    /// round a round's budget: a planner repairs only the classes that could rank first.
+    /// Its rounds then number one more than the limit. Returns whether it ran.
+    pub fn repair(
         &mut self,
         model: &dyn ClearanceModel,
         cfg: &GrowthConfig,
         outer: &Guard<'_>,
-        stop: &dyn Fn() -> bool,
-    ) {
-        let target = outer.clearance_target;
-        if self.strict || !target.is_finite() {
-            return;
+    ) -> bool {
+        if !self.needs_repair(model, cfg, outer) {
+            return false;
         }
         let (points, spline) = {
             let (p, sp) = self.best(outer);
             (p.to_vec(), sp.clone())
         };
-        if evaluate(&spline, model, &cfg.cost).min_clearance < target
-            || is_clear_by(&spline, model, target - STRICT_SLACK)
-        {
-            return;
-        }
         self.strict = true;
         let strict = self.settings(cfg).into_owned();
         let value_of = |sp: &Spline| {
@@ -764,8 +760,9 @@ impl Growth {
         self.points = points;
         self.spline = spline;
         self.probation = None;
-        self.round_and_grow(model, &strict, outer, stop);
+        self.round_and_grow(model, &strict, outer, &|| false);
         self.done = true;
+        true
     }
 
     /// One more via-point on the current curve, where it helps most: in the segment that
@@ -873,7 +870,8 @@ impl Growth {
     }
 }
 
-/// Runs the growth loop from `seed` (`S`, initial via-points, `T`) to its end.
+/// Runs the growth loop from `seed` (`S`, initial via-points, `T`) to its end, and its
+/// repair round if it needs one ([`Growth::repair`]).
 pub fn grow(
     seed: &[Point],
     model: &dyn ClearanceModel,
@@ -882,6 +880,7 @@ pub fn grow(
 ) -> Result<Grown, SplineError> {
     let mut g = Growth::new(seed, model, cfg, guard)?;
     while g.step(model, cfg, guard) {}
+    g.repair(model, cfg, guard);
     Ok(g.result(model, cfg, guard))
 }
 

@@ -740,6 +740,15 @@ pub fn plan_world(
                         .collect()
                 })
             };
+            // A class whose loop ended on a curve that its cost's `m(C)` (searched around the
+            // worst quadrature node) took to keep its target, but that is not proven to, was
+            // optimised against a constraint it did not see ([`Growth::needs_repair`]). If it
+            // could rank first (it costs less than every class reported certified safe), it
+            // runs one more round searching every stretch between nodes,
+            // and is reported again. A class that cannot rank first is reported as it is:
+            // its certificate says how clear it is (convex's class `e`: a repair would cost
+            // the plan half its time for an alternative).
+            repair_contenders(world, cfg, pool.as_ref(), &mut tasks, &mut runs);
             // The stop assumed that a class run to its end would rank first at no more than
             // the reference's first-round cost. If none does (its certification found it
             // less clear than its cost evaluations did), the stopped classes run on after
@@ -759,6 +768,7 @@ pub fn plan_world(
                     }
                     run_left(&mut tasks);
                     runs = report(&mut tasks);
+                    repair_contenders(world, cfg, pool.as_ref(), &mut tasks, &mut runs);
                 }
             }
             // No class came out clear: those that could not start from a clear seed are tried
@@ -1539,6 +1549,51 @@ fn without_floor<'w>(guard: &Guard<'w>) -> Guard<'w> {
     }
 }
 
+/// The repair round of every class that could rank first ([`ClassTask::repair`]): one whose
+/// loop ended on a curve that its cost's `m(C)` took to keep the target but that is not
+/// proven to, and that costs less than every class reported certified safe (at the
+/// clearance floor). Each is reported again in its place in `runs`.
+fn repair_contenders(
+    world: &World<'_>,
+    cfg: &PlanConfig,
+    pool: Option<&rayon::ThreadPool>,
+    tasks: &mut [(usize, ClassTask<'_>)],
+    runs: &mut [(usize, ClassRun)],
+) {
+    let best_safe = runs
+        .iter()
+        .filter(|(_, (c, _))| {
+            c.collision_free && c.safe && c.certified_clearance >= cfg.clearance_floor
+        })
+        .map(|(_, (c, _))| c.cost.total)
+        .fold(Real::INFINITY, Real::min);
+    let contenders: Vec<usize> = runs
+        .iter()
+        .filter(|(_, (c, _))| c.collision_free && c.cost.total < best_safe)
+        .map(|(i, _)| *i)
+        .collect();
+    if contenders.is_empty() {
+        return;
+    }
+    let model = world.model;
+    let repaired: Vec<(usize, ClassRun)> = in_pool(pool, || {
+        tasks
+            .par_iter_mut()
+            .with_max_len(1)
+            .filter(|(i, task)| contenders.contains(i) && task.needs_repair(model))
+            .map(|(i, task)| {
+                task.repair(model);
+                (*i, task.report(world, cfg))
+            })
+            .collect()
+    });
+    for (i, run) in repaired {
+        if let Some(slot) = runs.iter_mut().find(|(j, _)| *j == i) {
+            slot.1 = run;
+        }
+    }
+}
+
 /// A class's task from its seed: on a map the seed is first pulled taut in its class.
 fn start_class<'w>(
     world: &'w World<'_>,
@@ -1709,6 +1764,25 @@ impl<'w> ClassTask<'w> {
             .is_some_and(|g| g.step(model, &self.growth, &self.guard));
         self.time_ms += ms(t);
         more
+    }
+
+    /// Whether the class's loop ended on a curve whose clearance its cost overstated
+    /// ([`Growth::needs_repair`]).
+    fn needs_repair(&self, model: &dyn ClearanceModel) -> bool {
+        !self.pruned
+            && self
+                .state
+                .as_ref()
+                .is_some_and(|g| g.needs_repair(model, &self.growth, &self.guard))
+    }
+
+    /// The class's repair round ([`Growth::repair`]).
+    fn repair(&mut self, model: &dyn ClearanceModel) {
+        let t = Instant::now();
+        if let Some(g) = self.state.as_mut() {
+            g.repair(model, &self.growth, &self.guard);
+        }
+        self.time_ms += ms(t);
     }
 
     /// [`ClassTask::step`] that can be called off ([`Growth::step_unless`]).

@@ -246,23 +246,34 @@ fn each_class_reports_the_best_curve_of_its_rounds() {
     assert!(later_rounds_lost > 0, "no class lost cost in a later round");
 }
 
-/// A class run to its end is optimised against the clearance it has: when its cost's `m(C)`
-/// keeps `dm`, so does its certificate (less the certification's tolerance). The default
-/// search of `m(C)` misses dips between quadrature nodes; a loop that ends on such a curve
-/// runs one more round searching every stretch (`Growth::step`). Without that round five
-/// classes failed this: convex's class `e` (`m(C)` 3.011, certified 2.958) and four of
-/// worlds 9, 29 and 30 (down to 2.868). Classes stopped after their first round (`pruned`)
-/// are reported as that round left them.
+/// No class that could outrank the chosen one was optimised against a clearance it does not
+/// have: when such a class's cost's `m(C)` keeps `dm`, so does its certificate (less the
+/// certification's tolerance). The default search of `m(C)` misses dips between quadrature
+/// nodes; a class that ends on such a curve and costs less than every class certified safe
+/// runs one more round searching every stretch (`Growth::repair`). Without it three classes
+/// cheaper than the chosen one ended so: two in world 9 (costs 80.5 and 108.6, certified
+/// 2.868 and 2.887, against the chosen 123.1) and one in world 30 (83.4 against 99.8).
+/// A class that cannot outrank the chosen one is reported as its certificate says (convex's
+/// class `e`: `m(C)` 3.011, certified 2.958, rank 3).
 #[test]
-fn no_class_run_to_its_end_keeps_dm_by_its_cost_only() {
+fn no_class_that_could_outrank_the_chosen_one_keeps_dm_by_its_cost_only() {
     let cfg = PlanConfig::default();
     let dm = cfg.growth.cost.dm;
     let (mut checked, mut repaired) = (0, 0);
     for scene in fixture_scenes().into_iter().chain((0..40).map(world_scene)) {
         let p = plan(&scene, &cfg).unwrap();
+        let chosen = &p.classes[p.best.unwrap() - 1];
+        let bar = if chosen.safe {
+            chosen.cost.total
+        } else {
+            f64::INFINITY
+        };
         for c in p.classes.iter().filter(|c| !c.pruned && c.collision_free) {
-            checked += usize::from(c.cost.min_clearance >= dm);
             repaired += usize::from(c.rounds.len() > cfg.growth.max_rounds);
+            if c.cost.total > bar {
+                continue;
+            }
+            checked += usize::from(c.cost.min_clearance >= dm);
             assert!(
                 c.cost.min_clearance < dm || c.certified_clearance >= dm - cfg.certify_tolerance,
                 "{} {}: m(C) {} but certified {}",
@@ -274,7 +285,7 @@ fn no_class_run_to_its_end_keeps_dm_by_its_cost_only() {
         }
     }
     assert!(
-        checked > 50 && repaired > 0,
+        checked > 40 && repaired > 0,
         "{checked} classes kept dm, {repaired} repaired"
     );
 }
