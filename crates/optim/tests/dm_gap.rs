@@ -15,9 +15,11 @@ use homospline_testkit::scan_scenes;
 /// 82 units whose nodes straddle a circle, reads 3.004 and is certified 1.828), none of them
 /// a chosen class; 148 of the 181 are classes stopped after one round, 33 ran all three
 /// (convex's class e among them: 3.011 against 2.958, reported `safe: false`). Seventeenth
-/// session: a loop that ends on such a curve runs one more round searching `m(C)` between
-/// every two nodes (`Growth::step`); 150 remain, every one a class stopped after its first
-/// round, and 36 classes were repaired.
+/// session: a class that ends on such a curve and could rank first (it costs less than every
+/// class certified safe) runs one more round searching `m(C)` between every two nodes
+/// (`Growth::repair`): 22 classes did; 163 remain below, 150 of them stopped after one round
+/// and 13 that could not rank first (repairing every class run to its end left the 150
+/// only, but doubled convex's plan time for its third class).
 #[test]
 #[ignore]
 fn scan_the_dm_gap() {
