@@ -1,11 +1,12 @@
 //! Criterion bench of the optimiser's hot loop: building a 12-via-point spline and
-//! evaluating the full cost (10) in a 60-circle scene, its gradient, and the certified
-//! clearance.
+//! evaluating the full cost (10) in a 60-circle scene (`m(C)` searched around the worst
+//! node, and between every two nodes), its gradient, and the certified clearance.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use homospline_geom::{Circle, Point, Real};
 use homospline_spline::{
-    CircleModel, CostConfig, RoughnessForm, Spline, evaluate, gradient, min_clearance,
+    CircleModel, ClearanceSearch, CostConfig, RoughnessForm, Spline, evaluate, gradient,
+    is_clear_by, min_clearance,
 };
 use std::hint::black_box;
 
@@ -59,11 +60,22 @@ fn bench(c: &mut Criterion) {
             |b| b.iter(|| evaluate(black_box(&spline), &model, &cfg)),
         );
     }
+    g.bench_function("cost_paper_voronoi_every_stretch_12_via_60_circles", |b| {
+        let cfg = CostConfig {
+            clearance_search: ClearanceSearch::EveryStretch,
+            ..CostConfig::paper_voronoi()
+        };
+        b.iter(|| evaluate(black_box(&spline), &model, &cfg))
+    });
     g.bench_function("gradient_12_via_60_circles", |b| {
         b.iter(|| gradient(black_box(&spline), &model, &cfg))
     });
     g.bench_function("certified_clearance_1e-6", |b| {
         b.iter(|| min_clearance(black_box(&spline), &model, 1e-6))
+    });
+    g.bench_function("clear_by_least_less_1e-3", |b| {
+        let least = min_clearance(&spline, &model, 1e-9).lower;
+        b.iter(|| is_clear_by(black_box(&spline), &model, least - 1e-3))
     });
     g.bench_function("field_batch_156_nodes_60_circles", |b| {
         let pts: Vec<Point> = spline.sample_uniform(155);
