@@ -315,6 +315,16 @@ fn arc_length_samples_are_spaced_as_asked() {
     assert!((chord - s.length()).abs() < 1e-3 * s.length());
 }
 
+/// A circle model of `(x, y, r)` triples, as the strategies give them.
+fn model_of(circles: Vec<(Real, Real, Real)>) -> CircleModel {
+    CircleModel::new(
+        circles
+            .into_iter()
+            .map(|(x, y, r)| Circle::new(x, y, r))
+            .collect(),
+    )
+}
+
 fn random_spline() -> impl Strategy<Value = Spline> {
     prop::collection::vec((0.0..60.0, 0.0..60.0), 2..10).prop_filter_map("distinct points", |v| {
         let pts: Vec<Point> = v.into_iter().map(|(x, y)| Point::new(x, y)).collect();
@@ -354,9 +364,7 @@ proptest! {
         circles in prop::collection::vec((0.0..60.0, 0.0..60.0, 0.5..6.0), 1..20),
         share in 0.5..1.5f64,
     ) {
-        let model = CircleModel::new(
-            circles.into_iter().map(|(x, y, r)| Circle::new(x, y, r)).collect(),
-        );
+        let model = model_of(circles);
         let cfg = CostConfig::paper_voronoi();
         let exact = homospline_spline::evaluate_weighted(&s, &model, &cfg);
         let bound = exact.total * share;
@@ -396,9 +404,7 @@ proptest! {
         size in (0.0..20.0f64, 0.0..20.0f64),
         ends in prop::collection::vec((0.0..1.0, 0.0..1.0), 2),
     ) {
-        let model = CircleModel::new(
-            circles.into_iter().map(|(x, y, r)| Circle::new(x, y, r)).collect(),
-        );
+        let model = model_of(circles);
         let lo = Point::new(corner.0, corner.1);
         let hi = Point::new(corner.0 + size.0, corner.1 + size.1);
         let at = |(u, v): (f64, f64)| Point::new(lo.x + u * size.0, lo.y + v * size.1);
@@ -418,7 +424,7 @@ proptest! {
         s in random_spline(),
         circles in prop::collection::vec((0.0..60.0, 0.0..60.0, 0.5..6.0), 1..20),
     ) {
-        let model = CircleModel::new(circles.into_iter().map(|(x, y, r)| Circle::new(x, y, r)).collect());
+        let model = model_of(circles);
         let tol = 1e-4;
         let c = min_clearance(&s, &model, tol);
         let n = 20_000;
@@ -501,9 +507,7 @@ proptest! {
         s in random_spline(),
         circles in prop::collection::vec((0.0..60.0, 0.0..60.0, 0.2..6.0), 1..20),
     ) {
-        let model = CircleModel::new(
-            circles.into_iter().map(|(x, y, r)| Circle::new(x, y, r)).collect(),
-        );
+        let model = model_of(circles);
         let c = min_clearance(&s, &model, 1e-7);
         prop_assume!(c.lower > 0.0);
         let m = evaluate(&s, &model, &every_stretch()).min_clearance;
@@ -519,9 +523,7 @@ proptest! {
         s in random_spline(),
         circles in prop::collection::vec((0.0..60.0, 0.0..60.0, 0.5..6.0), 1..20),
     ) {
-        let model = CircleModel::new(
-            circles.into_iter().map(|(x, y, r)| Circle::new(x, y, r)).collect(),
-        );
+        let model = model_of(circles);
         let c = min_clearance(&s, &model, 1e-6);
         prop_assert!(is_clear_by(&s, &model, c.lower - 1e-3));
         prop_assert!(!is_clear_by(&s, &model, c.upper));
