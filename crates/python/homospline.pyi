@@ -104,9 +104,11 @@ def plan(
     graph: Optional[Graph] = None,
     soft_dm: bool = False,
     prune: Optional[Union[str, float]] = None,
+    clearance_search: Optional[str] = None,
 ) -> Plan:
     """Plans a scene (the `plan` command); `soft_dm` turns the dm rule off; `prune` is
-    `"off"` or a ratio (`--prune`; default 1.5)."""
+    `"off"` or a ratio (`--prune`; default 1.5); `clearance_search` is `"worst-node"`
+    (default) or `"every-stretch"` (`--clearance-search`)."""
 
 def plan_map(
     occupancy: npt.NDArray[np.bool_],

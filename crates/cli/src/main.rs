@@ -12,7 +12,7 @@ use homospline_geom::{Point, Scene};
 use homospline_maps::input::Input;
 use homospline_mission::{AnyWorld, MissionConfig, Policy};
 use homospline_optim::{PlanConfig, default_resolution, plan_with_graph};
-use homospline_spline::{CostConfig, RoughnessForm};
+use homospline_spline::{ClearanceSearch, CostConfig, RoughnessForm};
 use homospline_voronoi::VoronoiGraph;
 
 /// Exit code when no plan could be found.
@@ -55,6 +55,26 @@ enum RoughnessArg {
     Energy,
     /// sqrt(integral |q''|^2 dt): the authors' code.
     Authors,
+}
+
+/// Where the optimiser's `m(C)` is searched between the quadrature nodes.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum ClearanceSearchArg {
+    /// Around the worst node only (default): a class whose curve ends below its target
+    /// there and could rank first runs one more round with every-stretch.
+    WorstNode,
+    /// Between every two nodes, in every evaluation: every class is optimised against the
+    /// clearance it has (about 2.4 times an evaluation's cost).
+    EveryStretch,
+}
+
+impl From<ClearanceSearchArg> for ClearanceSearch {
+    fn from(a: ClearanceSearchArg) -> Self {
+        match a {
+            ClearanceSearchArg::WorstNode => ClearanceSearch::WorstNode,
+            ClearanceSearchArg::EveryStretch => ClearanceSearch::EveryStretch,
+        }
+    }
 }
 
 impl From<RoughnessArg> for RoughnessForm {
@@ -546,6 +566,10 @@ struct PlanArgs {
     /// |q''|^2 dt, authors = sqrt(integral |q''|^2 dt).
     #[arg(long, value_enum)]
     roughness: Option<RoughnessArg>,
+    /// Where the optimiser looks for a curve's least clearance m(C) between its quadrature
+    /// nodes (docs/method.md, *Dips between nodes*)
+    #[arg(long, value_enum)]
+    clearance_search: Option<ClearanceSearchArg>,
     /// Hard margin, map units: candidates less clear than this are rejected, and the chosen
     /// class must be certified at least this clear (default 0: only collisions).
     #[arg(long, value_name = "X", default_value_t = 0.0)]
@@ -707,6 +731,9 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
         roughness: a
             .roughness
             .map(|r| RoughnessForm::from(r).name().to_owned()),
+        clearance_search: a
+            .clearance_search
+            .map(|c| ClearanceSearch::from(c).name().to_owned()),
         resolution: a.resolution,
         threads: a.threads,
         max_via: a.max_via,

@@ -3,7 +3,7 @@
 
 use homospline_geom::Scene;
 use homospline_optim::{GrowthConfig, Optimizer, PlanConfig, Seed};
-use homospline_spline::{CostConfig, RoughnessForm};
+use homospline_spline::{ClearanceSearch, CostConfig, RoughnessForm};
 
 /// What a front end asks of a plan; `None` keeps the default of the scene or the map.
 #[derive(Clone, Debug)]
@@ -20,6 +20,9 @@ pub struct PlanOptions {
     pub optimizer: Option<String>,
     /// `paper`, `energy` or `authors`.
     pub roughness: Option<String>,
+    /// `worst-node` or `every-stretch`: where the optimiser's `m(C)` is searched between
+    /// quadrature nodes.
+    pub clearance_search: Option<String>,
     /// Grid cells per map unit (scenes only).
     pub resolution: Option<f64>,
     /// Worker threads.
@@ -49,6 +52,7 @@ impl Default for PlanOptions {
             weights: Vec::new(),
             optimizer: None,
             roughness: None,
+            clearance_search: None,
             resolution: None,
             threads: None,
             max_via: None,
@@ -100,6 +104,11 @@ pub fn plan_config(o: &PlanOptions, scene: Option<&Scene>) -> Result<PlanConfig,
     if let Some(form) = &o.roughness {
         cost.roughness = RoughnessForm::from_name(form)
             .ok_or_else(|| format!("--roughness {form}: expected paper, energy or authors"))?;
+    }
+    if let Some(search) = &o.clearance_search {
+        cost.clearance_search = ClearanceSearch::from_name(search).ok_or_else(|| {
+            format!("--clearance-search {search}: expected worst-node or every-stretch")
+        })?;
     }
     if !(o.clearance_floor.is_finite() && o.clearance_floor >= 0.0) {
         return Err(format!(

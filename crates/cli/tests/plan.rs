@@ -465,3 +465,52 @@ fn the_optimum_is_reported_and_never_above_a_class_length() {
     assert_eq!(map.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&map.stderr).contains("--optimum needs a scene of circles"));
 }
+
+/// `--clearance-search every-stretch` optimises every class against the clearance it has: on
+/// convex, class `e` reads 3.011 by the default search of `m(C)` and is certified 2.958 (it
+/// cannot rank first, so it is not repaired: `safe: false`); searched between every two
+/// nodes it keeps `dm` and is safe. The chosen class is the same. A bad value is refused by
+/// name.
+#[test]
+fn clearance_search_every_stretch_keeps_every_class_at_its_target() {
+    let (default, every) = (tmp("search-default.json"), tmp("search-every.json"));
+    let scene = "fixtures/scenes/convex.yaml";
+    for (extra, json) in [
+        (vec![], &default),
+        (vec!["--clearance-search", "every-stretch"], &every),
+    ] {
+        let out = homospline()
+            .args(["plan", scene, "--json"])
+            .arg(json)
+            .args(&extra)
+            .output()
+            .unwrap();
+        assert_ok(&out);
+    }
+    let (d, e) = (read_json(&default), read_json(&every));
+    let class = |v: &serde_json::Value, sig: &str| {
+        v["classes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|c| c["signature"] == sig)
+            .cloned()
+            .unwrap()
+    };
+    let (ed, ee) = (class(&d, "e"), class(&e, "e"));
+    // The safety term is omega^(dm - m(C)): at most 1 when the cost's m(C) keeps dm.
+    assert!(ed["cost"]["safety"].as_f64().unwrap() <= 1.0, "{ed}");
+    assert!(!ed["safe"].as_bool().unwrap(), "{ed}");
+    assert!(ee["safe"].as_bool().unwrap(), "{ee}");
+    let chosen = |v: &serde_json::Value| {
+        v["classes"][v["best"].as_u64().unwrap() as usize - 1]["signature"].clone()
+    };
+    assert_eq!(chosen(&d), chosen(&e));
+    let out = homospline()
+        .args(["plan", "--clearance-search", "exact"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("--clearance-search"), "{err}");
+}

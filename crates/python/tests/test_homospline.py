@@ -183,3 +183,13 @@ def test_prune_equals_the_cli_flag(tmp_path):
     assert not any(c["pruned"] for c in homospline.plan(scene, prune="off").to_dict()["classes"])
     with pytest.raises(ValueError, match="--prune 0.5"):
         homospline.plan(scene, prune=0.5)
+
+
+def test_clearance_search_equals_the_cli_flag(tmp_path):
+    path = ROOT / "fixtures/scenes/convex.yaml"
+    scene = homospline.Scene.from_file(path)
+    every = homospline.plan(scene, clearance_search="every-stretch").to_dict()
+    cli = cli_json(["plan", str(path), "--clearance-search", "every-stretch"], tmp_path)
+    assert timeless(every) == timeless(cli)
+    with pytest.raises(ValueError, match="--clearance-search exact"):
+        homospline.plan(scene, clearance_search="exact")

@@ -113,6 +113,24 @@ pub enum ClearanceSearch {
     EveryStretch,
 }
 
+impl ClearanceSearch {
+    /// Both, in order.
+    pub const ALL: [Self; 2] = [Self::WorstNode, Self::EveryStretch];
+
+    /// `worst-node` or `every-stretch`, as the command line spells it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::WorstNode => "worst-node",
+            Self::EveryStretch => "every-stretch",
+        }
+    }
+
+    /// The search called `name`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|s| s.name() == name)
+    }
+}
+
 /// One weighted term of the cost: its names, its weight and its value.
 pub struct Term {
     /// Name for `--weight NAME=VALUE` and [`CostConfig::set`].
