@@ -730,7 +730,7 @@ impl Growth {
     /// If the loop [`Growth::needs_repair`], one more round from its best curve with `m(C)`
     /// searched between every two nodes ([`ClearanceSearch::EveryStretch`]), which first
     /// climbs back to the target; every curve the loop holds is valued so from then on
-    /// ([`Growth::settings`]). That search costs about a third more per evaluation, and the
+    /// ([`Growth::settings`]). That search costs 1.7 times an evaluation, and the
     /// round a round's budget: a planner repairs only the classes that could rank first.
     /// Its rounds then number one more than the limit. Returns whether it ran.
     pub fn repair(

@@ -108,8 +108,8 @@ pub enum ClearanceSearch {
     /// ([`ClearanceModel::bend_radius`]) lets it dip below the least value found so far.
     /// The stretches are halved while the bound lets them dip more than `1e-4` below it
     /// (the worst node's two as well: Brent's method follows one valley, and a second dip
-    /// beside it escapes it). About a third more per evaluation: a curve held near `dm` has
-    /// many stretches close to it.
+    /// beside it escapes it). An evaluation costs 1.7 times as much on the cost bench: a
+    /// curve held near `dm` has many stretches close to it.
     EveryStretch,
 }
 
@@ -1037,34 +1037,55 @@ fn refine_min_clearance(
     // Every stretch between consecutive nodes, the worst node's two included (a second dip
     // there escapes Brent's method, which follows one valley), and from the start to the
     // first node and from the last node to the goal, whose clearances are known.
-    let end_clear = |t: Real| {
-        knot_clear
+    let knots = spline.knots();
+    let last = spline.segments() - 1;
+    let end = |t: Real| {
+        let (seg, s) = if t == 0.0 {
+            (0, 0.0)
+        } else {
+            (last, knots[last + 1] - knots[last])
+        };
+        let (p, v, a) = spline.eval_segment(seg, s);
+        let c = knot_clear
             .iter()
             .find(|k| k.0 == t)
-            .map_or_else(|| model.clearance_value(&spline.position(t)), |k| k.1)
+            .map_or_else(|| model.clearance_value(&p), |k| k.1);
+        Probe::new(t, c, seg, v, a)
+    };
+    let node = |i: usize| {
+        let nd = &samples.nodes[i];
+        Probe {
+            t: t_of(i),
+            clearance: field[i].clearance,
+            seg: nd.seg,
+            speed: nd.speed,
+            accel: nd.a.norm(),
+        }
     };
     let mut stack = Vec::new();
     for i in 0..=n {
         let (a, b) = match (i.checked_sub(1), i < n) {
-            (None, true) => ((0.0, end_clear(0.0)), (t_of(0), field[0].clearance)),
-            (Some(j), true) => ((t_of(j), field[j].clearance), (t_of(i), field[i].clearance)),
-            (Some(j), false) => ((t_of(j), field[j].clearance), (1.0, end_clear(1.0))),
+            (None, true) => (end(0.0), node(0)),
+            (Some(j), true) => (node(j), node(i)),
+            (Some(j), false) => (node(j), end(1.0)),
             (None, false) => continue,
         };
         stack.push((a, b, 0u32));
         // Depth first, by halving: a half is searched only while the bound lets its
         // clearance fall more than `STRETCH_TOLERANCE` below the least value found.
         while let Some((a, b, depth)) = stack.pop() {
-            if depth >= 40 || !may_dip(spline, radius, a, b, best.1 - STRETCH_TOLERANCE) {
+            if depth >= 40 || !may_dip(spline, radius, &a, &b, best.1 - STRETCH_TOLERANCE) {
                 continue;
             }
-            let tm = 0.5 * (a.0 + b.0);
-            let m = (tm, model.clearance_value(&spline.position(tm)));
-            if m.1 < best.1 {
-                best = m;
+            let tm = 0.5 * (a.t + b.t);
+            let (seg, s) = spline.locate(tm);
+            let (p, v, acc) = spline.eval_segment(seg, s);
+            let m = Probe::new(tm, model.clearance_value(&p), seg, v, acc);
+            if m.clearance < best.1 {
+                best = (m.t, m.clearance);
             }
             // The half with the lesser end is searched first.
-            if a.1 <= b.1 {
+            if a.clearance <= b.clearance {
                 stack.push((m, b, depth + 1));
                 stack.push((a, m, depth + 1));
             } else {
@@ -1076,45 +1097,52 @@ fn refine_min_clearance(
     best
 }
 
+/// A point of the curve for [`may_dip`]: its `t`, clearance, segment, `|q'|` and `|q''|`.
+#[derive(Clone, Copy)]
+struct Probe {
+    t: Real,
+    clearance: Real,
+    seg: usize,
+    speed: Real,
+    accel: Real,
+}
+
+impl Probe {
+    fn new(t: Real, clearance: Real, seg: usize, v: Vector, a: Vector) -> Self {
+        Self {
+            t,
+            clearance,
+            seg,
+            speed: v.norm(),
+            accel: a.norm(),
+        }
+    }
+}
+
 /// How far below the least clearance of the curve [`ClearanceSearch::EveryStretch`] may
 /// leave `m(C)`: a stretch is halved until the bend bound keeps it within this of the least
 /// value found.
 const STRETCH_TOLERANCE: Real = 1e-4;
 
-/// Whether the clearance can fall below `below` between two points of the curve, `a` and `b`
-/// (each its `t` and its clearance). Where the clearance `d` is positive,
-/// `d'' <= V^2 / (d + r) + A` on the stretch ([`ClearanceModel::bend_radius`] `r`), with `A`
-/// the largest `|q''|` there (`q''` is linear on each segment: its largest norm is at an end
-/// or a knot) and `V` the largest `|q'|` (at most an end's plus `A` times half the stretch);
-/// so `d` stays above the lesser end's value less `V dt / 2` (it moves at most `|q'|` per
-/// unit of `t`), and above the chord between its ends less `M dt^2 / 8`, `M` that bound with
-/// `d` at its least.
-fn may_dip(
-    spline: &Spline,
-    radius: Real,
-    (ta, ca): (Real, Real),
-    (tb, cb): (Real, Real),
-    below: Real,
-) -> bool {
-    let dt = tb - ta;
-    let low = ca.min(cb);
+/// Whether the clearance can fall below `below` between two points of the curve, `a` and
+/// `b`. Where the clearance `d` is positive, `d'' <= V^2 / (d + r) + A` on the stretch
+/// ([`ClearanceModel::bend_radius`] `r`), with `A` the largest `|q''|` there (`q''` is
+/// linear on each segment: its largest norm is at an end or a knot) and `V` the largest
+/// `|q'|` (at most an end's plus `A` times half the stretch); so `d` stays above the lesser
+/// end's value less `V dt / 2` (it moves at most `|q'|` per unit of `t`), and above the
+/// chord between its ends less `M dt^2 / 8`, `M` that bound with `d` at its least.
+fn may_dip(spline: &Spline, radius: Real, a: &Probe, b: &Probe, below: Real) -> bool {
+    let dt = b.t - a.t;
+    let low = a.clearance.min(b.clearance);
     if dt <= 0.0 || !low.is_finite() {
         return false;
     }
-    let knots = spline.knots();
-    let at = |t: Real| {
-        let (seg, s) = spline.locate(t);
-        let (_, v, a) = spline.eval_segment(seg, s);
-        (v.norm(), a.norm())
-    };
-    let ((sa, aa), (sb, ab)) = (at(ta), at(tb));
-    let mut accel = aa.max(ab);
-    // Knots inside the stretch, where `q''` may be largest.
-    let first = knots.partition_point(|&k| k <= ta);
-    for &k in knots[first..].iter().take_while(|&&k| k < tb) {
-        accel = accel.max(at(k).1);
+    let mut accel = a.accel.max(b.accel);
+    // The knots inside the stretch, where `q''` may be largest.
+    for k in a.seg + 1..=b.seg {
+        accel = accel.max(spline.eval_segment(k, 0.0).2.norm());
     }
-    let speed = sa.max(sb) + 0.5 * accel * dt;
+    let speed = a.speed.max(b.speed) + 0.5 * accel * dt;
     let floor = (low - 0.5 * speed * dt).max(0.0) + radius;
     if floor <= 0.0 {
         return true;
