@@ -64,7 +64,7 @@ enum ClearanceSearchArg {
     /// there and could rank first runs one more round with every-stretch.
     WorstNode,
     /// Between every two nodes, in every evaluation: every class is optimised against the
-    /// clearance it has (1.7 times an evaluation's cost). Scenes only: a map's
+    /// clearance it has (1.6 times an evaluation's cost). Scenes only: a map's
     /// interpolated clearance has no bound on how sharply it bends, and this changes nothing.
     EveryStretch,
 }

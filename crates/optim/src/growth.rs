@@ -194,7 +194,7 @@ impl Guard<'_> {
 }
 
 /// How far below its clearance target a growth loop's final curve may be proven clear
-/// before the loop takes its `m(C)` to have missed a dip ([`Growth::step`]): a curve held at
+/// before the loop takes its `m(C)` to have missed a dip ([`Growth::needs_repair`]): a curve held at
 /// the target by the default search, whose least clearance Brent's method finds to `1e-10`
 /// in `t`, passes.
 pub const STRICT_SLACK: Real = 1e-9;
@@ -212,6 +212,9 @@ pub struct Round {
     pub cost: Real,
     /// Evaluations in the round.
     pub evaluations: usize,
+    /// A repair round ([`Growth::repair`]): `m(C)` searched between every two nodes, after
+    /// the loop had ended.
+    pub repair: bool,
 }
 
 /// The optimised path of one seed.
@@ -410,8 +413,8 @@ impl Growth {
     }
 
     /// The settings the loop evaluates its curves with: `cfg`, with the cost's `m(C)`
-    /// searched between every two quadrature nodes once the loop has found the default search
-    /// overstating a curve's clearance (see [`Growth::step`]). A caller that weighs the
+    /// searched between every two quadrature nodes once the loop has run its repair round
+    /// ([`Growth::repair`]). A caller that weighs the
     /// loop's curve (a planner ranking classes) should evaluate it with these.
     pub fn settings<'a>(&self, cfg: &'a GrowthConfig) -> Cow<'a, GrowthConfig> {
         if self.strict && cfg.cost.clearance_search != ClearanceSearch::EveryStretch {
@@ -473,7 +476,6 @@ impl Growth {
 
     /// Runs one round (the optimiser from the current curve) and the growth after it;
     /// returns whether another round follows.
-    ///
     pub fn step(
         &mut self,
         model: &dyn ClearanceModel,
@@ -675,6 +677,7 @@ impl Growth {
             via_points: self.points.len() - 2,
             cost: self.best_cost,
             evaluations: count,
+            repair: false,
         });
         let improved = improved && self.best_cost < before;
         if let Some(p) = self.probation.take()
@@ -719,7 +722,14 @@ impl Growth {
         outer: &Guard<'_>,
     ) -> bool {
         let target = outer.clearance_target;
-        if !self.done || self.strict || !target.is_finite() {
+        // Nothing to repair when the loop searched every stretch already, or when the model
+        // cannot say where to look (a map's grid).
+        if !self.done
+            || self.strict
+            || !target.is_finite()
+            || cfg.cost.clearance_search == ClearanceSearch::EveryStretch
+            || model.bend_radius().is_none()
+        {
             return false;
         }
         let spline = self.best(outer).1;
@@ -730,9 +740,10 @@ impl Growth {
     /// If the loop [`Growth::needs_repair`], one more round from its best curve with `m(C)`
     /// searched between every two nodes ([`ClearanceSearch::EveryStretch`]), which first
     /// climbs back to the target; every curve the loop holds is valued so from then on
-    /// ([`Growth::settings`]). That search costs 1.7 times an evaluation, and the
+    /// ([`Growth::settings`]). That search costs 1.6 times an evaluation, and the
     /// round a round's budget: a planner repairs only the classes that could rank first.
-    /// Its rounds then number one more than the limit. Returns whether it ran.
+    /// The round grows no via-point after it, and its record says it was a repair
+    /// ([`Round::repair`]). Returns whether it ran.
     pub fn repair(
         &mut self,
         model: &dyn ClearanceModel,
@@ -755,12 +766,26 @@ impl Growth {
         };
         let (m, cost) = value_of(&self.kept_best.spline);
         self.kept_best.value = outer_value(outer, m, cost);
-        self.end = fixed_end(&points, &strict);
+        // The round starts from that very curve: a start heading's slope is its own.
+        self.end = match strict.end {
+            EndCondition::StartHeading { .. } => EndCondition::ClampedStart {
+                start: spline.velocity(0.0),
+            },
+            e => e,
+        };
         (self.current, self.best_cost) = value_of(&spline);
         self.points = points;
         self.spline = spline;
         self.probation = None;
+        // At the round limit, so that no via-point is grown after it: the loop has ended.
+        self.round = self.round.max(strict.max_rounds.max(1) - 1);
+        let before = self.rounds.len();
         self.round_and_grow(model, &strict, outer, &|| false);
+        if self.rounds.len() > before
+            && let Some(r) = self.rounds.last_mut()
+        {
+            r.repair = true;
+        }
         self.done = true;
         true
     }

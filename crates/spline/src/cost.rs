@@ -99,16 +99,17 @@ pub struct CostConfig {
 pub enum ClearanceSearch {
     /// Brent's method between the worst node's two neighbours: the optimiser's default. It
     /// misses a dip between two other nodes (on 320 scenes, 181 of 1,266 classes whose
-    /// `m(C)` kept `dm` were certified below it). A growth loop whose final curve has such
-    /// a dip runs one more round with `EveryStretch` (`homospline_optim::Growth::step`).
+    /// `m(C)` kept `dm` were certified below it). The planner gives a class whose final
+    /// curve has such a dip, and that could rank first, one more round with `EveryStretch`
+    /// (`homospline_optim::Growth::repair`).
     #[default]
     WorstNode,
     /// As `WorstNode`, then the same search between every other two consecutive nodes (and
     /// the ends) where the model's bound on how sharply the clearance bends
     /// ([`ClearanceModel::bend_radius`]) lets it dip below the least value found so far.
-    /// The stretches are halved while the bound lets them dip more than `1e-4` below it
+    /// The stretches are halved while the bound lets them dip more than `1e-5` below it
     /// (the worst node's two as well: Brent's method follows one valley, and a second dip
-    /// beside it escapes it). An evaluation costs 1.7 times as much on the cost bench: a
+    /// beside it escapes it). An evaluation costs 1.6 times as much on the cost bench: a
     /// curve held near `dm` has many stretches close to it.
     EveryStretch,
 }
@@ -1063,6 +1064,9 @@ fn refine_min_clearance(
         }
     };
     let mut stack = Vec::new();
+    // A cap on the probes, for curves deep in collision (where only the Lipschitz bound
+    // holds) and discs of radius 0: the halving then stops with the least value so far.
+    let mut probes_left = STRETCH_PROBES * (n + 1);
     for i in 0..=n {
         let (a, b) = match (i.checked_sub(1), i < n) {
             (None, true) => (end(0.0), node(0)),
@@ -1074,9 +1078,13 @@ fn refine_min_clearance(
         // Depth first, by halving: a half is searched only while the bound lets its
         // clearance fall more than `STRETCH_TOLERANCE` below the least value found.
         while let Some((a, b, depth)) = stack.pop() {
-            if depth >= 40 || !may_dip(spline, radius, &a, &b, best.1 - STRETCH_TOLERANCE) {
+            if depth >= 40
+                || probes_left == 0
+                || !may_dip(spline, radius, &a, &b, best.1 - STRETCH_TOLERANCE)
+            {
                 continue;
             }
+            probes_left -= 1;
             let tm = 0.5 * (a.t + b.t);
             let (seg, s) = spline.locate(tm);
             let (p, v, acc) = spline.eval_segment(seg, s);
@@ -1122,7 +1130,11 @@ impl Probe {
 /// How far below the least clearance of the curve [`ClearanceSearch::EveryStretch`] may
 /// leave `m(C)`: a stretch is halved until the bend bound keeps it within this of the least
 /// value found.
-const STRETCH_TOLERANCE: Real = 1e-4;
+const STRETCH_TOLERANCE: Real = 1e-5;
+
+/// The most probes [`ClearanceSearch::EveryStretch`] takes per stretch, on average over the
+/// curve's stretches (a collision-free curve takes about a tenth of one).
+const STRETCH_PROBES: usize = 64;
 
 /// Whether the clearance can fall below `below` between two points of the curve, `a` and
 /// `b`. Where the clearance `d` is positive, `d'' <= V^2 / (d + r) + A` on the stretch
@@ -1130,7 +1142,9 @@ const STRETCH_TOLERANCE: Real = 1e-4;
 /// linear on each segment: its largest norm is at an end or a knot) and `V` the largest
 /// `|q'|` (at most an end's plus `A` times half the stretch); so `d` stays above the lesser
 /// end's value less `V dt / 2` (it moves at most `|q'|` per unit of `t`), and above the
-/// chord between its ends less `M dt^2 / 8`, `M` that bound with `d` at its least.
+/// chord between its ends less `M dt^2 / 8`, `M` that bound with `d + r` at its least (the
+/// first bound plus `r`; no second bound where that is not positive: a stretch that may
+/// reach a disc's centre).
 fn may_dip(spline: &Spline, radius: Real, a: &Probe, b: &Probe, below: Real) -> bool {
     let dt = b.t - a.t;
     let low = a.clearance.min(b.clearance);
@@ -1143,7 +1157,13 @@ fn may_dip(spline: &Spline, radius: Real, a: &Probe, b: &Probe, below: Real) -> 
         accel = accel.max(spline.eval_segment(k, 0.0).2.norm());
     }
     let speed = a.speed.max(b.speed) + 0.5 * accel * dt;
-    let floor = (low - 0.5 * speed * dt).max(0.0) + radius;
+    // The clearance moves at most `|q'|` per unit of `t`: a bound that needs nothing else.
+    let lipschitz = low - 0.5 * speed * dt;
+    if lipschitz >= below {
+        return false;
+    }
+    // The distance to a disc's centre, `d + r`, is at least this on the stretch.
+    let floor = lipschitz + radius;
     if floor <= 0.0 {
         return true;
     }

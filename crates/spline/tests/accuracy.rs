@@ -499,7 +499,7 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]
 
     /// With [`ClearanceSearch::EveryStretch`], `m(C)` of a collision-free curve is its least
-    /// clearance to within the search's tolerance (1e-4), against the certified bracket
+    /// clearance to within the search's tolerance (1e-5), against the certified bracket
     /// (1e-7): long curves among circles of all sizes, whose quadrature nodes can be units
     /// apart. It is an attained clearance, so never below the least.
     #[test]
@@ -512,7 +512,7 @@ proptest! {
         prop_assume!(c.lower > 0.0);
         let m = evaluate(&s, &model, &every_stretch()).min_clearance;
         prop_assert!(m >= c.lower - 1e-12, "m(C) {} below the least clearance {}", m, c.lower);
-        prop_assert!(m <= c.upper + 1e-4 + 1e-9, "m(C) {} above the least clearance {}", m, c.upper);
+        prop_assert!(m <= c.upper + 1e-5 + 1e-9, "m(C) {} above the least clearance {}", m, c.upper);
     }
 
     /// `is_clear_by(margin)` proves what the certified bracket says: a curve whose bracket
@@ -559,7 +559,7 @@ fn every_stretch_finds_a_dip_between_nodes_that_the_worst_node_misses() {
         let worst = evaluate(&s, &model, &CostConfig::paper_voronoi()).min_clearance;
         let every = evaluate(&s, &model, &every_stretch()).min_clearance;
         assert!(
-            every >= c.lower - 1e-12 && every <= c.upper + 1e-4,
+            every >= c.lower - 1e-12 && every <= c.upper + 1e-5,
             "at x = {x}: m(C) {every} against [{}, {}]",
             c.lower,
             c.upper
