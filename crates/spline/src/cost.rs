@@ -997,9 +997,9 @@ fn integrate_nodes<const GRAD: bool>(
 /// Step 4: `m(C)`, the worst node's clearance refined by Brent's method between its
 /// neighbours (where a local minimum next to the smallest sample lies), in global `t` so that
 /// a minimum across a knot is found too; then, where the model bounds how sharply the
-/// clearance bends ([`ClearanceModel::bend_radius`]), every other stretch between two nodes
-/// where that bound lets it dip below the least value found so far is searched the same way
-/// ([`may_dip`]). Returns `(t, m)`.
+/// clearance bends ([`ClearanceModel::bend_radius`]), every stretch between two nodes whose
+/// bound ([`least_on`]) lets it dip below the least value found so far is halved, the
+/// lowest bound first. Returns `(t, m)`.
 fn refine_min_clearance(
     spline: &Spline,
     model: &dyn ClearanceModel,
@@ -1063,10 +1063,16 @@ fn refine_min_clearance(
             accel: nd.a.norm(),
         }
     };
-    let mut stack = Vec::new();
-    // A cap on the probes, for curves deep in collision (where only the Lipschitz bound
-    // holds) and discs of radius 0: the halving then stops with the least value so far.
-    let mut probes_left = STRETCH_PROBES * (n + 1);
+    // Best first: the stretch whose bound lets it fall lowest is halved first, so that the
+    // least clearance is found early and the other stretches are dropped by it.
+    let mut heap = std::collections::BinaryHeap::new();
+    let push =
+        |heap: &mut std::collections::BinaryHeap<Stretch>, a: Probe, b: Probe, best: Real| {
+            let bound = least_on(spline, radius, &a, &b);
+            if bound < best - STRETCH_TOLERANCE {
+                heap.push(Stretch { bound, a, b });
+            }
+        };
     for i in 0..=n {
         let (a, b) = match (i.checked_sub(1), i < n) {
             (None, true) => (end(0.0), node(0)),
@@ -1074,38 +1080,65 @@ fn refine_min_clearance(
             (Some(j), false) => (node(j), end(1.0)),
             (None, false) => continue,
         };
-        stack.push((a, b, 0u32));
-        // Depth first, by halving: a half is searched only while the bound lets its
-        // clearance fall more than `STRETCH_TOLERANCE` below the least value found.
-        while let Some((a, b, depth)) = stack.pop() {
-            if depth >= 40
-                || probes_left == 0
-                || !may_dip(spline, radius, &a, &b, best.1 - STRETCH_TOLERANCE)
-            {
-                continue;
-            }
-            probes_left -= 1;
-            let tm = 0.5 * (a.t + b.t);
-            let (seg, s) = spline.locate(tm);
-            let (p, v, acc) = spline.eval_segment(seg, s);
-            let m = Probe::new(tm, model.clearance_value(&p), seg, v, acc);
-            if m.clearance < best.1 {
-                best = (m.t, m.clearance);
-            }
-            // The half with the lesser end is searched first.
-            if a.clearance <= b.clearance {
-                stack.push((m, b, depth + 1));
-                stack.push((a, m, depth + 1));
-            } else {
-                stack.push((a, m, depth + 1));
-                stack.push((m, b, depth + 1));
-            }
+        push(&mut heap, a, b, best.1);
+    }
+    // A cap on the probes, for curves through a disc's centre (there only the Lipschitz
+    // bound holds): the search then stops with the least value so far.
+    let mut probes_left = STRETCH_PROBES * (n + 1);
+    while let Some(Stretch { bound, a, b }) = heap.pop() {
+        if bound >= best.1 - STRETCH_TOLERANCE || probes_left == 0 {
+            break;
         }
+        probes_left -= 1;
+        let tm = 0.5 * (a.t + b.t);
+        if tm <= a.t || tm >= b.t {
+            continue;
+        }
+        let (seg, s) = spline.locate(tm);
+        let (p, v, acc) = spline.eval_segment(seg, s);
+        let m = Probe::new(tm, model.clearance_value(&p), seg, v, acc);
+        if m.clearance < best.1 {
+            best = (m.t, m.clearance);
+        }
+        push(&mut heap, a, m, best.1);
+        push(&mut heap, m, b, best.1);
     }
     best
 }
 
-/// A point of the curve for [`may_dip`]: its `t`, clearance, segment, `|q'|` and `|q''|`.
+/// A stretch of the curve between two probes, and the least its clearance can be there
+/// ([`least_on`]); ordered so that a `BinaryHeap` gives the least bound first.
+struct Stretch {
+    bound: Real,
+    a: Probe,
+    b: Probe,
+}
+
+impl PartialEq for Stretch {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == std::cmp::Ordering::Equal
+    }
+}
+
+impl Eq for Stretch {}
+
+impl PartialOrd for Stretch {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Stretch {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        // The least bound first; ties by position, so that the order is the same every run.
+        other
+            .bound
+            .total_cmp(&self.bound)
+            .then(other.a.t.total_cmp(&self.a.t))
+    }
+}
+
+/// A point of the curve for [`least_on`]: its `t`, clearance, segment, `|q'|` and `|q''|`.
 #[derive(Clone, Copy)]
 struct Probe {
     t: Real,
@@ -1128,28 +1161,28 @@ impl Probe {
 }
 
 /// How far below the least clearance of the curve [`ClearanceSearch::EveryStretch`] may
-/// leave `m(C)`: a stretch is halved until the bend bound keeps it within this of the least
-/// value found.
+/// leave `m(C)`: a stretch is halved until its bound ([`least_on`]) keeps it within this of
+/// the least value found.
 const STRETCH_TOLERANCE: Real = 1e-5;
 
 /// The most probes [`ClearanceSearch::EveryStretch`] takes per stretch, on average over the
-/// curve's stretches (a collision-free curve takes about a tenth of one).
+/// curve's stretches (a collision-free curve takes a fraction of one).
 const STRETCH_PROBES: usize = 64;
 
-/// Whether the clearance can fall below `below` between two points of the curve, `a` and
-/// `b`. Where the clearance `d` is positive, `d'' <= V^2 / (d + r) + A` on the stretch
-/// ([`ClearanceModel::bend_radius`] `r`), with `A` the largest `|q''|` there (`q''` is
-/// linear on each segment: its largest norm is at an end or a knot) and `V` the largest
-/// `|q'|` (at most an end's plus `A` times half the stretch); so `d` stays above the lesser
-/// end's value less `V dt / 2` (it moves at most `|q'|` per unit of `t`), and above the
-/// chord between its ends less `M dt^2 / 8`, `M` that bound with `d + r` at its least (the
-/// first bound plus `r`; no second bound where that is not positive: a stretch that may
-/// reach a disc's centre).
-fn may_dip(spline: &Spline, radius: Real, a: &Probe, b: &Probe, below: Real) -> bool {
+/// A lower bound of the clearance between two points of the curve, `a` and `b`. It moves
+/// at most `|q'|` per unit of `t`, so it stays above the lesser end's value less `V dt / 2`,
+/// `V` the largest `|q'|` on the stretch (at most an end's plus `A` times half the stretch,
+/// `A` the largest `|q''|`: `q''` is linear on each segment, so that is at an end or a
+/// knot). And the distance `rho` to a disc's centre has `rho'' <= V^2 / rho + A`; with
+/// `rho` at least the first bound plus the least radius `r`
+/// ([`ClearanceModel::bend_radius`]), where that is positive, each disc's clearance, and so
+/// their least, stays above the chord between the ends less `M dt^2 / 8`, `M` that bound.
+/// The larger of the two.
+fn least_on(spline: &Spline, radius: Real, a: &Probe, b: &Probe) -> Real {
     let dt = b.t - a.t;
     let low = a.clearance.min(b.clearance);
     if dt <= 0.0 || !low.is_finite() {
-        return false;
+        return low;
     }
     let mut accel = a.accel.max(b.accel);
     // The knots inside the stretch, where `q''` may be largest.
@@ -1157,18 +1190,13 @@ fn may_dip(spline: &Spline, radius: Real, a: &Probe, b: &Probe, below: Real) -> 
         accel = accel.max(spline.eval_segment(k, 0.0).2.norm());
     }
     let speed = a.speed.max(b.speed) + 0.5 * accel * dt;
-    // The clearance moves at most `|q'|` per unit of `t`: a bound that needs nothing else.
     let lipschitz = low - 0.5 * speed * dt;
-    if lipschitz >= below {
-        return false;
-    }
-    // The distance to a disc's centre, `d + r`, is at least this on the stretch.
     let floor = lipschitz + radius;
     if floor <= 0.0 {
-        return true;
+        return lipschitz;
     }
     let bend = speed * speed / floor + accel;
-    low - 0.125 * bend * dt * dt < below
+    lipschitz.max(low - 0.125 * bend * dt * dt)
 }
 
 /// Brent's search of `[ta, tz]` from `(t0, d0)`, `d0` the clearance at `t0`, with the model

@@ -515,6 +515,25 @@ proptest! {
         prop_assert!(m <= c.upper + 1e-5 + 1e-9, "m(C) {} above the least clearance {}", m, c.upper);
     }
 
+    /// The same for curves through obstacles, discs of radius 0 among them: the bound
+    /// holds inside a disc (it is the distance to the disc's centre that cannot fall below
+    /// zero), and where it says nothing (a stretch that may reach a centre) the halving
+    /// goes on, up to its cap, and still finds the least clearance. Never below it.
+    #[test]
+    fn every_stretch_finds_the_least_clearance_in_collision_too(
+        s in random_spline(),
+        circles in prop::collection::vec((0.0..60.0, 0.0..60.0, 0.0..8.0), 1..20),
+        points in prop::collection::vec((0.0..60.0, 0.0..60.0), 0..3),
+    ) {
+        let mut circles = circles;
+        circles.extend(points.into_iter().map(|(x, y)| (x, y, 0.0)));
+        let model = model_of(circles);
+        let c = min_clearance(&s, &model, 1e-7);
+        let m = evaluate(&s, &model, &every_stretch()).min_clearance;
+        prop_assert!(m >= c.lower - 1e-9, "m(C) {} below the least clearance {}", m, c.lower);
+        prop_assert!(m <= c.upper + 1e-5 + 1e-9, "m(C) {} above the least clearance {}", m, c.upper);
+    }
+
     /// `is_clear_by(margin)` proves what the certified bracket says: a curve whose bracket
     /// lies above the margin is proven clear by it, and one that comes within it anywhere
     /// (its attained least clearance) is not.
