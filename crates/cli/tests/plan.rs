@@ -348,21 +348,26 @@ fn a_closed_stdout_does_not_stop_the_plan() {
     assert!(read_json(&json)["best"].is_u64());
 }
 
+/// `plan SCENE --json FILE` with `extra` options (FILE named `name` in the test's temporary
+/// directory): the plan result, after checking that the command succeeded.
+fn plan_json(scene: &str, extra: &[&str], name: &str) -> serde_json::Value {
+    let json = tmp(name);
+    let out = homospline()
+        .args(["plan", scene, "--json"])
+        .arg(&json)
+        .args(extra)
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    read_json(&json)
+}
+
 #[test]
 fn prune_marks_the_stopped_classes_and_off_runs_every_class_to_its_end() {
     // On convex three classes cost more than 1.5 times the best after their first round.
-    let (pruned, full) = (tmp("prune-default.json"), tmp("prune-off.json"));
     let scene = "fixtures/scenes/convex.yaml";
-    for (extra, json) in [(vec![], &pruned), (vec!["--prune", "off"], &full)] {
-        let out = homospline()
-            .args(["plan", scene, "--json"])
-            .arg(json)
-            .args(&extra)
-            .output()
-            .unwrap();
-        assert_ok(&out);
-    }
-    let (p, f) = (read_json(&pruned), read_json(&full));
+    let p = plan_json(scene, &[], "prune-default.json");
+    let f = plan_json(scene, &["--prune", "off"], "prune-off.json");
     let stopped = |v: &serde_json::Value| {
         v["classes"]
             .as_array()
@@ -473,21 +478,13 @@ fn the_optimum_is_reported_and_never_above_a_class_length() {
 /// name.
 #[test]
 fn clearance_search_every_stretch_keeps_every_class_at_its_target() {
-    let (default, every) = (tmp("search-default.json"), tmp("search-every.json"));
     let scene = "fixtures/scenes/convex.yaml";
-    for (extra, json) in [
-        (vec![], &default),
-        (vec!["--clearance-search", "every-stretch"], &every),
-    ] {
-        let out = homospline()
-            .args(["plan", scene, "--json"])
-            .arg(json)
-            .args(&extra)
-            .output()
-            .unwrap();
-        assert_ok(&out);
-    }
-    let (d, e) = (read_json(&default), read_json(&every));
+    let d = plan_json(scene, &[], "search-default.json");
+    let e = plan_json(
+        scene,
+        &["--clearance-search", "every-stretch"],
+        "search-every.json",
+    );
     let class = |v: &serde_json::Value, sig: &str| {
         v["classes"]
             .as_array()
