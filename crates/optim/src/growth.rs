@@ -194,9 +194,9 @@ impl Guard<'_> {
 }
 
 /// How far below its clearance target a growth loop's final curve may be proven clear
-/// before the loop takes its `m(C)` to have missed a dip ([`Growth::needs_repair`]): a curve held at
-/// the target by the default search, whose least clearance Brent's method finds to `1e-10`
-/// in `t`, passes.
+/// before the loop takes its `m(C)` to have missed a dip ([`Growth::needs_repair`]): a
+/// curve held at the target by the default search, whose least clearance Brent's method
+/// finds to `1e-10` in `t`, passes.
 pub const STRICT_SLACK: Real = 1e-9;
 
 /// The value of a candidate below the clearance target is more than this; every cost is
@@ -373,8 +373,7 @@ pub struct Growth {
     round: usize,
     done: bool,
     /// The cost's `m(C)` is searched between every two quadrature nodes
-    /// ([`ClearanceSearch::EveryStretch`]): set once a round's curve, by the default search
-    /// at or above the clearance target, was not proven that clear.
+    /// ([`ClearanceSearch::EveryStretch`]): set by the repair round ([`Growth::repair`]).
     strict: bool,
 }
 
@@ -414,8 +413,8 @@ impl Growth {
 
     /// The settings the loop evaluates its curves with: `cfg`, with the cost's `m(C)`
     /// searched between every two quadrature nodes once the loop has run its repair round
-    /// ([`Growth::repair`]). A caller that weighs the
-    /// loop's curve (a planner ranking classes) should evaluate it with these.
+    /// ([`Growth::repair`]). A caller that weighs the loop's curve (a planner ranking
+    /// classes) should evaluate it with these.
     pub fn settings<'a>(&self, cfg: &'a GrowthConfig) -> Cow<'a, GrowthConfig> {
         if self.strict && cfg.cost.clearance_search != ClearanceSearch::EveryStretch {
             let mut strict = cfg.clone();

@@ -744,10 +744,10 @@ pub fn plan_world(
             // worst quadrature node) took to keep its target, but that is not proven to, was
             // optimised against a constraint it did not see ([`Growth::needs_repair`]). If it
             // could rank first (it costs less than every class reported certified safe), it
-            // runs one more round searching every stretch between nodes,
-            // and is reported again. A class that cannot rank first is reported as it is:
-            // its certificate says how clear it is (convex's class `e`: a repair would cost
-            // the plan half its time for an alternative).
+            // runs one more round searching every stretch between nodes, and is reported
+            // again. A class that cannot rank first is reported as it is: its certificate
+            // says how clear it is (convex's class `e`: a repair would cost the plan half its
+            // time for an alternative).
             repair_contenders(world, cfg, pool.as_ref(), &mut tasks, &mut runs);
             // The stop assumed that a class run to its end would rank first at no more than
             // the reference's first-round cost. If none does (its certification found it

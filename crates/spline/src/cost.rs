@@ -104,13 +104,15 @@ pub enum ClearanceSearch {
     /// (`homospline_optim::Growth::repair`).
     #[default]
     WorstNode,
-    /// As `WorstNode`, then the same search between every other two consecutive nodes (and
-    /// the ends) where the model's bound on how sharply the clearance bends
-    /// ([`ClearanceModel::bend_radius`]) lets it dip below the least value found so far.
-    /// The stretches are halved while the bound lets them dip more than `1e-5` below it
-    /// (the worst node's two as well: Brent's method follows one valley, and a second dip
-    /// beside it escapes it). An evaluation costs 1.6 times as much on the cost bench: a
-    /// curve held near `dm` has many stretches close to it.
+    /// As `WorstNode`, then every stretch between two consecutive nodes (and from each end
+    /// to its nearest node) whose bound lets the clearance dip below the least value found
+    /// is halved, the lowest bound first, until no bound is more than `1e-5` below it. The
+    /// bound is the larger of the Lipschitz one and one from how sharply the clearance can
+    /// bend ([`ClearanceModel::bend_radius`]); the worst node's two stretches are searched
+    /// too (Brent's method follows one valley, and a second dip beside it escapes it). An
+    /// evaluation costs 1.6 times as much on the cost bench: a curve held near `dm` has
+    /// many stretches close to it. A model without the bend bound (a map's grid) gets
+    /// `WorstNode`.
     EveryStretch,
 }
 
