@@ -765,13 +765,9 @@ impl Growth {
         };
         let (m, cost) = value_of(&self.kept_best.spline);
         self.kept_best.value = outer_value(outer, m, cost);
-        // The round starts from that very curve: a start heading's slope is its own.
-        self.end = match strict.end {
-            EndCondition::StartHeading { .. } => EndCondition::ClampedStart {
-                start: spline.velocity(0.0),
-            },
-            e => e,
-        };
+        // The round starts from that very curve, with its own ends (a start heading's slope
+        // as that curve's round fixed it).
+        self.end = spline.end_condition();
         (self.current, self.best_cost) = value_of(&spline);
         self.points = points;
         self.spline = spline;

@@ -1580,11 +1580,8 @@ fn repair_contenders(
         tasks
             .par_iter_mut()
             .with_max_len(1)
-            .filter(|(i, task)| contenders.contains(i) && task.needs_repair(model))
-            .map(|(i, task)| {
-                task.repair(model);
-                (*i, task.report(world, cfg))
-            })
+            .filter(|(i, _)| contenders.contains(i))
+            .filter_map(|(i, task)| task.repair(model).then(|| (*i, task.report(world, cfg))))
             .collect()
     });
     for (i, run) in repaired {
@@ -1755,45 +1752,39 @@ impl<'w> ClassTask<'w> {
         }
     }
 
+    /// `f` on the class's loop, its time added to the class's; `none` when the loop could
+    /// not start.
+    fn timed<R>(
+        &mut self,
+        none: R,
+        f: impl FnOnce(&mut Growth, &GrowthConfig, &Guard<'w>) -> R,
+    ) -> R {
+        let t = Instant::now();
+        let out = match self.state.as_mut() {
+            Some(g) => f(g, &self.growth, &self.guard),
+            None => none,
+        };
+        self.time_ms += ms(t);
+        out
+    }
+
     /// Runs one round; `false` when the loop has ended (or never started).
     fn step(&mut self, model: &dyn ClearanceModel) -> bool {
-        let t = Instant::now();
-        let more = self
-            .state
-            .as_mut()
-            .is_some_and(|g| g.step(model, &self.growth, &self.guard));
-        self.time_ms += ms(t);
-        more
+        self.timed(false, |g, cfg, guard| g.step(model, cfg, guard))
     }
 
-    /// Whether the class's loop ended on a curve whose clearance its cost overstated
-    /// ([`Growth::needs_repair`]).
-    fn needs_repair(&self, model: &dyn ClearanceModel) -> bool {
-        !self.pruned
-            && self
-                .state
-                .as_ref()
-                .is_some_and(|g| g.needs_repair(model, &self.growth, &self.guard))
-    }
-
-    /// The class's repair round ([`Growth::repair`]).
-    fn repair(&mut self, model: &dyn ClearanceModel) {
-        let t = Instant::now();
-        if let Some(g) = self.state.as_mut() {
-            g.repair(model, &self.growth, &self.guard);
-        }
-        self.time_ms += ms(t);
+    /// The class's repair round, if its loop ended on a curve whose clearance its cost
+    /// overstated ([`Growth::repair`]); a class stopped by the pruning is not repaired.
+    /// Returns whether it ran.
+    fn repair(&mut self, model: &dyn ClearanceModel) -> bool {
+        !self.pruned && self.timed(false, |g, cfg, guard| g.repair(model, cfg, guard))
     }
 
     /// [`ClassTask::step`] that can be called off ([`Growth::step_unless`]).
     fn step_unless(&mut self, model: &dyn ClearanceModel, stop: &dyn Fn() -> bool) -> Option<bool> {
-        let t = Instant::now();
-        let more = match self.state.as_mut() {
-            Some(g) => g.step_unless(model, &self.growth, &self.guard, stop),
-            None => Some(false),
-        };
-        self.time_ms += ms(t);
-        more
+        self.timed(Some(false), |g, cfg, guard| {
+            g.step_unless(model, cfg, guard, stop)
+        })
     }
 
     /// The evaluation budget of its rounds left ([`Growth::budget_left`]).

@@ -1040,7 +1040,6 @@ fn refine_min_clearance(
     // Every stretch between consecutive nodes, the worst node's two included (a second dip
     // there escapes Brent's method, which follows one valley), and from the start to the
     // first node and from the last node to the goal, whose clearances are known.
-    let knots = spline.knots();
     let last = spline.segments() - 1;
     let end = |t: Real| {
         let (seg, s) = if t == 0.0 {

@@ -3,8 +3,9 @@
 
 use homospline_geom::{Circle, Point, Real, Vector};
 use homospline_spline::{
-    CircleModel, ClearanceModel, ClearanceSearch, CostConfig, EndCondition, Parametrization,
-    RoughnessForm, Spline, evaluate, is_clear_by, is_collision_free, min_clearance,
+    CertifiedClearance, CircleModel, ClearanceModel, ClearanceSearch, CostConfig, EndCondition,
+    Parametrization, RoughnessForm, Spline, evaluate, is_clear_by, is_collision_free,
+    min_clearance,
 };
 use proptest::prelude::*;
 
@@ -495,6 +496,31 @@ fn every_stretch() -> CostConfig {
     }
 }
 
+/// `m(C)` with [`ClearanceSearch::EveryStretch`] lies in the certified bracket `c` of the
+/// least clearance: at most `below` under its lower end (an attained clearance, up to
+/// rounding) and at most the search's tolerance (1e-5) over its upper end.
+fn every_stretch_within(
+    s: &Spline,
+    model: &CircleModel,
+    c: &CertifiedClearance,
+    below: Real,
+) -> Result<(), TestCaseError> {
+    let m = evaluate(s, model, &every_stretch()).min_clearance;
+    prop_assert!(
+        m >= c.lower - below,
+        "m(C) {} below the least clearance {}",
+        m,
+        c.lower
+    );
+    prop_assert!(
+        m <= c.upper + 1e-5 + 1e-9,
+        "m(C) {} above the least clearance {}",
+        m,
+        c.upper
+    );
+    Ok(())
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]
 
@@ -510,9 +536,7 @@ proptest! {
         let model = model_of(circles);
         let c = min_clearance(&s, &model, 1e-7);
         prop_assume!(c.lower > 0.0);
-        let m = evaluate(&s, &model, &every_stretch()).min_clearance;
-        prop_assert!(m >= c.lower - 1e-12, "m(C) {} below the least clearance {}", m, c.lower);
-        prop_assert!(m <= c.upper + 1e-5 + 1e-9, "m(C) {} above the least clearance {}", m, c.upper);
+        every_stretch_within(&s, &model, &c, 1e-12)?;
     }
 
     /// The same for curves through obstacles, discs of radius 0 among them: the bound
@@ -529,9 +553,7 @@ proptest! {
         circles.extend(points.into_iter().map(|(x, y)| (x, y, 0.0)));
         let model = model_of(circles);
         let c = min_clearance(&s, &model, 1e-7);
-        let m = evaluate(&s, &model, &every_stretch()).min_clearance;
-        prop_assert!(m >= c.lower - 1e-9, "m(C) {} below the least clearance {}", m, c.lower);
-        prop_assert!(m <= c.upper + 1e-5 + 1e-9, "m(C) {} above the least clearance {}", m, c.upper);
+        every_stretch_within(&s, &model, &c, 1e-9)?;
     }
 
     /// `is_clear_by(margin)` proves what the certified bracket says: a curve whose bracket
