@@ -2,8 +2,10 @@
 //! and `max_rounds`): what each budget's chosen plans cost, against the cheapest plan any
 //! budget found, on the fixture scenes and generated ones.
 
-use homospline_geom::Scene;
-use homospline_optim::{GrowthConfig, PlanConfig, plan};
+use homospline_geom::{Point, Real, Scene};
+use homospline_homotopy::Rays;
+use homospline_optim::{GrowthConfig, Guard, PlanConfig, grow, plan};
+use homospline_spline::{CircleModel, is_collision_free};
 use homospline_testkit::{SplitMix, fixture_scenes, scan_scenes};
 
 fn with_budget(per_dimension: usize, rounds: usize) -> PlanConfig {
@@ -174,5 +176,82 @@ fn scan_the_jitter() {
                 median(&mut costs),
             );
         }
+    }
+}
+
+/// Run by hand: `cargo test --release -p homospline-optim --test budget scan_the_convergence
+/// -- --ignored --nocapture` (about a minute). How far each paper scene's chosen curve is
+/// from the best curve of its class with as many via-points, under the same guard (class,
+/// bounds, the dm rule's target): one more round of the default budget from the chosen
+/// curve, one of 300 evaluations per coordinate, and the best of 300 per coordinate from
+/// `SCAN_STARTS` (24) starts, the chosen via-points each moved by up to 2 units. Growth is
+/// off in all of them (one round, the via-point limit at the chosen count).
+#[test]
+#[ignore]
+fn scan_the_convergence() {
+    let starts: u64 = std::env::var("SCAN_STARTS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(24);
+    let defaults = PlanConfig::default();
+    for scene in fixture_scenes() {
+        let p = plan(&scene, &defaults).unwrap();
+        let chosen = p.chosen().expect("a paper scene has a plan");
+        let model = CircleModel::new(scene.circles());
+        let rays = Rays::for_scene(&scene);
+        let class = rays.signature(&chosen.path);
+        assert_eq!(class.to_string(), chosen.signature);
+        let guard = Guard {
+            class: Some((&rays, &class)),
+            bounds: scene.bounds,
+            collision_free: true,
+            clearance_floor: Real::NEG_INFINITY,
+            clearance_target: defaults.growth.cost.dm + defaults.certify_tolerance,
+            proven: Default::default(),
+        };
+        let inner = chosen.via_points.len() - 2;
+        let one_round = |per_dimension: usize, seed: &[Point]| {
+            let cfg = GrowthConfig {
+                max_rounds: 1,
+                max_via_points: inner,
+                evaluations_per_dimension: per_dimension,
+                ..GrowthConfig::default()
+            };
+            grow(seed, &model, &cfg, &guard)
+                .ok()
+                .filter(|g| {
+                    g.terms.min_clearance >= guard.clearance_target
+                        && is_collision_free(&g.spline, &model)
+                })
+                .map(|g| (g.terms.total, g.spline.length()))
+        };
+        let show = |r: Option<(Real, Real)>| {
+            r.map_or("-".to_string(), |(c, l)| format!("{c:.2} at {l:.2}"))
+        };
+        let more = one_round(30, &chosen.via_points);
+        let long = one_round(300, &chosen.via_points);
+        let mut rng = SplitMix(5);
+        let best = (0..starts)
+            .filter_map(|_| {
+                let mut seed = chosen.via_points.clone();
+                for q in &mut seed[1..=inner] {
+                    q.x += 4.0 * (rng.next_unit() - 0.5);
+                    q.y += 4.0 * (rng.next_unit() - 0.5);
+                }
+                one_round(300, &seed)
+            })
+            .chain(long)
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        println!(
+            "{:<15} class {} with {inner} via-points: chosen {:.2} at {:.2}; one more round {}; \
+             300 per coordinate {}; best of {starts} starts {}",
+            scene.name,
+            chosen.signature,
+            chosen.cost.total,
+            chosen.length,
+            show(more),
+            show(long),
+            show(best),
+        );
     }
 }
