@@ -151,7 +151,13 @@ fn scan_the_jitter() {
             let (mut lengths, mut costs, mut met) = (vec![], vec![], 0);
             for k in 0..draws {
                 let mut s = scene.clone();
-                let mut jitter = || if k == 0 { 0.0 } else { 0.02 * (rng.next_unit() - 0.5) };
+                let mut jitter = || {
+                    if k == 0 {
+                        0.0
+                    } else {
+                        0.02 * (rng.next_unit() - 0.5)
+                    }
+                };
                 s.start.x += jitter();
                 s.start.y += jitter();
                 s.goal.x += jitter();
