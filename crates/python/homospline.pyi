@@ -105,10 +105,12 @@ def plan(
     soft_dm: bool = False,
     prune: Optional[Union[str, float]] = None,
     clearance_search: Optional[str] = None,
+    polish: int = 0,
 ) -> Plan:
     """Plans a scene (the `plan` command); `soft_dm` turns the dm rule off; `prune` is
     `"off"` or a ratio (`--prune`; default 1.5); `clearance_search` is `"worst-node"`
-    (default) or `"every-stretch"` (`--clearance-search`)."""
+    (default) or `"every-stretch"` (`--clearance-search`); `polish` is the chosen class's
+    polish rounds, 0 to 10 (`--polish`; default 0)."""
 
 def plan_map(
     occupancy: npt.NDArray[np.bool_],

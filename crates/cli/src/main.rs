@@ -586,6 +586,11 @@ struct PlanArgs {
     /// rounds (marked `pruned`); `off` runs every class to its end (default 1.5)
     #[arg(long, value_name = "RATIO|off")]
     prune: Option<String>,
+    /// Rounds of polish for the chosen class (scenes, 0 to 10): after ranking, it runs up to
+    /// N more rounds at its via-points, each from a fresh simplex (the table's `rounds`
+    /// counts them); it can only cost less. Default 0
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    polish: usize,
     /// Also give each collision-free class's optima (scenes): the lengths of the shortest
     /// paths that keep its certified clearance from every circle, in its class and of any
     /// class (exact, the bounds left out; no curve of that clearance is shorter), in the
@@ -744,6 +749,7 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
         avoid: a.avoid.clone(),
         diverse: a.diverse,
         prune: a.prune.clone(),
+        polish: a.polish,
     };
     let scene_of = match &input {
         Input::Scene(s) => Some(s),

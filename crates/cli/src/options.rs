@@ -41,6 +41,8 @@ pub struct PlanOptions {
     pub diverse: Option<f64>,
     /// Successive halving of the classes: `off` or a ratio of at least 1 (scenes only).
     pub prune: Option<String>,
+    /// Polish rounds for the chosen class, 0 to 10 (scenes only).
+    pub polish: usize,
 }
 
 impl Default for PlanOptions {
@@ -62,6 +64,7 @@ impl Default for PlanOptions {
             avoid: Vec::new(),
             diverse: None,
             prune: None,
+            polish: 0,
         }
     }
 }
@@ -141,6 +144,16 @@ pub fn plan_config(o: &PlanOptions, scene: Option<&Scene>) -> Result<PlanConfig,
     if !(1..=200).contains(&max_via) {
         return Err(format!("--max-via {max_via}: must be between 1 and 200"));
     }
+    if o.polish > 10 {
+        return Err(format!("--polish {}: must be between 0 and 10", o.polish));
+    }
+    if o.polish > 0 && scene.is_none() {
+        return Err(
+            "--polish applies to scenes; a map's classes are optimised while its \
+                    search goes on"
+                .into(),
+        );
+    }
     let seed = match o.seed.as_str() {
         "voronoi" => Seed::Voronoi,
         "straight" => Seed::Straight,
@@ -173,6 +186,7 @@ pub fn plan_config(o: &PlanOptions, scene: Option<&Scene>) -> Result<PlanConfig,
         avoid: o.avoid.clone(),
         diverse: o.diverse,
         prune,
+        polish: o.polish,
         ..base
     })
 }

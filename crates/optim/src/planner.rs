@@ -177,6 +177,11 @@ pub struct PlanConfig {
     /// Applies where the classes are optimised after the search (scenes), not to a map's
     /// classes, optimised while the search goes on.
     pub prune: Option<Real>,
+    /// Rounds of polish for the class the plan chooses ([`Growth::polish`]): after the
+    /// classes are ranked, the first one's loop runs up to this many more rounds at its
+    /// via-points, each from a fresh simplex, and is reported again; it can only cost less,
+    /// so it stays first. 0 (default): none. Scenes only, like the pruning.
+    pub polish: usize,
 }
 
 impl Default for PlanConfig {
@@ -195,6 +200,7 @@ impl Default for PlanConfig {
             avoid: Vec::new(),
             diverse: None,
             prune: Some(DEFAULT_PRUNE),
+            polish: 0,
         }
     }
 }
@@ -771,6 +777,7 @@ pub fn plan_world(
                     repair_contenders(world, cfg, pool.as_ref(), &mut tasks, &mut runs);
                 }
             }
+            polish_chosen(world, cfg, &mut tasks, &mut runs);
             // No class came out clear: those that could not start from a clear seed are tried
             // again with dense via-points (a winding passage too narrow for a spline through
             // `max_via_points` via-points may be the only way). Only then: dense seeds cost
@@ -814,17 +821,7 @@ pub fn plan_world(
     timing.optimize = optimise_ms.unwrap_or_else(|| ms(to));
     // Rank: collision-free and safe first, then collision-free, then the rest; within each,
     // by cost; ties by signature for determinism.
-    let group = |c: &ClassPlan| match (c.collision_free, c.safe) {
-        (true, true) => 0,
-        (true, false) => 1,
-        _ => 2,
-    };
-    classes.sort_by(|a, b| {
-        group(a)
-            .cmp(&group(b))
-            .then(a.cost.total.total_cmp(&b.cost.total))
-            .then(a.signature.cmp(&b.signature))
-    });
+    classes.sort_by(rank_order);
     for (i, c) in classes.iter_mut().enumerate() {
         c.rank = i + 1;
     }
@@ -1591,6 +1588,51 @@ fn repair_contenders(
     }
 }
 
+/// The order of the plan's ranking: collision-free and safe first, then collision-free,
+/// then the rest; within each by cost, then by signature.
+fn rank_order(a: &ClassPlan, b: &ClassPlan) -> std::cmp::Ordering {
+    let group = |c: &ClassPlan| match (c.collision_free, c.safe) {
+        (true, true) => 0,
+        (true, false) => 1,
+        _ => 2,
+    };
+    group(a)
+        .cmp(&group(b))
+        .then(a.cost.total.total_cmp(&b.cost.total))
+        .then(a.signature.cmp(&b.signature))
+}
+
+/// [`PlanConfig::polish`]: the class the plan will choose (first in [`rank_order`] among
+/// the collision-free classes certified at least as clear as the floor) runs its polish
+/// rounds and is reported again in its place in `runs`.
+fn polish_chosen(
+    world: &World<'_>,
+    cfg: &PlanConfig,
+    tasks: &mut [(usize, ClassTask<'_>)],
+    runs: &mut [(usize, ClassRun)],
+) {
+    if cfg.polish == 0 {
+        return;
+    }
+    let Some(chosen) = runs
+        .iter()
+        .filter(|(_, (c, _))| c.collision_free && c.certified_clearance >= cfg.clearance_floor)
+        .min_by(|(_, (a, _)), (_, (b, _))| rank_order(a, b))
+        .map(|(i, _)| *i)
+    else {
+        return;
+    };
+    let Some((_, task)) = tasks.iter_mut().find(|(i, _)| *i == chosen) else {
+        return;
+    };
+    // Reported again even when its curve was put back: its rounds and evaluations count.
+    if task.polish(world.model, cfg.polish)
+        && let Some(slot) = runs.iter_mut().find(|(i, _)| *i == chosen)
+    {
+        slot.1 = task.report(world, cfg);
+    }
+}
+
 /// A class's task from its seed: on a map the seed is first pulled taut in its class.
 fn start_class<'w>(
     world: &'w World<'_>,
@@ -1778,6 +1820,17 @@ impl<'w> ClassTask<'w> {
     /// Returns whether it ran.
     fn repair(&mut self, model: &dyn ClearanceModel) -> bool {
         !self.pruned && self.timed(false, |g, cfg, guard| g.repair(model, cfg, guard))
+    }
+
+    /// The class's polish rounds ([`Growth::polish`]); a class stopped by the pruning is
+    /// not polished. Returns whether a round ran (kept or put back).
+    fn polish(&mut self, model: &dyn ClearanceModel, rounds: usize) -> bool {
+        !self.pruned
+            && self.timed(false, |g, cfg, guard| {
+                let before = g.rounds().len();
+                g.polish(model, cfg, guard, rounds);
+                g.rounds().len() > before
+            })
     }
 
     /// [`ClassTask::step`] that can be called off ([`Growth::step_unless`]).

@@ -316,7 +316,7 @@ fn weights_of(weights: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, f64)
 /// Plans a scene: the k best homotopy classes, each optimised and checked (the `plan`
 /// command). `weights` maps names (`safety`, `dm`, ...) to values.
 #[pyfunction]
-#[pyo3(signature = (scene, classes=5, preset="paper-voronoi", weights=None, optimizer=None, seed="voronoi", roughness=None, clearance_floor=0.0, graph=None, soft_dm=false, prune=None, clearance_search=None))]
+#[pyo3(signature = (scene, classes=5, preset="paper-voronoi", weights=None, optimizer=None, seed="voronoi", roughness=None, clearance_floor=0.0, graph=None, soft_dm=false, prune=None, clearance_search=None, polish=0))]
 #[allow(clippy::too_many_arguments)]
 fn plan(
     py: Python<'_>,
@@ -332,6 +332,7 @@ fn plan(
     soft_dm: bool,
     prune: Option<&Bound<'_, PyAny>>,
     clearance_search: Option<String>,
+    polish: usize,
 ) -> PyResult<PyPlan> {
     // `"off"` or a ratio, as the command line's `--prune`.
     let prune = match prune {
@@ -357,6 +358,7 @@ fn plan(
         soft_dm,
         prune,
         clearance_search,
+        polish,
         ..PlanOptions::default()
     };
     let cfg = plan_config(&options, Some(&scene.inner)).map_err(bad)?;
