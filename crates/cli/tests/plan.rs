@@ -511,3 +511,52 @@ fn clearance_search_every_stretch_keeps_every_class_at_its_target() {
     let err = String::from_utf8(out.stderr).unwrap();
     assert!(err.contains("--clearance-search"), "{err}");
 }
+
+#[test]
+fn polish_lowers_the_chosen_class_and_refuses_bad_counts_and_maps() {
+    let scene = "fixtures/scenes/convex.yaml";
+    let d = plan_json(scene, &[], "polish-default.json");
+    let p = plan_json(scene, &["--polish", "1"], "polish-one.json");
+    let chosen =
+        |v: &serde_json::Value| v["classes"][v["best"].as_u64().unwrap() as usize - 1].clone();
+    let (cd, cp) = (chosen(&d), chosen(&p));
+    assert_eq!(cd["signature"], cp["signature"]);
+    assert!(cp["safe"].as_bool().unwrap(), "{cp}");
+    let cost = |c: &serde_json::Value| c["cost"]["total"].as_f64().unwrap();
+    assert!(
+        cost(&cp) < 0.95 * cost(&cd),
+        "{} against {}",
+        cost(&cp),
+        cost(&cd)
+    );
+    assert_eq!(
+        cp["iterations"].as_u64().unwrap(),
+        cd["iterations"].as_u64().unwrap() + 1
+    );
+    let out = homospline()
+        .args(["plan", scene, "--polish", "11"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        err.contains("--polish 11: must be between 0 and 10"),
+        "{err}"
+    );
+    let out = homospline()
+        .args([
+            "plan",
+            "fixtures/maps/movingai/random-32-32-10.map",
+            "--start",
+            "1.5,27.5",
+            "--goal",
+            "30.5,2.5",
+            "--polish",
+            "1",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("--polish applies to scenes"), "{err}");
+}

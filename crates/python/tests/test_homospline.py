@@ -193,3 +193,17 @@ def test_clearance_search_equals_the_cli_flag(tmp_path):
     assert timeless(every) == timeless(cli)
     with pytest.raises(ValueError, match="--clearance-search exact"):
         homospline.plan(scene, clearance_search="exact")
+
+
+def test_polish_equals_the_cli_flag(tmp_path):
+    path = ROOT / "fixtures/scenes/convex.yaml"
+    scene = homospline.Scene.from_file(path)
+    polished = homospline.plan(scene, polish=1).to_dict()
+    cli = cli_json(["plan", str(path), "--polish", "1"], tmp_path)
+    assert timeless(polished) == timeless(cli)
+    plain = homospline.plan(scene).to_dict()
+    def chosen(p):
+        return p["classes"][p["best"] - 1]
+    assert chosen(polished)["cost"]["total"] < chosen(plain)["cost"]["total"]
+    with pytest.raises(ValueError, match="--polish 11"):
+        homospline.plan(scene, polish=11)
