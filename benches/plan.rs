@@ -1,5 +1,6 @@
 //! Criterion bench of the full plan of each fixture scene with 5 classes (graph, classes,
-//! seeding, growth loop, certification, ranking), Nelder-Mead and L-BFGS.
+//! seeding, growth loop, certification, ranking), Nelder-Mead and L-BFGS, and Nelder-Mead
+//! with one polish round for the chosen class (`--polish 1`).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use homospline_optim::{GrowthConfig, Optimizer, PlanConfig, plan};
@@ -8,15 +9,17 @@ use std::hint::black_box;
 fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("plan");
     for scene in homospline_testkit::fixture_scenes() {
-        for (name, optimizer) in [
-            ("nelder-mead", Optimizer::NelderMead),
-            ("lbfgs", Optimizer::Lbfgs),
+        for (name, optimizer, polish) in [
+            ("nelder-mead", Optimizer::NelderMead, 0),
+            ("lbfgs", Optimizer::Lbfgs, 0),
+            ("nelder-mead-polish-1", Optimizer::NelderMead, 1),
         ] {
             let cfg = PlanConfig {
                 growth: GrowthConfig {
                     optimizer,
                     ..GrowthConfig::default()
                 },
+                polish,
                 ..PlanConfig::default()
             };
             let p = plan(&scene, &cfg).unwrap();
