@@ -588,7 +588,8 @@ struct PlanArgs {
     prune: Option<String>,
     /// Rounds of polish for the chosen class (scenes, 0 to 10): after ranking, it runs up to
     /// N more rounds at its via-points, each from a fresh simplex (the table's `rounds`
-    /// counts them); it can only cost less. Default 0
+    /// counts them), kept only if the class stays collision-free, safe if it was, at the
+    /// floor and no dearer. Default 0
     #[arg(long, value_name = "N", default_value_t = 0)]
     polish: usize,
     /// Also give each collision-free class's optima (scenes): the lengths of the shortest

@@ -801,9 +801,12 @@ impl Growth {
     /// The rounds are marked ([`Round::polish`]). If the best curve was proven to keep the
     /// target ([`homospline_spline::is_clear_by`], less [`STRICT_SLACK`]) and a round's is
     /// not, the loop's curve goes back to the one before that round and the polish ends;
-    /// the round and its evaluations stay counted. The rounds stop early when one
-    /// improves the cost by less than the loop's `min_improvement`. Returns the rounds run
-    /// (0 when the loop has not ended, has nothing to move, or was put back).
+    /// the round and its evaluations stay counted ([`Growth::undo_to`]). The rounds stop
+    /// early when one improves the cost by less than the loop's `min_improvement`. Without
+    /// a finite target (`--soft-dm`, a straight seed) nothing here checks the clearance: a
+    /// caller that needs the polished curve as safe as before checks its report (the
+    /// planner does). Returns the rounds kept (0 when the loop has not ended or has
+    /// nothing to move).
     pub fn polish(
         &mut self,
         model: &dyn ClearanceModel,
@@ -820,24 +823,25 @@ impl Growth {
         };
         let before = self.clone();
         let was_proven = proven(self);
+        // The loop's best curve, as the loop valued it.
+        let (points, spline) = {
+            let (p, sp) = self.best(outer);
+            (p.to_vec(), sp.clone())
+        };
         // Against the clearance the curve has, where the model bounds how it bends: a
         // polished curve passes for the chosen one.
         if target.is_finite() && model.bend_radius().is_some() {
             self.strict = true;
         }
         let settings = self.settings(cfg).into_owned();
-        let (m, sp) = (
-            evaluate(&self.kept_best.spline, model, &settings.cost).min_clearance,
-            &self.kept_best.spline,
-        );
-        self.kept_best.value = outer_value(outer, m, outer.ratchet(m).cost(sp, model, &settings));
-        let (points, spline) = {
-            let (p, sp) = self.best(outer);
-            (p.to_vec(), sp.clone())
+        let value_of = |sp: &Spline| {
+            let m = evaluate(sp, model, &settings.cost).min_clearance;
+            (m, outer.ratchet(m).cost(sp, model, &settings))
         };
+        let (m, cost) = value_of(&self.kept_best.spline);
+        self.kept_best.value = outer_value(outer, m, cost);
         self.end = spline.end_condition();
-        self.current = evaluate(&spline, model, &settings.cost).min_clearance;
-        self.best_cost = outer.ratchet(self.current).cost(&spline, model, &settings);
+        (self.current, self.best_cost) = value_of(&spline);
         self.points = points;
         self.spline = spline;
         self.probation = None;
@@ -849,16 +853,15 @@ impl Growth {
             let (n, cost) = (self.rounds.len(), self.best_cost);
             self.round_and_grow(model, &settings, outer, &|| false);
             let Some(r) = self.rounds.get_mut(n) else {
-                break;
+                // Nothing to move (no via-point): the loop stands as it was.
+                self.undo_to(kept);
+                return ran;
             };
             r.polish = true;
             self.done = true;
             if was_proven && !proven(self) {
                 // Put back the curve before this round; its round and evaluations count.
-                let (rounds, evaluations) = (std::mem::take(&mut self.rounds), self.evaluations);
-                *self = kept;
-                self.rounds = rounds;
-                self.evaluations = evaluations;
+                self.undo_to(kept);
                 return ran;
             }
             ran += 1;
@@ -868,8 +871,17 @@ impl Growth {
                 break;
             }
         }
-        self.done = true;
         ran
+    }
+
+    /// The loop as it was at `earlier` (one of its own past states), with the rounds and
+    /// evaluations it has run since still counted: for a caller that undoes rounds whose
+    /// result it does not keep ([`Growth::polish`], the planner's check of a polished class).
+    pub fn undo_to(&mut self, earlier: Growth) {
+        let (rounds, evaluations) = (std::mem::take(&mut self.rounds), self.evaluations);
+        *self = earlier;
+        self.rounds = rounds;
+        self.evaluations = evaluations;
     }
 
     /// One more via-point on the current curve, where it helps most: in the segment that

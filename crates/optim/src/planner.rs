@@ -179,8 +179,10 @@ pub struct PlanConfig {
     pub prune: Option<Real>,
     /// Rounds of polish for the class the plan chooses ([`Growth::polish`]): after the
     /// classes are ranked, the first one's loop runs up to this many more rounds at its
-    /// via-points, each from a fresh simplex, and is reported again; it can only cost less,
-    /// so it stays first. 0 (default): none. Scenes only, like the pruning.
+    /// via-points, each from a fresh simplex, and is reported again. The polish is kept only
+    /// if the class stays collision-free, at the floor, safe if it was, and no dearer, so it
+    /// stays first; else its curve is put back. 0 (default): none. Scenes only, like the
+    /// pruning; a class stopped by the pruning is not polished.
     pub polish: usize,
 }
 
@@ -1604,7 +1606,12 @@ fn rank_order(a: &ClassPlan, b: &ClassPlan) -> std::cmp::Ordering {
 
 /// [`PlanConfig::polish`]: the class the plan will choose (first in [`rank_order`] among
 /// the collision-free classes certified at least as clear as the floor) runs its polish
-/// rounds and is reported again in its place in `runs`.
+/// rounds and is reported again in its place in `runs`. The polish is kept only if the
+/// class's new report still stands where the old one did: the same class, collision-free,
+/// at least as clear as the floor, safe if it was, and no dearer (so it stays first);
+/// otherwise its curve is put back, its rounds and evaluations still counted. (Without a
+/// finite clearance target, under `--soft-dm` or from a straight seed, the rounds have
+/// nothing else to hold them.) A class stopped by the pruning is not polished.
 fn polish_chosen(
     world: &World<'_>,
     cfg: &PlanConfig,
@@ -1614,22 +1621,36 @@ fn polish_chosen(
     if cfg.polish == 0 {
         return;
     }
-    let Some(chosen) = runs
+    let Some((chosen, old)) = runs
         .iter()
         .filter(|(_, (c, _))| c.collision_free && c.certified_clearance >= cfg.clearance_floor)
         .min_by(|(_, (a, _)), (_, (b, _))| rank_order(a, b))
-        .map(|(i, _)| *i)
+        .map(|(i, (c, _))| (*i, c.clone()))
     else {
         return;
     };
     let Some((_, task)) = tasks.iter_mut().find(|(i, _)| *i == chosen) else {
         return;
     };
-    // Reported again even when its curve was put back: its rounds and evaluations count.
-    if task.polish(world.model, cfg.polish)
-        && let Some(slot) = runs.iter_mut().find(|(i, _)| *i == chosen)
-    {
-        slot.1 = task.report(world, cfg);
+    let saved = task.state.clone();
+    if !task.polish(world.model, cfg.polish) {
+        return;
+    }
+    let mut run = task.report(world, cfg);
+    let new = &run.0;
+    let stands = new.signature == old.signature
+        && new.collision_free
+        && new.certified_clearance >= cfg.clearance_floor
+        && (new.safe || !old.safe)
+        && new.cost.total <= old.cost.total;
+    if !stands {
+        if let (Some(g), Some(earlier)) = (task.state.as_mut(), saved) {
+            g.undo_to(earlier);
+        }
+        run = task.report(world, cfg);
+    }
+    if let Some(slot) = runs.iter_mut().find(|(i, _)| *i == chosen) {
+        slot.1 = run;
     }
 }
 
@@ -1823,7 +1844,7 @@ impl<'w> ClassTask<'w> {
     }
 
     /// The class's polish rounds ([`Growth::polish`]); a class stopped by the pruning is
-    /// not polished. Returns whether a round ran (kept or put back).
+    /// not polished. Returns whether a round ran (kept or undone).
     fn polish(&mut self, model: &dyn ClearanceModel, rounds: usize) -> bool {
         !self.pruned
             && self.timed(false, |g, cfg, guard| {
