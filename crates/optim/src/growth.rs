@@ -762,22 +762,7 @@ impl Growth {
         };
         self.strict = true;
         let strict = self.settings(cfg).into_owned();
-        let value_of = |sp: &Spline| {
-            let m = evaluate(sp, model, &strict.cost).min_clearance;
-            let cost = outer.ratchet(m).cost(sp, model, &strict);
-            (m, cost)
-        };
-        let (m, cost) = value_of(&self.kept_best.spline);
-        self.kept_best.value = outer_value(outer, m, cost);
-        // The round starts from that very curve, with its own ends (a start heading's slope
-        // as that curve's round fixed it).
-        self.end = spline.end_condition();
-        (self.current, self.best_cost) = value_of(&spline);
-        self.points = points;
-        self.spline = spline;
-        self.probation = None;
-        // At the round limit, so that no via-point is grown after it: the loop has ended.
-        self.round = self.round.max(strict.max_rounds.max(1) - 1);
+        self.restart_from(points, spline, model, &strict, outer);
         let before = self.rounds.len();
         self.round_and_grow(model, &strict, outer, &|| false);
         if self.rounds.len() > before
@@ -834,19 +819,7 @@ impl Growth {
             self.strict = true;
         }
         let settings = self.settings(cfg).into_owned();
-        let value_of = |sp: &Spline| {
-            let m = evaluate(sp, model, &settings.cost).min_clearance;
-            (m, outer.ratchet(m).cost(sp, model, &settings))
-        };
-        let (m, cost) = value_of(&self.kept_best.spline);
-        self.kept_best.value = outer_value(outer, m, cost);
-        self.end = spline.end_condition();
-        (self.current, self.best_cost) = value_of(&spline);
-        self.points = points;
-        self.spline = spline;
-        self.probation = None;
-        // At the round limit, so that no via-point is grown after a round.
-        self.round = self.round.max(settings.max_rounds.max(1) - 1);
+        self.restart_from(points, spline, model, &settings, outer);
         let mut ran = 0;
         let mut kept = before;
         for _ in 0..rounds {
@@ -872,6 +845,32 @@ impl Growth {
             }
         }
         ran
+    }
+
+    /// Puts the ended loop on `points` and `spline` (one of its own curves) for a round after
+    /// its end, valued by `settings` (the loop's best kept curve too): the round starts from
+    /// that very curve, with its own ends (a start heading's slope as that curve's round
+    /// fixed it), and at the round limit, so that no via-point is grown after it.
+    fn restart_from(
+        &mut self,
+        points: Vec<Point>,
+        spline: Spline,
+        model: &dyn ClearanceModel,
+        settings: &GrowthConfig,
+        outer: &Guard<'_>,
+    ) {
+        let value_of = |sp: &Spline| {
+            let m = evaluate(sp, model, &settings.cost).min_clearance;
+            (m, outer.ratchet(m).cost(sp, model, settings))
+        };
+        let (m, cost) = value_of(&self.kept_best.spline);
+        self.kept_best.value = outer_value(outer, m, cost);
+        self.end = spline.end_condition();
+        (self.current, self.best_cost) = value_of(&spline);
+        self.points = points;
+        self.spline = spline;
+        self.probation = None;
+        self.round = self.round.max(settings.max_rounds.max(1) - 1);
     }
 
     /// The loop as it was at `earlier` (one of its own past states), with the rounds and

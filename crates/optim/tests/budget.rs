@@ -19,6 +19,18 @@ fn with_budget(per_dimension: usize, rounds: usize) -> PlanConfig {
     }
 }
 
+/// `SCAN_BUDGETS=30x3,20x3`: evaluations per coordinate x rounds, in order.
+fn budgets_from_env() -> Option<Vec<(usize, usize)>> {
+    std::env::var("SCAN_BUDGETS").ok().map(|v| {
+        v.split(',')
+            .map(|b| {
+                let (e, r) = b.split_once('x').expect("EPDxROUNDS");
+                (e.parse().unwrap(), r.parse().unwrap())
+            })
+            .collect()
+    })
+}
+
 /// Run by hand: `cargo test --release -p homospline-optim --test budget -- --ignored
 /// --nocapture` (about 80 s on 2 cores). For each budget (evaluations per dimension, rounds):
 /// the evaluations against the first budget's (the default), and the chosen plan's cost
@@ -31,14 +43,7 @@ fn with_budget(per_dimension: usize, rounds: usize) -> PlanConfig {
 #[ignore]
 fn scan_the_budget() {
     let all: Vec<Scene> = scan_scenes(300);
-    let from_env: Option<Vec<(usize, usize)>> = std::env::var("SCAN_BUDGETS").ok().map(|v| {
-        v.split(',')
-            .map(|b| {
-                let (e, r) = b.split_once('x').expect("EPDxROUNDS");
-                (e.parse().unwrap(), r.parse().unwrap())
-            })
-            .collect()
-    });
+    let from_env = budgets_from_env();
     let budgets = [
         (30, 3),
         (20, 3),
@@ -127,14 +132,7 @@ fn scan_the_jitter() {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(16);
-    let budgets: Vec<(usize, usize)> = std::env::var("SCAN_BUDGETS").map_or(vec![(30, 3)], |v| {
-        v.split(',')
-            .map(|b| {
-                let (e, r) = b.split_once('x').expect("EPDxROUNDS");
-                (e.parse().unwrap(), r.parse().unwrap())
-            })
-            .collect()
-    });
+    let budgets = budgets_from_env().unwrap_or(vec![(30, 3)]);
     let median = |v: &mut Vec<f64>| {
         v.sort_by(f64::total_cmp);
         let n = v.len();
