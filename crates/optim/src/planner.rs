@@ -827,10 +827,7 @@ pub fn plan_world(
     for (i, c) in classes.iter_mut().enumerate() {
         c.rank = i + 1;
     }
-    let best = classes
-        .iter()
-        .find(|c| c.collision_free && c.certified_clearance >= cfg.clearance_floor)
-        .map(|c| c.rank);
+    let best = classes.iter().find(|c| choosable(c, cfg)).map(|c| c.rank);
     // Overlap with the chosen class, by graph edges.
     let edges_of = |sig: &str| {
         seed_signatures
@@ -1604,8 +1601,14 @@ fn rank_order(a: &ClassPlan, b: &ClassPlan) -> std::cmp::Ordering {
         .then(a.signature.cmp(&b.signature))
 }
 
+/// Whether the plan may choose the class: collision-free and certified at least as clear as
+/// the floor. The chosen class is the first such in [`rank_order`].
+fn choosable(c: &ClassPlan, cfg: &PlanConfig) -> bool {
+    c.collision_free && c.certified_clearance >= cfg.clearance_floor
+}
+
 /// [`PlanConfig::polish`]: the class the plan will choose (first in [`rank_order`] among
-/// the collision-free classes certified at least as clear as the floor) runs its polish
+/// the [`choosable`] classes) runs its polish
 /// rounds and is reported again in its place in `runs`. The polish is kept only if the
 /// class's new report still stands where the old one did: the same class, collision-free,
 /// at least as clear as the floor, safe if it was, and no dearer (so it stays first);
@@ -1623,7 +1626,7 @@ fn polish_chosen(
     }
     let Some((chosen, old)) = runs
         .iter()
-        .filter(|(_, (c, _))| c.collision_free && c.certified_clearance >= cfg.clearance_floor)
+        .filter(|(_, (c, _))| choosable(c, cfg))
         .min_by(|(_, (a, _)), (_, (b, _))| rank_order(a, b))
         .map(|(i, (c, _))| (*i, c.clone()))
     else {
@@ -1639,8 +1642,7 @@ fn polish_chosen(
     let mut run = task.report(world, cfg);
     let new = &run.0;
     let stands = new.signature == old.signature
-        && new.collision_free
-        && new.certified_clearance >= cfg.clearance_floor
+        && choosable(new, cfg)
         && (new.safe || !old.safe)
         && new.cost.total <= old.cost.total;
     if !stands {

@@ -19,6 +19,14 @@ fn with_budget(per_dimension: usize, rounds: usize) -> PlanConfig {
     }
 }
 
+/// A count from the environment variable `name`, else `default`.
+fn count_from_env(name: &str, default: u64) -> u64 {
+    std::env::var(name)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
+}
+
 /// `SCAN_BUDGETS=30x3,20x3`: evaluations per coordinate x rounds, in order.
 fn budgets_from_env() -> Option<Vec<(usize, usize)>> {
     std::env::var("SCAN_BUDGETS").ok().map(|v| {
@@ -128,10 +136,7 @@ const ISSUE_DAY_LENGTHS: [f64; 5] = [57.28, 56.42, 80.02, 94.91, 85.01];
 #[test]
 #[ignore]
 fn scan_the_jitter() {
-    let draws: u64 = std::env::var("SCAN_JITTER")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(16);
+    let draws = count_from_env("SCAN_JITTER", 16);
     let budgets = budgets_from_env().unwrap_or(vec![(30, 3)]);
     let median = |v: &mut Vec<f64>| {
         v.sort_by(f64::total_cmp);
@@ -193,10 +198,7 @@ fn scan_the_jitter() {
 #[test]
 #[ignore]
 fn scan_the_convergence() {
-    let starts: u64 = std::env::var("SCAN_STARTS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(24);
+    let starts = count_from_env("SCAN_STARTS", 24);
     let defaults = PlanConfig::default();
     for scene in fixture_scenes() {
         let p = plan(&scene, &defaults).unwrap();
