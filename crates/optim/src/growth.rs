@@ -12,6 +12,7 @@ use homospline_spline::{
 use std::borrow::Cow;
 use std::cell::RefCell;
 
+use crate::barrier::Barrier;
 use crate::lbfgs::Lbfgs;
 use crate::nelder_mead::NelderMead;
 
@@ -486,7 +487,7 @@ impl Growth {
     ) -> bool {
         if !self.done {
             let settings = self.settings(cfg);
-            let ended = !self.round_and_grow(model, &settings, outer, &|| false);
+            let ended = !self.round_and_grow(model, &settings, outer, &|| false, false);
             self.count_round(ended, cfg);
         }
         !self.done
@@ -519,7 +520,7 @@ impl Growth {
         }
         let before = self.clone();
         let settings = self.settings(cfg);
-        let ended = !self.round_and_grow(model, &settings, outer, stop);
+        let ended = !self.round_and_grow(model, &settings, outer, stop, false);
         if stop() {
             *self = before;
             return None;
@@ -560,6 +561,7 @@ impl Growth {
         cfg: &GrowthConfig,
         outer: &Guard<'_>,
         stop: &dyn Fn() -> bool,
+        finish: bool,
     ) -> bool {
         // A seed with no via-point (a class path pulled taut to the segment S-T) has nothing
         // to move. Where it falls short of the clearance target, the segment's midpoint
@@ -636,22 +638,21 @@ impl Growth {
                         return (Real::INFINITY, vec![0.0; x.len()]);
                     }
                     let pts = to_points(s, t, x);
-                    match build(&pts, end, cfg) {
-                        Some(sp) if admissible(&sp, guard, cfg.guard_samples) => {
-                            let (terms, g) = gradient(&sp, model, &cfg.cost);
-                            let m = terms.min_clearance;
-                            if guard.rejects(m) || m < guard.clearance_target.min(current) {
-                                (Real::INFINITY, vec![0.0; x.len()])
-                            } else {
-                                (terms.total, g.iter().flat_map(|v| [v.x, v.y]).collect())
-                            }
-                        }
-                        _ => (Real::INFINITY, vec![0.0; x.len()]),
-                    }
+                    build(&pts, end, cfg).map_or((Real::INFINITY, vec![0.0; x.len()]), |sp| {
+                        guarded_gradient(&sp, model, cfg, guard, current)
+                    })
                 };
                 let out = lb.minimize(&mut fg, &x0);
                 (out.x, out.value)
             }
+        };
+        let (x, value) = if finish && !stop() {
+            let (x, value, spent) =
+                interior_finish(model, cfg, guard, (s, t, end), x, value, budget, current);
+            count += spent;
+            (x, value)
+        } else {
+            (x, value)
         };
         if stop() {
             // Called off: the caller puts the loop back as it was.
@@ -764,7 +765,7 @@ impl Growth {
         let strict = self.settings(cfg).into_owned();
         self.restart_from(points, spline, model, &strict, outer);
         let before = self.rounds.len();
-        self.round_and_grow(model, &strict, outer, &|| false);
+        self.round_and_grow(model, &strict, outer, &|| false, false);
         if self.rounds.len() > before
             && let Some(r) = self.rounds.last_mut()
         {
@@ -824,7 +825,7 @@ impl Growth {
         let mut kept = before;
         for _ in 0..rounds {
             let (n, cost) = (self.rounds.len(), self.best_cost);
-            self.round_and_grow(model, &settings, outer, &|| false);
+            self.round_and_grow(model, &settings, outer, &|| false, true);
             let Some(r) = self.rounds.get_mut(n) else {
                 // Nothing to move (no via-point): the loop stands as it was.
                 self.undo_to(kept);
@@ -1000,6 +1001,141 @@ pub fn grow(
     while g.step(model, cfg, guard) {}
     g.repair(model, cfg, guard);
     Ok(g.result(model, cfg, guard))
+}
+
+/// The cost of a candidate that the round's guard admits and its gradient with respect to
+/// the inner via-points (x, y interleaved), else `+inf` (a gradient optimiser's line search
+/// backs off): out of the class or the bounds, rejected, or below the clearance target or
+/// the round's starting clearance, whichever is less (a ratchet).
+fn guarded_gradient(
+    sp: &Spline,
+    model: &dyn ClearanceModel,
+    cfg: &GrowthConfig,
+    guard: &Guard<'_>,
+    current: Real,
+) -> (Real, Vec<Real>) {
+    let inner = 2 * sp.points().len().saturating_sub(2);
+    if !admissible(sp, guard, cfg.guard_samples) {
+        return (Real::INFINITY, vec![0.0; inner]);
+    }
+    let (terms, g) = gradient(sp, model, &cfg.cost);
+    let m = terms.min_clearance;
+    if guard.rejects(m) || m < guard.clearance_target.min(current) {
+        (Real::INFINITY, vec![0.0; inner])
+    } else {
+        (terms.total, g.iter().flat_map(|v| [v.x, v.y]).collect())
+    }
+}
+
+/// The barrier weights of the interior-point finish's stages, as fractions of the cost it
+/// starts from: each stage runs L-BFGS on the cost plus the barrier from where the last
+/// stopped, so the curve comes closer to the clearance it must keep as the weight falls.
+pub const FINISH_WEIGHTS: [Real; 3] = [1e-2, 1e-3, 1e-4];
+
+/// Barrier samples per segment in the finish.
+pub const FINISH_SAMPLES: usize = 16;
+
+/// A polish round's finish ([`Growth::polish`]): from the round's result `x0` (of value
+/// `value0`), L-BFGS on the cost plus a [`Barrier`] on the clearance at the round's
+/// clearance to keep (the target, or the round's starting clearance if less, or the floor,
+/// or 0 for a collision-free guard), in the stages of [`FINISH_WEIGHTS`], each with a third
+/// of the round's `budget` (a value with its gradient counts one evaluation). Nelder-Mead at
+/// a round's budget stops far from the best curve of its via-points where the constraint
+/// `m(C) >= target` binds (field: 28 % above it); L-BFGS against the guard's rejection alone
+/// stalls on that constraint, while the barrier lets it slide along it. A stage's curve is
+/// kept only if it is proven at the target ([`is_clear_by`] less [`STRICT_SLACK`], on
+/// models that bound how the clearance bends) and the stages stop at the first that is
+/// not: L-BFGS presses against the constraint, and the cost's search of `m(C)` can miss a
+/// dip that it found. Returns the best point, its guard value (never above `value0`) and
+/// the evaluations spent. Only for uniform parameters (the spline is then linear in its
+/// points); otherwise it returns `x0` at once.
+#[allow(clippy::too_many_arguments)]
+fn interior_finish(
+    model: &dyn ClearanceModel,
+    cfg: &GrowthConfig,
+    guard: &Guard<'_>,
+    (s, t, end): (Point, Point, EndCondition),
+    x0: Vec<Real>,
+    value0: Real,
+    budget: usize,
+    current: Real,
+) -> (Vec<Real>, Real, usize) {
+    let keep = guard
+        .clearance_target
+        .min(current)
+        .max(guard.clearance_floor)
+        .max(if guard.collision_free {
+            0.0
+        } else {
+            Real::NEG_INFINITY
+        });
+    if cfg.parametrization != Parametrization::Uniform
+        || x0.is_empty()
+        || value0.is_nan()
+        || value0 >= SHORT_OF_TARGET
+        || !keep.is_finite()
+    {
+        return (x0, value0, 0);
+    }
+    let width = if cfg.cost.dm > 0.0 {
+        cfg.cost.dm / 6.0
+    } else {
+        0.5
+    };
+    let proven = |x: &[Real]| {
+        build(&to_points(s, t, x), end, cfg).is_some_and(|sp| {
+            !guard.clearance_target.is_finite()
+                || model.bend_radius().is_none()
+                || is_clear_by(&sp, model, guard.clearance_target - STRICT_SLACK)
+        })
+    };
+    let mut spent = 0usize;
+    let mut x = x0.clone();
+    for fraction in FINISH_WEIGHTS {
+        let barrier = Barrier {
+            at: keep,
+            width,
+            weight: fraction * value0.abs().max(1.0),
+            samples_per_segment: FINISH_SAMPLES,
+        };
+        let mut fg = |y: &[Real]| -> (Real, Vec<Real>) {
+            spent += 1;
+            let Some(sp) = build(&to_points(s, t, y), end, cfg) else {
+                return (Real::INFINITY, vec![0.0; y.len()]);
+            };
+            let (v, mut g) = guarded_gradient(&sp, model, cfg, guard, current);
+            if !v.is_finite() {
+                return (v, g);
+            }
+            match barrier.value_and_gradient(&sp, model) {
+                Some((b, bg)) => {
+                    for (gi, bv) in g.chunks_exact_mut(2).zip(&bg) {
+                        gi[0] += bv.x;
+                        gi[1] += bv.y;
+                    }
+                    (v + b, g)
+                }
+                None => (Real::INFINITY, g),
+            }
+        };
+        let lb = Lbfgs {
+            max_evaluations: (budget / FINISH_WEIGHTS.len()).max(2),
+            value_tolerance: cfg.lbfgs_value_tolerance,
+            ..Lbfgs::default()
+        };
+        let out = lb.minimize(&mut fg, &x);
+        if !out.value.is_finite() || !proven(&out.x) {
+            break;
+        }
+        x = out.x;
+    }
+    let value = build(&to_points(s, t, &x), end, cfg)
+        .map_or(Real::INFINITY, |sp| guard.cost(&sp, model, cfg));
+    if value < value0 {
+        (x, value, spent)
+    } else {
+        (x0, value0, spent)
+    }
 }
 
 #[cfg(test)]

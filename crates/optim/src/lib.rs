@@ -4,11 +4,14 @@
 //! - [`nelder_mead`]: [`NelderMead`], standard and dimension-adaptive (Gao and Han 2012),
 //!   argmin-shaped: `init`, `step`, `terminate`, an [`nelder_mead::Observer`], restarts.
 //! - [`lbfgs`]: [`Lbfgs`], for the analytic gradient (an option; Nelder-Mead stays default).
+//! - [`barrier`]: [`barrier::Barrier`], a log barrier on the clearance with its gradient, for
+//!   the interior-point finish of a polish round.
 //! - [`growth`]: [`grow`], the paper's loop: optimise, add a via-point, repeat.
 //! - [`planner`]: [`plan`], scene to ranked plan. It is the only module that touches every
 //!   lower crate (voronoi, homotopy, spline), and it holds no algorithm of its own beyond
 //!   seeding and ranking.
 
+pub mod barrier;
 pub mod growth;
 pub mod lbfgs;
 pub mod nelder_mead;

@@ -15,6 +15,7 @@ fn with_budget(per_dimension: usize, rounds: usize) -> PlanConfig {
             max_rounds: rounds,
             ..GrowthConfig::default()
         },
+        polish: count_from_env("SCAN_POLISH", 0) as usize,
         ..PlanConfig::default()
     }
 }
