@@ -587,9 +587,10 @@ struct PlanArgs {
     #[arg(long, value_name = "RATIO|off")]
     prune: Option<String>,
     /// Rounds of polish for the chosen class (scenes, 0 to 10): after ranking, it runs up to
-    /// N more rounds at its via-points, each from a fresh simplex (the table's `rounds`
-    /// counts them), kept only if the class stays collision-free, safe if it was, at the
-    /// floor and no dearer. Default 0
+    /// N more rounds at its via-points, each from a fresh simplex and ending with an
+    /// interior-point finish (L-BFGS on the cost with a barrier on the clearance; the
+    /// table's `rounds` counts the rounds), kept only if the class stays collision-free,
+    /// safe if it was, at the floor and no dearer. Default 0
     #[arg(long, value_name = "N", default_value_t = 0)]
     polish: usize,
     /// Also give each collision-free class's optima (scenes): the lengths of the shortest

@@ -179,7 +179,8 @@ pub struct PlanConfig {
     pub prune: Option<Real>,
     /// Rounds of polish for the class the plan chooses ([`Growth::polish`]): after the
     /// classes are ranked, the first one's loop runs up to this many more rounds at its
-    /// via-points, each from a fresh simplex, and is reported again. The polish is kept only
+    /// via-points, each from a fresh simplex and ending with an interior-point finish
+    /// (L-BFGS with a barrier on the clearance), and is reported again. The polish is kept only
     /// if the class stays collision-free, at the floor, safe if it was, and no dearer, so it
     /// stays first; else its curve is put back. 0 (default): none. Scenes only, like the
     /// pruning; a class stopped by the pruning is not polished.
