@@ -778,8 +778,9 @@ impl Growth {
     /// Up to `rounds` more rounds after the loop has ended, from its best curve and at its
     /// via-points: no via-point is grown, and each round starts a fresh simplex where the
     /// last one stopped. A round at the default budget stops far from the best curve of its
-    /// via-points (on the paper scenes one more round from the chosen curve lowers its cost
-    /// by 0.4 to 13 %; README, *Performance*, eighteenth session), and a growth's new curve
+    /// via-points (on the paper scenes one more round from the chosen curve, with its
+    /// finish, lowers its cost by 0.4 to 23 %; README, *Performance*, nineteenth session),
+    /// and a growth's new curve
     /// starts off the curve before it, so a planner spends these on the class it chose.
     /// Under a clearance target, on a model that bounds how the clearance bends, the rounds
     /// search `m(C)` between every two nodes ([`ClearanceSearch::EveryStretch`], as a
@@ -1047,11 +1048,13 @@ pub const FINISH_SAMPLES: usize = 16;
 /// a round's budget stops far from the best curve of its via-points where the constraint
 /// `m(C) >= target` binds (field: 28 % above it); L-BFGS against the guard's rejection alone
 /// stalls on that constraint, while the barrier lets it slide along it. A stage's curve is
-/// kept only if it is proven at the target ([`is_clear_by`] less [`STRICT_SLACK`], on
-/// models that bound how the clearance bends) and the stages stop at the first that is
+/// kept only if it is certified collision-free (for a collision-free guard) and inside the
+/// bounds, and proven at the target and the floor ([`is_clear_by`] less [`STRICT_SLACK`],
+/// on models that bound how the clearance bends), and the stages stop at the first that is
 /// not: L-BFGS presses against the constraint, and the cost's search of `m(C)` can miss a
-/// dip that it found. Returns the best point, its guard value (never above `value0`) and
-/// the evaluations spent. Only for uniform parameters (the spline is then linear in its
+/// dip that it found. Returns the last kept stage's point and its guard value if that is
+/// below `value0`, else `x0` and `value0`, with the evaluations spent (a value with its
+/// gradient counts one, though it costs 1.7 times a value on the paper scenes). Only for uniform parameters (the spline is then linear in its
 /// points); otherwise it returns `x0` at once.
 #[allow(clippy::too_many_arguments)]
 fn interior_finish(
@@ -1086,11 +1089,20 @@ fn interior_finish(
     } else {
         0.5
     };
+    // What the round's acceptance and the polish will ask of the curve, asked of each
+    // stage's: certified collision-free and inside the bounds, proven at the floor and at
+    // the target (where the model bounds how the clearance bends). Without it a stage's
+    // curve that failed later would cost the round the simplex's result too.
+    let certifiable = model.bend_radius().is_some();
+    let proven_at =
+        |sp: &Spline, c: Real| !c.is_finite() || is_clear_by(sp, model, c - STRICT_SLACK);
     let proven = |x: &[Real]| {
         build(&to_points(s, t, x), end, cfg).is_some_and(|sp| {
-            !guard.clearance_target.is_finite()
-                || model.bend_radius().is_none()
-                || is_clear_by(&sp, model, guard.clearance_target - STRICT_SLACK)
+            (!guard.collision_free || is_collision_free(&sp, model))
+                && stays_in_bounds(&sp, &guard.bounds)
+                && (!certifiable
+                    || (proven_at(&sp, guard.clearance_target)
+                        && proven_at(&sp, guard.clearance_floor)))
         })
     };
     let mut spent = 0usize;

@@ -296,7 +296,7 @@ fn no_class_that_could_outrank_the_chosen_one_keeps_dm_by_its_cost_only() {
 /// (no target holds the rounds: the planner's check does) and with a clearance floor of 3;
 /// each plan checked on its sampled path as every plan is. At the defaults the rounds take
 /// more than 10 % off convex's chosen cost (113.7 -> 99.3 when written: the Nelder-Mead
-/// round does it) and more than 15 % off field's (158.9 -> 121.8: the interior-point
+/// round does it) and more than 15 % off field's (158.9 -> 121.5: the interior-point
 /// finish does it, where Nelder-Mead alone took 2 %), so a polish that did nothing, or a
 /// finish that did nothing, would fail here.
 #[test]
