@@ -17,30 +17,45 @@ fn model() -> CircleModel {
     ])
 }
 
-/// The barrier summed sample by sample, as its documentation defines it.
-fn direct(b: &Barrier, sp: &Spline, model: &dyn ClearanceModel) -> Real {
+/// One disc: its clearance is smooth off its centre. With two, the clearance has a kink
+/// where the nearer disc changes, and a sample near it puts central differences off (seen:
+/// 1.4 % on one entry in 20,000 cases).
+fn one_disc() -> CircleModel {
+    CircleModel::new(vec![Circle::new(7.5, 1.9, 1.0)])
+}
+
+/// Each sample's clearance above `b.at`, as its documentation places the samples.
+fn gaps(b: &Barrier, sp: &Spline, model: &dyn ClearanceModel) -> Vec<Real> {
     let knots = sp.knots();
-    let mut total = 0.0;
+    let mut out = Vec::new();
     for seg in 0..sp.segments() {
         let h = knots[seg + 1] - knots[seg];
         for j in 0..b.samples_per_segment {
             let s = h * (j as Real + 0.5) / b.samples_per_segment as Real;
-            let g = model.clearance(&sp.eval_segment(seg, s).0).0 - b.at;
-            if g < b.width {
-                let r = g / b.width;
-                total += b.weight * (-r.ln() + r - 1.0);
-            }
+            out.push(model.clearance(&sp.eval_segment(seg, s).0).0 - b.at);
         }
     }
-    total
+    out
+}
+
+/// The barrier summed sample by sample, as its documentation defines it.
+fn direct(b: &Barrier, sp: &Spline, model: &dyn ClearanceModel) -> Real {
+    gaps(b, sp, model)
+        .into_iter()
+        .filter(|&g| g < b.width)
+        .map(|g| b.weight * (-(g / b.width).ln() + g / b.width - 1.0))
+        .sum()
 }
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
 
-    /// On curves from (0, 0) to (15, 0) through three via-points that pass near the two
-    /// discs, the barrier's value is the direct sum and its gradient matches central
-    /// differences (relative 1e-5, or 1e-6 absolute where the barrier is flat).
+    /// On curves from (0, 0) to (15, 0) through three via-points that pass near the discs,
+    /// the barrier's value is the direct sum (two discs), and its gradient matches central
+    /// differences (one disc; relative 1e-5, or 1e-6 absolute where the barrier is flat). Where a
+    /// sample comes within 0.02 of `at` the barrier's third derivative (`2 weight / g^3`)
+    /// makes differences at step 1e-6 no reference (seen: 7e-5 off at a gradient of 1e4),
+    /// so those curves are checked for the value only.
     #[test]
     fn barrier_gradient_matches_differences(
         ys in proptest::collection::vec(-0.6..0.6f64, 3),
@@ -54,23 +69,24 @@ proptest! {
             Point::new(11.0, 0.6 + ys[2]),
             Point::new(15.0, 0.0),
         ];
-        let m = model();
         let b = Barrier { at, width, weight: 0.7, samples_per_segment: 16 };
         let sp = spline(&points);
+        let two = model();
+        if let Some((value, _)) = b.value_and_gradient(&sp, &two) {
+            prop_assert!((value - direct(&b, &sp, &two)).abs() <= 1e-9 * (1.0 + value.abs()));
+        }
+        let m = one_disc();
+        let least = gaps(&b, &sp, &m).into_iter().fold(Real::INFINITY, Real::min);
         let Some((value, grad)) = b.value_and_gradient(&sp, &m) else {
-            // A sample at or below `at`: the direct sum must see it too.
-            let knots = sp.knots();
-            let dips = (0..sp.segments()).any(|seg| {
-                let h = knots[seg + 1] - knots[seg];
-                (0..16).any(|j| {
-                    let s = h * (j as Real + 0.5) / 16.0;
-                    m.clearance(&sp.eval_segment(seg, s).0).0 <= at
-                })
-            });
-            prop_assert!(dips);
+            // Refused: a sample is at or below `at`.
+            prop_assert!(least <= 0.0, "refused with every sample {least} above");
             return Ok(());
         };
+        prop_assert!(least > 0.0);
         prop_assert!((value - direct(&b, &sp, &m)).abs() <= 1e-9 * (1.0 + value.abs()));
+        if least < 0.02 {
+            return Ok(());
+        }
         prop_assert_eq!(grad.len(), 3);
         let h = 1e-6;
         for (i, g) in grad.iter().enumerate() {
