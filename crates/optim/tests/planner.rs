@@ -125,37 +125,24 @@ fn without_timings(mut p: Plan) -> Plan {
 
 /// With more than one thread, classes run rounds ahead of the pruning decision on idle
 /// threads, and the rounds of the classes it stops are undone (convex, narrow-pass and
-/// two-homotopies each have a class stopped): the plan must not show it.
+/// two-homotopies each have a class stopped): the plan must not show it. The same with a
+/// polish round and its interior-point finish.
 #[test]
 fn plans_are_the_same_for_any_thread_count() {
-    for scene in fixture_scenes() {
-        let one = plan(
-            &scene,
-            &PlanConfig {
-                threads: Some(1),
-                ..PlanConfig::default()
-            },
-        )
-        .unwrap();
-        let two = plan(
-            &scene,
-            &PlanConfig {
-                threads: Some(2),
-                ..PlanConfig::default()
-            },
-        )
-        .unwrap();
-        let four = plan(
-            &scene,
-            &PlanConfig {
-                threads: Some(4),
-                ..PlanConfig::default()
-            },
-        )
-        .unwrap();
-        let one = without_timings(one);
-        assert_eq!(one, without_timings(two));
-        assert_eq!(one, without_timings(four));
+    for polish in [0, 1] {
+        for scene in fixture_scenes() {
+            let with_threads = |n: usize| {
+                let cfg = PlanConfig {
+                    threads: Some(n),
+                    polish,
+                    ..PlanConfig::default()
+                };
+                without_timings(plan(&scene, &cfg).unwrap())
+            };
+            let one = with_threads(1);
+            assert_eq!(one, with_threads(2), "{} polish {polish}", scene.name);
+            assert_eq!(one, with_threads(4), "{} polish {polish}", scene.name);
+        }
     }
 }
 
