@@ -4,7 +4,7 @@
 
 use homospline_geom::{Point, Real, Scene};
 use homospline_homotopy::Rays;
-use homospline_optim::{GrowthConfig, Guard, PlanConfig, grow, plan};
+use homospline_optim::{GrowthConfig, Guard, Optimizer, PlanConfig, grow, plan};
 use homospline_spline::{CircleModel, is_collision_free};
 use homospline_testkit::{SplitMix, fixture_scenes, scan_scenes};
 
@@ -13,6 +13,11 @@ fn with_budget(per_dimension: usize, rounds: usize) -> PlanConfig {
         growth: GrowthConfig {
             evaluations_per_dimension: per_dimension,
             max_rounds: rounds,
+            optimizer: if std::env::var("SCAN_OPTIMIZER").is_ok_and(|v| v == "lbfgs") {
+                Optimizer::Lbfgs
+            } else {
+                Optimizer::NelderMead
+            },
             ..GrowthConfig::default()
         },
         polish: count_from_env("SCAN_POLISH", 0) as usize,
@@ -47,7 +52,7 @@ fn budgets_from_env() -> Option<Vec<(usize, usize)>> {
 /// mean, 90th percentile and worst, and how many plans are 5 % or more above the cheapest.
 /// `SCAN_SCENES=N` sets the generated scenes (300), `SCAN_BUDGETS=30x3,20x3` the budgets
 /// (the default's first), `SCAN_POLISH=N` gives every plan (and the jitter scan's) `N`
-/// polish rounds, `SCAN_OUT=FILE` writes every plan's chosen cost and evaluations
+/// polish rounds, `SCAN_OPTIMIZER=lbfgs` runs the rounds with L-BFGS, `SCAN_OUT=FILE` writes every plan's chosen cost and evaluations
 /// (`budget scene cost evaluations` per line) to compare runs of different code.
 #[test]
 #[ignore]
