@@ -780,8 +780,8 @@ impl Growth {
     /// last one stopped. A round at the default budget stops far from the best curve of its
     /// via-points (on the paper scenes one more round from the chosen curve, with its
     /// finish, lowers its cost by 0.4 to 23 %; README, *Performance*, nineteenth session),
-    /// and a growth's new curve
-    /// starts off the curve before it, so a planner spends these on the class it chose.
+    /// and a growth's new curve starts off the curve before it, so a planner spends these
+    /// on the class it chose.
     /// Under a clearance target, on a model that bounds how the clearance bends, the rounds
     /// search `m(C)` between every two nodes ([`ClearanceSearch::EveryStretch`], as a
     /// repair round does), from then on for every curve the loop holds.
@@ -1054,8 +1054,9 @@ pub const FINISH_SAMPLES: usize = 16;
 /// not: L-BFGS presses against the constraint, and the cost's search of `m(C)` can miss a
 /// dip that it found. Returns the last kept stage's point and its guard value if that is
 /// below `value0`, else `x0` and `value0`, with the evaluations spent (a value with its
-/// gradient counts one, though it costs 1.7 times a value on the paper scenes). Only for uniform parameters (the spline is then linear in its
-/// points); otherwise it returns `x0` at once.
+/// gradient counts one, though it costs 1.7 times a value on the paper scenes). Only for
+/// uniform parameters (the spline is then linear in its points); otherwise it returns `x0`
+/// at once.
 #[allow(clippy::too_many_arguments)]
 fn interior_finish(
     model: &dyn ClearanceModel,
