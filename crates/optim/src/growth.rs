@@ -179,6 +179,14 @@ impl Guard<'_> {
         }
     }
 
+    /// Whether the curve is certified collision-free where the guard asks for it (samples
+    /// can miss a thin overlap) and stays inside the bounds between the guard's samples:
+    /// what a round's result, a grown curve and a finish's stage must pass.
+    pub fn certifies(&self, spline: &Spline, model: &dyn ClearanceModel) -> bool {
+        (!self.collision_free || is_collision_free(spline, model))
+            && stays_in_bounds(spline, &self.bounds)
+    }
+
     /// Whether a candidate of minimum clearance `m` is rejected.
     pub fn rejects(&self, m: Real) -> bool {
         (self.collision_free && m <= 0.0) || m < self.clearance_floor
@@ -199,6 +207,12 @@ impl Guard<'_> {
 /// curve held at the target by the default search, whose least clearance Brent's method
 /// finds to `1e-10` in `t`, passes.
 pub const STRICT_SLACK: Real = 1e-9;
+
+/// Whether `spline` is proven at least `clearance` clear ([`is_clear_by`], less
+/// [`STRICT_SLACK`]); any curve is, against a clearance of `-inf`.
+fn proven_at(spline: &Spline, model: &dyn ClearanceModel, clearance: Real) -> bool {
+    !clearance.is_finite() || is_clear_by(spline, model, clearance - STRICT_SLACK)
+}
 
 /// The value of a candidate below the clearance target is more than this; every cost is
 /// far less (the largest seen, on maps, are in the tens of thousands).
@@ -667,8 +681,7 @@ impl Growth {
             // overlap) and stay inside the bounds between the guard's samples; otherwise the
             // round's starting curve stands.
             if let Some(sp) = build(&candidate, end, cfg)
-                && (!guard.collision_free || is_collision_free(&sp, model))
-                && stays_in_bounds(&sp, &guard.bounds)
+                && guard.certifies(&sp, model)
             {
                 self.current = evaluate(&sp, model, &cfg.cost).min_clearance;
                 self.points = candidate;
@@ -738,7 +751,7 @@ impl Growth {
         }
         let spline = self.best(outer).1;
         evaluate(spline, model, &cfg.cost).min_clearance >= target
-            && !is_clear_by(spline, model, target - STRICT_SLACK)
+            && !proven_at(spline, model, target)
     }
 
     /// If the loop [`Growth::needs_repair`], one more round from its best curve with `m(C)`
@@ -809,9 +822,7 @@ impl Growth {
             return 0;
         }
         let target = outer.clearance_target;
-        let proven = |g: &Growth| {
-            !target.is_finite() || is_clear_by(g.best(outer).1, model, target - STRICT_SLACK)
-        };
+        let proven = |g: &Growth| proven_at(g.best(outer).1, model, target);
         let before = self.clone();
         let was_proven = proven(self);
         // The loop's best curve, as the loop valued it.
@@ -955,10 +966,7 @@ impl Growth {
             let Some(sp2) = build(&grown, grown_end, cfg) else {
                 continue;
             };
-            if !(admissible(&sp2, &unfloored, cfg.guard_samples)
-                && (!guard.collision_free || is_collision_free(&sp2, model))
-                && stays_in_bounds(&sp2, &guard.bounds))
-            {
+            if !(admissible(&sp2, &unfloored, cfg.guard_samples) && guard.certifies(&sp2, model)) {
                 continue;
             }
             let terms = evaluate(&sp2, model, &cfg.cost);
@@ -1095,15 +1103,12 @@ fn interior_finish(
     // the target (where the model bounds how the clearance bends). Without it a stage's
     // curve that failed later would cost the round the simplex's result too.
     let certifiable = model.bend_radius().is_some();
-    let proven_at =
-        |sp: &Spline, c: Real| !c.is_finite() || is_clear_by(sp, model, c - STRICT_SLACK);
     let proven = |x: &[Real]| {
         build(&to_points(s, t, x), end, cfg).is_some_and(|sp| {
-            (!guard.collision_free || is_collision_free(&sp, model))
-                && stays_in_bounds(&sp, &guard.bounds)
+            guard.certifies(&sp, model)
                 && (!certifiable
-                    || (proven_at(&sp, guard.clearance_target)
-                        && proven_at(&sp, guard.clearance_floor)))
+                    || (proven_at(&sp, model, guard.clearance_target)
+                        && proven_at(&sp, model, guard.clearance_floor)))
         })
     };
     let mut spent = 0usize;

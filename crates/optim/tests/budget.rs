@@ -52,8 +52,9 @@ fn budgets_from_env() -> Option<Vec<(usize, usize)>> {
 /// mean, 90th percentile and worst, and how many plans are 5 % or more above the cheapest.
 /// `SCAN_SCENES=N` sets the generated scenes (300), `SCAN_BUDGETS=30x3,20x3` the budgets
 /// (the default's first), `SCAN_POLISH=N` gives every plan (and the jitter scan's) `N`
-/// polish rounds, `SCAN_OPTIMIZER=lbfgs` runs the rounds with L-BFGS, `SCAN_OUT=FILE` writes every plan's chosen cost and evaluations
-/// (`budget scene cost evaluations` per line) to compare runs of different code.
+/// polish rounds, `SCAN_OPTIMIZER=lbfgs` runs the rounds with L-BFGS, `SCAN_OUT=FILE`
+/// writes every plan's chosen cost and evaluations (`budget scene cost evaluations` per
+/// line) to compare runs of different code.
 #[test]
 #[ignore]
 fn scan_the_budget() {
