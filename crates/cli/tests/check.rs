@@ -29,10 +29,7 @@ fn every_invalid_fixture_exits_2_with_its_message_on_stderr() {
             "fixtures/invalid/{}",
             path.file_name().unwrap().to_str().unwrap()
         );
-        let out = homospline().args(["check", &rel]).output().unwrap();
-        assert_eq!(out.status.code(), Some(2), "{rel}");
-        assert!(out.stdout.is_empty(), "{rel}: nothing on stdout");
-        let stderr = String::from_utf8(out.stderr).unwrap();
+        let stderr = refused(&["check", &rel]);
         let expected = std::fs::read_to_string(path.with_extension("expected")).unwrap();
         assert_eq!(
             stderr.trim(),
@@ -46,18 +43,11 @@ fn every_invalid_fixture_exits_2_with_its_message_on_stderr() {
 
 #[test]
 fn a_missing_file_and_bad_usage_exit_2() {
-    let out = homospline()
-        .args(["check", "no/such/scene.yaml"])
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        String::from_utf8(out.stderr)
-            .unwrap()
-            .contains("no/such/scene.yaml: cannot read")
+    assert_refused(
+        &["check", "no/such/scene.yaml"],
+        "no/such/scene.yaml: cannot read",
     );
-    let out = homospline().args(["frobnicate"]).output().unwrap();
-    assert_eq!(out.status.code(), Some(2));
+    refused(&["frobnicate"]);
 }
 
 #[test]

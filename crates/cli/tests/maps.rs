@@ -250,10 +250,7 @@ fn bad_map_input_exits_2_with_the_file_named() {
             "bad-number.map.scen:2:",
         ),
     ] {
-        let out = homospline().args(&args).output().unwrap();
-        assert_eq!(out.status.code(), Some(2), "{args:?}");
-        let err = String::from_utf8(out.stderr).unwrap();
-        assert!(err.contains(needle), "{args:?}: {err}");
+        assert_refused(&args, needle);
     }
 }
 
@@ -333,17 +330,8 @@ fn the_union_of_the_shards_is_the_whole_run_and_merges_into_its_summary() {
     whole_sorted[1..].sort();
     assert_eq!(merged_rows, whole_sorted);
     // The same shard twice is refused.
-    let out = homospline()
-        .args(["bench-merge"])
-        .args([&csvs[0], &csvs[0]])
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        String::from_utf8(out.stderr)
-            .unwrap()
-            .contains("overlapping shards")
-    );
+    let shard = csvs[0].to_str().unwrap();
+    assert_refused(&["bench-merge", shard, shard], "overlapping shards");
     // A Slurm array task picks its shard from the environment (task 2 of 1..3 is 2/3).
     let csv = tmp("slurm.csv");
     let out = homospline()
@@ -385,15 +373,11 @@ fn graphs_of_many_maps_go_to_a_directory_and_a_failed_write_is_not_bad_input() {
         assert!(dir.join(format!("{stem}.msgpack")).is_file(), "{stem}");
     }
     // Two inputs without --out-dir: usage.
-    let out = homospline()
-        .args([
-            "graph",
-            "fixtures/maps/movingai/maze-32-32-2.map",
-            "fixtures/maps/movingai/room-32-32-4.map",
-        ])
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
+    refused(&[
+        "graph",
+        "fixtures/maps/movingai/maze-32-32-2.map",
+        "fixtures/maps/movingai/room-32-32-4.map",
+    ]);
     // An output that cannot be written: exit 3, not 2.
     let out = homospline()
         .args(["plan", "--json", "/nonexistent-dir/plan.json"])

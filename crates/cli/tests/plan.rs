@@ -143,20 +143,14 @@ fn a_saved_graph_gives_the_same_plan() {
         run(&["--graph", g.to_str().unwrap()], &j2)
     );
     // A graph of another scene is refused.
-    let out = homospline()
-        .args([
+    assert_refused(
+        &[
             "plan",
             "fixtures/scenes/convex.yaml",
             "--graph",
             g.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        String::from_utf8(out.stderr)
-            .unwrap()
-            .contains("another start or goal")
+        ],
+        "another start or goal",
     );
 }
 
@@ -184,19 +178,12 @@ fn bad_options_exit_2_with_the_option_named() {
             "no/such.msgpack: cannot read",
         ),
     ] {
-        let out = homospline().args(&args).output().unwrap();
-        assert_eq!(out.status.code(), Some(2), "{args:?}");
-        let err = String::from_utf8(out.stderr).unwrap();
-        assert!(err.contains(needle), "{args:?}: {err}");
+        assert_refused(&args, needle);
     }
     // A file that is not a graph.
     let junk = tmp("junk.msgpack");
     std::fs::write(&junk, b"not a graph").unwrap();
-    let out = homospline()
-        .args(["plan", "--graph", junk.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
+    assert_refused(&["plan", "--graph", junk.to_str().unwrap()], "junk.msgpack");
 }
 
 #[test]
@@ -322,10 +309,7 @@ fn block_avoid_and_diverse_change_the_classes() {
         ),
         (vec!["plan", "--block", "5,47,3"], "--start/--goal/--block"),
     ] {
-        let out = homospline().args(&args).output().unwrap();
-        assert_eq!(out.status.code(), Some(2), "{args:?}");
-        let err = String::from_utf8(out.stderr).unwrap();
-        assert!(err.contains(msg), "{args:?}: {err}");
+        assert_refused(&args, msg);
     }
 }
 
@@ -385,17 +369,9 @@ fn prune_marks_the_stopped_classes_and_off_runs_every_class_to_its_end() {
     };
     assert_eq!(chosen(&p), chosen(&f));
     for bad in ["0.9", "none", "nan"] {
-        let out = homospline()
-            .args(["plan", "--prune", bad])
-            .output()
-            .unwrap();
-        assert_eq!(out.status.code(), Some(2), "{bad}");
-        let err = String::from_utf8(out.stderr).unwrap();
-        assert!(
-            err.contains(&format!(
-                "--prune {bad}: expected off or a ratio of at least 1"
-            )),
-            "{err}"
+        assert_refused(
+            &["plan", "--prune", bad],
+            &format!("--prune {bad}: expected off or a ratio of at least 1"),
         );
     }
 }
@@ -454,8 +430,8 @@ fn the_optimum_is_reported_and_never_above_a_class_length() {
             .get("optimum_length")
             .is_none()
     );
-    let map = homospline()
-        .args([
+    assert_refused(
+        &[
             "plan",
             "fixtures/maps/movingai/maze-32-32-2.map",
             "--start",
@@ -463,12 +439,9 @@ fn the_optimum_is_reported_and_never_above_a_class_length() {
             "--goal",
             "20,20",
             "--optimum",
-        ])
-        .current_dir(root())
-        .output()
-        .unwrap();
-    assert_eq!(map.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&map.stderr).contains("--optimum needs a scene of circles"));
+        ],
+        "--optimum needs a scene of circles",
+    );
 }
 
 /// `--clearance-search every-stretch` optimises every class against the clearance it has: on
@@ -503,13 +476,10 @@ fn clearance_search_every_stretch_keeps_every_class_at_its_target() {
         v["classes"][v["best"].as_u64().unwrap() as usize - 1]["signature"].clone()
     };
     assert_eq!(chosen(&d), chosen(&e));
-    let out = homospline()
-        .args(["plan", "--clearance-search", "exact"])
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8(out.stderr).unwrap();
-    assert!(err.contains("--clearance-search"), "{err}");
+    assert_refused(
+        &["plan", "--clearance-search", "exact"],
+        "--clearance-search",
+    );
 }
 
 #[test]
@@ -533,18 +503,12 @@ fn polish_lowers_the_chosen_class_and_refuses_bad_counts_and_maps() {
         cp["iterations"].as_u64().unwrap(),
         cd["iterations"].as_u64().unwrap() + 1
     );
-    let out = homospline()
-        .args(["plan", scene, "--polish", "11"])
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8(out.stderr).unwrap();
-    assert!(
-        err.contains("--polish 11: must be between 0 and 10"),
-        "{err}"
+    assert_refused(
+        &["plan", scene, "--polish", "11"],
+        "--polish 11: must be between 0 and 10",
     );
-    let out = homospline()
-        .args([
+    assert_refused(
+        &[
             "plan",
             "fixtures/maps/movingai/random-32-32-10.map",
             "--start",
@@ -553,10 +517,7 @@ fn polish_lowers_the_chosen_class_and_refuses_bad_counts_and_maps() {
             "30.5,2.5",
             "--polish",
             "1",
-        ])
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8(out.stderr).unwrap();
-    assert!(err.contains("--polish applies to scenes"), "{err}");
+        ],
+        "--polish applies to scenes",
+    );
 }

@@ -61,26 +61,14 @@ fn a_bad_world_file_names_the_file_line_and_field() {
         "scene: ../scenes/convex.yaml\nteam:\n  ugv: {speed: 0, sensor_range: 5}\n",
     )
     .unwrap();
-    let out = homospline()
-        .args(["simulate", bad.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8(out.stderr).unwrap();
-    assert!(
-        err.contains("bad-world.yaml:3: team.ugv.speed: 0 must be finite and > 0"),
-        "{err}"
+    assert_refused(
+        &["simulate", bad.to_str().unwrap()],
+        "bad-world.yaml:3: team.ugv.speed: 0 must be finite and > 0",
     );
     let missing = tmp("missing-scene.yaml");
     std::fs::write(&missing, "scene: nowhere.yaml\n").unwrap();
-    let out = homospline()
-        .args(["simulate", missing.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8(out.stderr).unwrap();
-    assert!(
-        err.contains("missing-scene.yaml: scene: cannot read"),
-        "{err}"
+    assert_refused(
+        &["simulate", missing.to_str().unwrap()],
+        "missing-scene.yaml: scene: cannot read",
     );
 }

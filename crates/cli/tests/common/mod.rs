@@ -33,6 +33,23 @@ pub fn assert_ok(out: &Output) {
     );
 }
 
+/// Runs `homospline args` and asserts a refusal of bad input: exit 2, nothing on stdout, no
+/// panic; returns stderr, which names the file or option and the problem.
+pub fn refused(args: &[&str]) -> String {
+    let out = homospline().args(args).output().unwrap();
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+    assert!(out.stdout.is_empty(), "{args:?}: nothing on stdout");
+    assert!(!err.contains("panicked"), "{args:?}: {err}");
+    err
+}
+
+/// [`refused`], with stderr holding `needle`.
+pub fn assert_refused(args: &[&str], needle: &str) {
+    let err = refused(args);
+    assert!(err.contains(needle), "{args:?}: {err}");
+}
+
 /// A JSON file, parsed.
 pub fn read_json(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
