@@ -62,6 +62,16 @@ pub struct GrowthConfig {
     /// L-BFGS stops when an iteration improves the value by less than this, relatively
     /// (default 1e-10: in practice it runs to its budget; a mission's re-plans take 1e-5).
     pub lbfgs_value_tolerance: Real,
+    /// A round that starts short of the guard's clearance target (the dm rule's) runs
+    /// Nelder-Mead whatever `optimizer` says (default `true`; it changes nothing for
+    /// Nelder-Mead). L-BFGS minimises the cost among curves no less clear than the round's
+    /// start ([`Guard::cost`]'s step at the target has no gradient), so it does not climb to
+    /// the target, and the class stays unsafe; the simplex ranks a curve short of the target
+    /// by its shortfall and climbs. With `--optimizer lbfgs` under the dm rule, narrow-pass
+    /// chose class `e` at cost 376 (its two other classes stuck at 2.86 and 2.94) and now
+    /// chooses `-1-2` at 130, as Nelder-Mead does (README, *Performance*, twentieth session).
+    /// Missions turn it off (`homospline_mission::MissionConfig`'s default, as measured there).
+    pub climb_by_simplex: bool,
 }
 
 impl GrowthConfig {
@@ -96,6 +106,7 @@ impl Default for GrowthConfig {
             step_fraction: 0.1,
             guard_samples: 8,
             lbfgs_value_tolerance: 1e-10,
+            climb_by_simplex: true,
         }
     }
 }
@@ -626,7 +637,12 @@ impl Growth {
             .saturating_mul(x0.len())
             .min(cfg.round_budget(self.points.len() - 1));
         let current = self.current;
-        let (x, value) = match cfg.optimizer {
+        let optimizer = if cfg.climb_by_simplex && current < guard.clearance_target {
+            Optimizer::NelderMead
+        } else {
+            cfg.optimizer
+        };
+        let (x, value) = match optimizer {
             Optimizer::NelderMead => {
                 let nm = NelderMead::new(x0.len())
                     .with_initial_step(vec![step; x0.len()])

@@ -166,6 +166,54 @@ fn lbfgs_option_gives_collision_free_classes_too() {
     }
 }
 
+/// Under the dm rule, L-BFGS rounds that start short of the target climb by Nelder-Mead
+/// (`GrowthConfig::climb_by_simplex`): L-BFGS alone leaves narrow-pass's classes `-2` and
+/// `-1-2` below dm (2.86 and 2.94), so the long class `e` ranks first at 2.9 times
+/// Nelder-Mead's cost. With the climb, the option chooses Nelder-Mead's class, as safe
+/// and within 2 % of its cost.
+#[test]
+fn lbfgs_rounds_short_of_the_target_climb_to_it() {
+    let scene = fixture_scenes()
+        .into_iter()
+        .find(|s| s.name == "narrow-pass")
+        .unwrap();
+    let lbfgs = |climb: bool| {
+        let cfg = PlanConfig {
+            growth: GrowthConfig {
+                optimizer: Optimizer::Lbfgs,
+                climb_by_simplex: climb,
+                ..GrowthConfig::default()
+            },
+            ..PlanConfig::default()
+        };
+        let p = plan(&scene, &cfg).unwrap();
+        p.classes[p.best.unwrap() - 1].clone()
+    };
+    let nm = plan(&scene, &PlanConfig::default()).unwrap();
+    let nm = &nm.classes[nm.best.unwrap() - 1];
+    let (climbed, stuck) = (lbfgs(true), lbfgs(false));
+    let dm = PlanConfig::default().growth.cost.dm;
+    assert!(
+        climbed.safe && climbed.certified_clearance >= dm,
+        "{} at {}",
+        climbed.signature,
+        climbed.certified_clearance
+    );
+    assert_eq!(climbed.signature, nm.signature);
+    assert!(
+        climbed.cost.total <= 1.02 * nm.cost.total,
+        "{} against {}",
+        climbed.cost.total,
+        nm.cost.total
+    );
+    assert!(
+        stuck.signature != nm.signature && stuck.cost.total > 2.0 * nm.cost.total,
+        "without the climb: {} at {}",
+        stuck.signature,
+        stuck.cost.total
+    );
+}
+
 /// The dm rule (method.md, note after (10)): on every paper scene the chosen class is
 /// certified at least `dm` clear; without the rule the penalty `D` alone leaves some below.
 #[test]
