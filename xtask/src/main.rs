@@ -7,6 +7,10 @@
 //! - `cargo xtask missions [--worlds N]` runs every scout policy on N generated worlds
 //!   (default 50) and prints the mission figures, and the share of single blockages that
 //!   leave another class open with and without `--diverse`.
+//! - `cargo xtask bench-against REV [--runs N] [FILTER]` runs the plan bench of revision REV
+//!   and of this checkout in turns (N rounds, default 3; criterion filter, default
+//!   `nelder-mead$`) and prints each bench's milliseconds and their ratio: how to read a time
+//!   target on a machine that is not the one it was set on ([`bench_against`]).
 //!
 //! Fixtures and their goldens:
 //! - `fixtures/scenes/NAME.yaml` -> `fixtures/golden/check/NAME.txt`: the summary that
@@ -27,6 +31,8 @@
 //!
 //! A mismatch prints a line diff and exits 1; `--bless` rewrites the goldens (review the diff
 //! with `git diff fixtures/` before committing).
+
+mod bench_against;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -60,6 +66,29 @@ fn main() -> ExitCode {
             };
             missions(worlds).map(|_| true)
         }
+        Some("bench-against") => {
+            let usage = "usage: cargo xtask bench-against REV [--runs N] [FILTER]";
+            let (mut rev, mut runs, mut filter) = (None, 3usize, "nelder-mead$".to_owned());
+            let mut rest = args[1..].iter();
+            while let Some(a) = rest.next() {
+                match a.as_str() {
+                    "--runs" => match rest.next().map(|n| n.parse::<usize>()) {
+                        Some(Ok(n)) if n > 0 => runs = n,
+                        _ => {
+                            eprintln!("{usage}: --runs needs a positive number");
+                            return ExitCode::from(2);
+                        }
+                    },
+                    _ if rev.is_none() => rev = Some(a.clone()),
+                    _ => filter = a.clone(),
+                }
+            }
+            let Some(rev) = rev else {
+                eprintln!("{usage}");
+                return ExitCode::from(2);
+            };
+            bench_against::run(&root(), &rev, runs, &filter).map(|_| true)
+        }
         Some("regress") => {
             let bless = match &args[1..] {
                 [] => false,
@@ -73,7 +102,7 @@ fn main() -> ExitCode {
         }
         _ => {
             eprintln!(
-                "usage: cargo xtask regress [--bless] | gen-scenes | gen-worlds | missions [--worlds N]"
+                "usage: cargo xtask regress [--bless] | gen-scenes | gen-worlds | missions [--worlds N] | bench-against REV [--runs N] [FILTER]"
             );
             return ExitCode::from(2);
         }
@@ -87,7 +116,10 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
         Err(e) => {
-            eprintln!("regress: error: {e:#}");
+            eprintln!(
+                "{}: error: {e:#}",
+                args.first().map_or("xtask", String::as_str)
+            );
             ExitCode::from(2)
         }
     }
