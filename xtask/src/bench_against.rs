@@ -5,7 +5,9 @@
 //! the same binary here reads 5 ms in one run and 6.3 ms in the next. What the code did is
 //! the ratio to a reference run beside it (the twentieth session checked issue 13's 5 ms
 //! against the code of the issue's day, b4711fd, this way). REV is checked out in a worktree
-//! under `target/bench-against/` with its own target directory; nothing else is touched.
+//! under `target/bench-against/` (registered with git, and kept for the next run) with its own
+//! target directory. The checkout's side is its working tree, uncommitted changes included;
+//! criterion's saved baselines of both are overwritten as by any bench run.
 
 use std::path::Path;
 use std::process::Command;
@@ -64,7 +66,9 @@ fn to_ms(unit: &str) -> Option<f64> {
 /// Runs the plan bench (criterion filter `filter`) in `dir`, with `target` as its target
 /// directory when given, and returns its estimates.
 fn plan_bench(dir: &Path, target: Option<&Path>, filter: &str) -> Result<Vec<(String, f64)>> {
-    let mut cmd = Command::new(env!("CARGO"));
+    // The cargo that runs xtask, else the one on the path.
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let mut cmd = Command::new(cargo);
     cmd.current_dir(dir).args([
         "bench",
         "-q",
@@ -122,7 +126,15 @@ pub fn run(root: &Path, rev: &str, runs: usize, filter: &str) -> Result<()> {
     let base = root.join("target").join("bench-against");
     let tree = base.join(short);
     if !tree.join("Cargo.toml").is_file() {
+        if tree.exists() {
+            bail!(
+                "{} exists but is not a checkout of {short}: remove it and run again",
+                tree.display()
+            );
+        }
         std::fs::create_dir_all(&base).with_context(|| format!("creating {}", base.display()))?;
+        // A worktree whose directory went with `cargo clean` is still registered.
+        git(&["worktree", "prune"])?;
         let path = tree.to_str().context("a worktree path that is not UTF-8")?;
         git(&["worktree", "add", "--detach", path, &commit])?;
     }
@@ -130,7 +142,7 @@ pub fn run(root: &Path, rev: &str, runs: usize, filter: &str) -> Result<()> {
     println!("plan bench, filter {filter:?}: {short} ({rev}) against this checkout, {runs} rounds");
     println!(
         "{:<36} {:>10} {:>10} {:>7}",
-        "bench", "REV ms", "HEAD ms", "ratio"
+        "bench", "REV ms", "this ms", "ratio"
     );
     let mut all: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
     for round in 1..=runs {
@@ -160,7 +172,7 @@ pub fn run(root: &Path, rev: &str, runs: usize, filter: &str) -> Result<()> {
     };
     for (name, v) in all {
         println!(
-            "{name:<36} REV {}  HEAD {}  ratio {}",
+            "{name:<36} REV {}  this {}  ratio {}",
             range(v.iter().map(|p| p.0).collect()),
             range(v.iter().map(|p| p.1).collect()),
             range(v.iter().map(|p| p.1 / p.0).collect())

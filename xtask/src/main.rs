@@ -69,7 +69,7 @@ fn main() -> ExitCode {
         Some("bench-against") => {
             let usage = "usage: cargo xtask bench-against REV [--runs N] [FILTER]";
             let (mut rev, mut runs, mut filter) = (None, 3usize, "nelder-mead$".to_owned());
-            let mut rest = args[1..].iter();
+            let (mut rest, mut filter_given) = (args[1..].iter(), false);
             while let Some(a) = rest.next() {
                 match a.as_str() {
                     "--runs" => match rest.next().map(|n| n.parse::<usize>()) {
@@ -79,8 +79,16 @@ fn main() -> ExitCode {
                             return ExitCode::from(2);
                         }
                     },
+                    flag if flag.starts_with('-') => {
+                        eprintln!("{usage}  (unknown option {flag:?})");
+                        return ExitCode::from(2);
+                    }
                     _ if rev.is_none() => rev = Some(a.clone()),
-                    _ => filter = a.clone(),
+                    _ if !filter_given => (filter, filter_given) = (a.clone(), true),
+                    _ => {
+                        eprintln!("{usage}  (unexpected {a:?})");
+                        return ExitCode::from(2);
+                    }
                 }
             }
             let Some(rev) = rev else {

@@ -68,7 +68,7 @@ pub struct GrowthConfig {
     /// start ([`Guard::cost`]'s step at the target has no gradient), so it does not climb to
     /// the target, and the class stays unsafe; the simplex ranks a curve short of the target
     /// by its shortfall and climbs. With `--optimizer lbfgs` under the dm rule, narrow-pass
-    /// chose class `e` at cost 376 (its two other classes stuck at 2.86 and 2.94) and now
+    /// chose class `e` at cost 376 (its two short classes stuck at 2.86 and 2.94) and now
     /// chooses `-1-2` at 130, as Nelder-Mead does (README, *Performance*, twentieth session).
     /// Missions turn it off (`homospline_mission::MissionConfig`'s default, as measured there).
     pub climb_by_simplex: bool,
