@@ -171,8 +171,10 @@ pub struct PlanConfig {
     /// first round cost 1.98 times the reference's won, and the plan chosen instead costs
     /// 1.4 % more), as do 1.4 to 1.75, while 1.25 changes three (one of them 45 % dearer)
     /// and 2 to 4 none; 1.5 saves 60 % of the evaluations there (2.5: 53 %), and on the
-    /// paper scenes 30 to 47 % of them (2.5: none on three of the five). Nelder-Mead only:
-    /// L-BFGS's rounds are too short for the barrier after the first round to pay. `None`
+    /// paper scenes 30 to 47 % of them (2.5: none on three of the five). With either
+    /// optimiser (L-BFGS plans take half the evaluations with it, the same chosen cost in 319
+    /// of 320 scanned scenes, one 6.8 % dearer; until the twentieth session Nelder-Mead's
+    /// only, when L-BFGS rounds were too short for the wait to pay). `None`
     /// runs every class to its end (a mission does: its other classes are its alternatives).
     /// Applies where the classes are optimised after the search (scenes), not to a map's
     /// classes, optimised while the search goes on.
@@ -710,12 +712,15 @@ pub fn plan_world(
                 |i: usize| -> Real { seeds[i].0.windows(2).map(|w| (w[1] - w[0]).norm()).sum() };
             order.sort_by(|&a, &b| seed_length(b).total_cmp(&seed_length(a)).then(a.cmp(&b)));
             let model = world.model;
-            // Pruning applies to Nelder-Mead: L-BFGS rounds are so short that waiting for the
-            // decision cost more than the rounds it saved (plan bench, with a barrier: 4 of
-            // the 5 paper scenes slower, narrow-pass 1.9 -> 2.7 ms).
-            let prune = cfg
-                .prune
-                .filter(|_| cfg.growth.optimizer == crate::Optimizer::NelderMead);
+            // Pruning applies to either optimiser. (It was Nelder-Mead's only while L-BFGS
+            // rounds were so short that waiting for the decision cost more than the rounds it
+            // saved. Since a round short of the dm target climbs by the simplex
+            // (`GrowthConfig::climb_by_simplex`), L-BFGS plans with pruning take half the
+            // evaluations, the same chosen cost in 319 of the 320 scenes of the budget scan
+            // (one 6.8 % dearer), and 1.5 to 2.7 ms against 2.0 to 3.9 on four paper scenes,
+            // two-homotopies 6.6 to 7.4 against 7.7 to 9.7: README, *Performance*, twentieth
+            // session.)
+            let prune = cfg.prune;
             // Successive halving: every class runs its first round (and is scored in its own
             // job), then the classes that cannot win stop ([`outclassed`]) and the others run
             // their rounds left. The decision depends on the first rounds only, not on the
