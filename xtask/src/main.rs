@@ -68,8 +68,8 @@ fn main() -> ExitCode {
         }
         Some("bench-against") => {
             let usage = "usage: cargo xtask bench-against REV [--runs N] [FILTER]";
-            let (mut rev, mut runs, mut filter) = (None, 3usize, "nelder-mead$".to_owned());
-            let (mut rest, mut filter_given) = (args[1..].iter(), false);
+            let (mut runs, mut positional) = (3usize, Vec::new());
+            let mut rest = args[1..].iter();
             while let Some(a) = rest.next() {
                 match a.as_str() {
                     "--runs" => match rest.next().map(|n| n.parse::<usize>()) {
@@ -83,19 +83,22 @@ fn main() -> ExitCode {
                         eprintln!("{usage}  (unknown option {flag:?})");
                         return ExitCode::from(2);
                     }
-                    _ if rev.is_none() => rev = Some(a.clone()),
-                    _ if !filter_given => (filter, filter_given) = (a.clone(), true),
-                    _ => {
-                        eprintln!("{usage}  (unexpected {a:?})");
-                        return ExitCode::from(2);
-                    }
+                    _ => positional.push(a.as_str()),
                 }
             }
-            let Some(rev) = rev else {
-                eprintln!("{usage}");
-                return ExitCode::from(2);
+            let (rev, filter) = match positional.as_slice() {
+                [rev] => (*rev, "nelder-mead$"),
+                [rev, filter] => (*rev, *filter),
+                [] => {
+                    eprintln!("{usage}");
+                    return ExitCode::from(2);
+                }
+                [_, _, extra, ..] => {
+                    eprintln!("{usage}  (unexpected {extra:?})");
+                    return ExitCode::from(2);
+                }
             };
-            bench_against::run(&root(), &rev, runs, &filter).map(|_| true)
+            bench_against::run(&root(), rev, runs, filter).map(|_| true)
         }
         Some("regress") => {
             let bless = match &args[1..] {

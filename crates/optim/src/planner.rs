@@ -712,16 +712,7 @@ pub fn plan_world(
                 |i: usize| -> Real { seeds[i].0.windows(2).map(|w| (w[1] - w[0]).norm()).sum() };
             order.sort_by(|&a, &b| seed_length(b).total_cmp(&seed_length(a)).then(a.cmp(&b)));
             let model = world.model;
-            // Pruning applies to either optimiser. (It was Nelder-Mead's only while L-BFGS
-            // rounds were so short that waiting for the decision cost more than the rounds it
-            // saved. Since a round short of the dm target climbs by the simplex
-            // (`GrowthConfig::climb_by_simplex`), L-BFGS plans with pruning take half the
-            // evaluations, the same chosen cost in 319 of the 320 scenes of the budget scan
-            // (one 6.8 % dearer), and 1.5 to 2.7 ms against 2.0 to 3.9 on four paper scenes,
-            // two-homotopies 6.6 to 7.4 against 7.7 to 9.7: README, *Performance*, twentieth
-            // session.)
-            let prune = cfg.prune;
-            // Successive halving: every class runs its first round (and is scored in its own
+            // Successive halving (`cfg.prune`, with either optimiser: its doc says why): every class runs its first round (and is scored in its own
             // job), then the classes that cannot win stop ([`outclassed`]) and the others run
             // their rounds left. The decision depends on the first rounds only, not on the
             // threads: the board ([`board`]) runs rounds ahead of it only on a core that
@@ -734,7 +725,7 @@ pub fn plan_world(
                 mut runs,
                 pruning,
             } = in_pool(pool.as_ref(), || {
-                board::run_classes(world, cfg, &seeds, raw, graph_cell, &order, prune)
+                board::run_classes(world, cfg, &seeds, raw, graph_cell, &order)
             });
             let run_left = |tasks: &mut Vec<(usize, ClassTask<'_>)>| {
                 in_pool(pool.as_ref(), || {

@@ -186,11 +186,10 @@ fn lbfgs_rounds_short_of_the_target_climb_to_it() {
             },
             ..PlanConfig::default()
         };
-        let p = plan(&scene, &cfg).unwrap();
-        p.classes[p.best.unwrap() - 1].clone()
+        plan(&scene, &cfg).unwrap().chosen().unwrap().clone()
     };
     let nm = plan(&scene, &PlanConfig::default()).unwrap();
-    let nm = &nm.classes[nm.best.unwrap() - 1];
+    let nm = nm.chosen().unwrap();
     let (climbed, stuck) = (lbfgs(true), lbfgs(false));
     let dm = PlanConfig::default().growth.cost.dm;
     assert!(

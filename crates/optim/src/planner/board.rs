@@ -79,8 +79,6 @@ struct Shop<'w> {
     /// The seeds are class paths, made into seeds on this cell in their first jobs.
     raw: Option<Real>,
     graph_cell: Option<Real>,
-    /// The pruning ratio, when classes may be stopped after their first round.
-    prune: Option<Real>,
     threads: usize,
     board: Mutex<Board<'w>>,
     /// One per slot: a round run ahead is not wanted.
@@ -88,8 +86,8 @@ struct Shop<'w> {
 }
 
 /// The classes `order` (seed indices, longest first) run to their ends and reported, on the
-/// current thread pool; with `raw`, each seed is first made from its class path
-/// ([`super::class_seed`]) in the class's first job.
+/// current thread pool, stopped after their first rounds by `cfg.prune`; with `raw`, each
+/// seed is first made from its class path ([`super::class_seed`]) in the class's first job.
 pub(super) fn run_classes<'w>(
     world: &'w World<'w>,
     cfg: &'w PlanConfig,
@@ -97,7 +95,6 @@ pub(super) fn run_classes<'w>(
     raw: Option<Real>,
     graph_cell: Option<Real>,
     order: &[usize],
-    prune: Option<Real>,
 ) -> Ran<'w> {
     let slots = order
         .iter()
@@ -119,11 +116,10 @@ pub(super) fn run_classes<'w>(
         seeds,
         raw,
         graph_cell,
-        prune,
         threads: rayon::current_num_threads().max(1),
         board: Mutex::new(Board {
             slots,
-            decided: prune.is_none(),
+            decided: cfg.prune.is_none(),
             pruning: None,
             active: 0,
         }),
@@ -290,7 +286,7 @@ fn execute<'w>(shop: &Shop<'w>, pos: usize, job: Job<'w>) -> (ClassTask<'w>, Don
                 shop.graph_cell,
             );
             let more = task.step(model);
-            let score = shop.prune.map(|_| task.score(class, model));
+            let score = shop.cfg.prune.map(|_| task.score(class, model));
             (task, Done::Start(more, score))
         }
         Job::Round { mut task, ahead } => {
@@ -327,6 +323,7 @@ fn finish<'w>(b: &mut Board<'w>, shop: &Shop<'w>, pos: usize, (task, done): (Cla
     if !b.decided && b.slots.iter().all(|s| s.started) {
         let scores: Vec<Option<Score>> = b.slots.iter().map(|s| s.score).collect();
         b.pruning = shop
+            .cfg
             .prune
             .and_then(|ratio| super::outclassed(&scores, ratio));
         if let Some(p) = &b.pruning {
