@@ -377,6 +377,13 @@ fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
             (r, t, j, svg)
         }
     };
+    if result.dt < cfg.dt {
+        say!(
+            "time step {} s: --dt {} refined so that no robot travels more than half its sensor range between two looks",
+            result.dt,
+            cfg.dt
+        );
+    }
     say_raw!("{text}");
     if let Some(p) = &a.json {
         write(p, "mission JSON", json.as_bytes())?;

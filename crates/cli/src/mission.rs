@@ -233,6 +233,7 @@ fn json_with(ugv_speed: Real, r: &MissionResult) -> String {
         "scouts": r.scouts,
         "reached": r.reached,
         "time": r.time,
+        "dt": r.dt,
         "ugv_distance": r.ugv_distance,
         "hindsight_length": r.hindsight_length,
         "distance_ratio": r.distance_ratio(),

@@ -72,3 +72,45 @@ fn a_bad_world_file_names_the_file_line_and_field() {
         "missing-scene.yaml: scene: cannot read",
     );
 }
+
+#[test]
+fn a_coarse_step_is_refined_and_said_so() {
+    // A UGV at 5 units/s with sensor range 6 and --dt 10 would move 50 units between two
+    // looks: it drove through the hidden blockage and reported the goal reached.
+    let world = tmp("fast-ugv.yaml");
+    let text = std::fs::read_to_string(root().join("fixtures/worlds/narrow-pass-blocked.yaml"))
+        .unwrap()
+        .replace("speed: 1.0", "speed: 5.0")
+        .replace(
+            "../scenes/",
+            &format!("{}/", root().join("fixtures/scenes").display()),
+        );
+    assert!(
+        text.contains("speed: 5.0"),
+        "the world's UGV speed moved: {text}"
+    );
+    std::fs::write(&world, text).unwrap();
+    let json = tmp("fast-ugv.json");
+    let out = homospline()
+        .args([
+            "simulate",
+            world.to_str().unwrap(),
+            "--policy",
+            "none",
+            "--dt",
+            "10",
+        ])
+        .args(["--json", json.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        stdout.contains("time step 0.6 s: --dt 10 refined"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("not on the map"), "{stdout}");
+    let v = read_json(&json);
+    assert_eq!(v["dt"], 0.6);
+    assert_eq!(v["reached"], true);
+}

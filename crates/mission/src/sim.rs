@@ -11,7 +11,7 @@ use homospline_spline::{CircleModel, ClearanceModel, EndCondition, Spline, evalu
 use thiserror::Error;
 
 use crate::map::{MapKnown, MapUpdate, MapWorld};
-use crate::world::{MissionWorld, Team, Uav};
+use crate::world::{MissionWorld, Team, Uav, Ugv};
 
 /// How the scouts are used.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -287,6 +287,9 @@ pub struct MissionResult {
     pub reached: bool,
     /// Seconds until the goal (or until the mission stopped).
     pub time: Real,
+    /// The time step the mission ran at: [`MissionConfig::dt`], or less where a robot would
+    /// travel more than half its sensor range between two looks ([`time_step`]).
+    pub dt: Real,
     /// Distance the UGV drove.
     pub ugv_distance: Real,
     /// Length of the best plan on the true world from the start (`None` if it has none).
@@ -466,6 +469,20 @@ impl Scout {
             self.track.samples.push((t, self.pos));
         }
     }
+}
+
+/// The time step a mission runs at: `requested` (`--dt`), refined where a robot would travel
+/// more than half its sensor range between two looks. The robots sense once per step, so a
+/// UGV stepping farther than its sensor range could drive through a hidden blockage it never
+/// saw; at half the range, everything the next step's stretch of route (and the robot's body
+/// around it, up to half the range wide) can touch was within range at the last look. A
+/// scout stepping farther than that would leave gaps in what it saw.
+pub fn time_step<'a>(requested: Real, ugv: &Ugv, uavs: impl IntoIterator<Item = &'a Uav>) -> Real {
+    std::iter::once((ugv.speed, ugv.sensor_range))
+        .chain(uavs.into_iter().map(|u| (u.speed, u.sensor_range)))
+        .filter(|&(speed, _)| speed > 0.0)
+        .map(|(speed, range)| 0.5 * range / speed)
+        .fold(requested, Real::min)
 }
 
 /// Seen from `p` within `range`: any circle of the obstacle comes that close.
@@ -844,11 +861,11 @@ fn run_mission<K: Known>(
     let max_time = cfg
         .max_time
         .unwrap_or_else(|| 20.0 * (goal - start).norm() / ugv.speed + 60.0);
-    if !(max_time.is_finite() && max_time > 0.0) || max_time / cfg.dt > MAX_STEPS {
+    let dt = time_step(cfg.dt, &ugv, scouts.iter().map(|sc| &sc.uav));
+    if !(max_time.is_finite() && max_time > 0.0) || max_time / dt > MAX_STEPS {
         return Err(MissionError::Config(format!(
-            "the mission would take {:.0} time steps (time limit {max_time:.0} s over --dt {}); at most {MAX_STEPS:.0}: raise --dt or the UGV's speed",
-            max_time / cfg.dt,
-            cfg.dt
+            "the mission would take {:.0} time steps (time limit {max_time:.0} s over a step of {dt} s); at most {MAX_STEPS:.0}: raise --dt or the UGV's speed, or lower its speed against its sensor range",
+            max_time / dt,
         )));
     }
     let mut run = Run {
@@ -885,6 +902,7 @@ fn run_mission<K: Known>(
             scouts: scouts.len(),
             reached,
             time: t,
+            dt,
             ugv_distance: driven,
             hindsight_length,
             replans,
@@ -950,9 +968,9 @@ fn run_mission<K: Known>(
     let mut standing = true;
     while t < max_time {
         if !standing {
-            t += cfg.dt;
+            t += dt;
             // Move.
-            let step = ugv.speed * cfg.dt;
+            let step = ugv.speed * dt;
             let left = route.line.length() - s;
             let moved = step.min(left);
             s += moved;
@@ -960,7 +978,7 @@ fn run_mission<K: Known>(
             let (pos, _) = route.line.at(s);
             ugv_track.samples.push((t, pos));
             for sc in &mut scouts {
-                sc.step(cfg.dt, t);
+                sc.step(dt, t);
             }
             if left <= step {
                 reached = true;

@@ -398,3 +398,47 @@ fn a_bad_re_plan_tolerance_is_refused() {
         assert!(e.contains("re-plan coarsening"), "{e}");
     }
 }
+
+#[test]
+fn a_fast_ugv_with_a_coarse_step_never_drives_through_what_it_has_not_seen() {
+    // At 5 units/s and --dt 10 the UGV would move 50 units between two looks, far past its
+    // sensor range (6): it drove through narrow-pass-blocked's hidden blockage and reported
+    // the goal reached. The step is now refined to half the range over the speed.
+    use homospline_spline::ClearanceModel;
+    for mut w in fixture_worlds() {
+        w.team.ugv.speed = 5.0;
+        let cfg = MissionConfig {
+            policy: Policy::None,
+            dt: 10.0,
+            ..MissionConfig::default()
+        };
+        let r = simulate(&w, &cfg).unwrap();
+        let limit = homospline_mission::time_step(10.0, &w.team.ugv, []);
+        assert!(
+            (r.dt - limit).abs() < 1e-12 && r.dt <= 0.5 * w.team.ugv.sensor_range / 5.0,
+            "{}: step {} (limit {limit})",
+            w.name,
+            r.dt
+        );
+        let track: Vec<_> = r.ugv.samples.iter().map(|(_, p)| *p).collect();
+        let truth = homospline_spline::CircleModel::new(w.truth.circles());
+        assert!(
+            truth.polyline_clearance(&track) > 0.0,
+            "{}: the UGV's track enters a true obstacle",
+            w.name
+        );
+        // What a fine step sees, the coarse one sees too.
+        let seen = |r: &MissionResult| {
+            r.events
+                .iter()
+                .any(|e| matches!(e.kind, EventKind::Discovered { hidden: true, .. }))
+        };
+        let fine = simulate(&w, &MissionConfig { dt: 0.1, ..cfg }).unwrap();
+        assert!(
+            !seen(&fine) || seen(&r),
+            "{}: the hidden obstacle seen at a fine step was never seen",
+            w.name
+        );
+        assert!(r.reached, "{}: not reached", w.name);
+    }
+}
