@@ -774,7 +774,7 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
     let (result, picture) = match &input {
         Input::Scene(scene) => {
             let saved = match &a.graph {
-                Some(p) => Some(load_graph(p, scene)?),
+                Some(p) => Some(load_graph(p, scene, &cfg)?),
                 None => None,
             };
             let result = plan_with_graph(scene, saved, &cfg)
@@ -840,14 +840,11 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
     })
 }
 
-fn load_graph(p: &Path, scene: &Scene) -> anyhow::Result<VoronoiGraph> {
+fn load_graph(p: &Path, scene: &Scene, cfg: &PlanConfig) -> anyhow::Result<VoronoiGraph> {
     let bytes = std::fs::read(p).map_err(|e| bad(format!("{}: cannot read: {e}", p.display())))?;
     let g = VoronoiGraph::from_msgpack(&bytes).map_err(|e| bad(format!("{}: {e}", p.display())))?;
-    if !homospline_optim::graph_fits(&g, scene) {
-        bail!(bad(format!(
-            "{}: the graph was built for another start or goal than this scene's",
-            p.display()
-        )));
+    if let Some(why) = homospline_optim::graph_misfit(&g, scene, cfg) {
+        bail!(bad(format!("{}: {why}", p.display())));
     }
     Ok(g)
 }

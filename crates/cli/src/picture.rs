@@ -707,6 +707,7 @@ mod tests {
                 start: None,
                 goal: None,
                 obstacles: vec![],
+                built_for: None,
             };
             let svg = graph_svg(&Background::Map(&m), &g);
             assert!(!svg.contains("fill=\"#555\""), "no cell rectangles");

@@ -152,6 +152,41 @@ fn a_saved_graph_gives_the_same_plan() {
         ],
         "another start or goal",
     );
+    // So is one of the same start and goal but other obstacles: a wall added across the
+    // scene gave "no collision-free class" (every class through the wall), an obstacle
+    // taken away a dearer class, both silently.
+    let text = std::fs::read_to_string(root().join(scene)).unwrap();
+    for (name, changed) in [
+        (
+            "walled.yaml",
+            text.replacen(
+                "obstacles:",
+                "obstacles:\n  - name: wall\n    circles: [[50, 20, 4], [50, 30, 4]]",
+                1,
+            ),
+        ),
+        ("inflated.yaml", format!("{text}\nrobot_radius: 0.5\n")),
+    ] {
+        assert_ne!(changed, text, "{name}: the scene was not changed");
+        let p = tmp(name);
+        std::fs::write(&p, changed).unwrap();
+        assert_refused(
+            &["plan", p.to_str().unwrap(), "--graph", g.to_str().unwrap()],
+            "built for another scene",
+        );
+    }
+    // And a resolution other than the graph's.
+    assert_refused(
+        &[
+            "plan",
+            scene,
+            "--graph",
+            g.to_str().unwrap(),
+            "--resolution",
+            "4",
+        ],
+        "built at 3 cells per unit, not at the 4",
+    );
 }
 
 #[test]

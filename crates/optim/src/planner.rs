@@ -451,24 +451,46 @@ pub fn plan(scene: &Scene, cfg: &PlanConfig) -> Result<Plan, PlanError> {
     plan_with_graph(scene, None, cfg)
 }
 
-/// Whether `graph` was built for `scene`'s start and goal (a saved graph must be).
-pub fn graph_fits(graph: &VoronoiGraph, scene: &Scene) -> bool {
+/// Why `graph` cannot be reused for `scene` under `cfg`, if it cannot: it was built for
+/// another start or goal, or from other geometry (bounds, circles or robot radius: a graph
+/// records them, [`homospline_voronoi::BuiltFor`]; one saved before they were recorded is
+/// checked by its start and goal only), or at another resolution than `cfg.resolution` asks.
+pub fn graph_misfit(graph: &VoronoiGraph, scene: &Scene, cfg: &PlanConfig) -> Option<String> {
     let at = |n: Option<usize>| n.and_then(|i| graph.nodes.get(i)).map(|n| n.at);
-    at(graph.start) == Some([scene.start.x, scene.start.y])
-        && at(graph.goal) == Some([scene.goal.x, scene.goal.y])
+    if at(graph.start) != Some([scene.start.x, scene.start.y])
+        || at(graph.goal) != Some([scene.goal.x, scene.goal.y])
+    {
+        return Some("the graph was built for another start or goal than this scene's".into());
+    }
+    if graph
+        .built_for
+        .as_ref()
+        .is_some_and(|b| *b != homospline_voronoi::BuiltFor::of(scene))
+    {
+        return Some(
+            "the graph was built for another scene: its bounds, obstacles or robot radius differ from this scene's"
+                .into(),
+        );
+    }
+    match cfg.resolution {
+        Some(r) if r != graph.resolution => Some(format!(
+            "the graph was built at {} cells per unit, not at the {r} asked for: leave --resolution out to reuse it",
+            graph.resolution
+        )),
+        _ => None,
+    }
 }
 
-/// Plans `scene`, reusing `graph` when given (built offline for this scene: refused if it
-/// was built for another start or goal).
+/// Plans `scene`, reusing `graph` when given (built offline for this scene: refused, with
+/// [`graph_misfit`]'s reason, if it was built for another scene, start or goal, or at
+/// another resolution than `cfg` asks).
 pub fn plan_with_graph(
     scene: &Scene,
     graph: Option<VoronoiGraph>,
     cfg: &PlanConfig,
 ) -> Result<Plan, PlanError> {
-    if graph.as_ref().is_some_and(|g| !graph_fits(g, scene)) {
-        return Err(PlanError::Config(
-            "the graph was built for another start or goal than this scene's".into(),
-        ));
+    if let Some(why) = graph.as_ref().and_then(|g| graph_misfit(g, scene, cfg)) {
+        return Err(PlanError::Config(why));
     }
     let circles = ExactCircles::new(scene.circles());
     let model = CircleModel::new(scene.circles());

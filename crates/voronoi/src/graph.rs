@@ -113,6 +113,37 @@ pub struct VoronoiGraph {
     /// The obstacles inside the wall, with representative points.
     #[serde(default)]
     pub obstacles: Vec<GridObstacle>,
+    /// For a scene's graph, the geometry it was built from ([`crate::build`]), so that a saved
+    /// graph is not reused on another scene; `None` for a map's graph (checked by its
+    /// obstacles and resolution) and for graphs saved before it was recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub built_for: Option<BuiltFor>,
+}
+
+/// The geometry a scene's Voronoi graph depends on: the bounds (the grid's wall) and the
+/// circles inflated by the robot radius, in the scene's order. Compared exactly: a graph
+/// read back is reused only on the scene it was built for.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BuiltFor {
+    /// `[[min x, min y], [max x, max y]]`.
+    pub bounds: [[Real; 2]; 2],
+    /// `[x, y, r]`, inflated by the robot radius.
+    pub circles: Vec<[Real; 3]>,
+}
+
+impl BuiltFor {
+    /// What a graph of `scene` is built from.
+    pub fn of(scene: &homospline_geom::Scene) -> Self {
+        let b = scene.bounds;
+        Self {
+            bounds: [[b.min.x, b.min.y], [b.max.x, b.max.y]],
+            circles: scene
+                .circles()
+                .iter()
+                .map(|c| [c.center.x, c.center.y, c.radius])
+                .collect(),
+        }
+    }
 }
 
 /// Why a graph cannot be made.
@@ -170,6 +201,7 @@ impl VoronoiGraph {
             start: None,
             goal: None,
             obstacles: GridObstacle::of_field(grid, field),
+            built_for: None,
         };
         if let (Some(s), Some(t)) = (start, goal)
             && let Some(connector) = join_directly(&cg, &mut g, s, t)?

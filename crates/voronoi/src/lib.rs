@@ -36,7 +36,9 @@ mod trace;
 
 pub use attach::{MapGraph, build_complete, complete_graph};
 pub use field::{DistanceField, UpdateError};
-pub use graph::{Adjacency, Edge, GraphError, GridObstacle, Node, NodeKind, VoronoiGraph};
+pub use graph::{
+    Adjacency, BuiltFor, Edge, GraphError, GridObstacle, Node, NodeKind, VoronoiGraph,
+};
 pub use grid::{Grid, GridError};
 
 use homospline_geom::{Real, Scene};
@@ -82,5 +84,6 @@ pub fn build(
     };
     // A thousandth of a cell of clearance for every point moved out of a circle.
     exact::keep_out_of_circles(&mut graph, &scene.circle_set(), 1e-3 / resolution);
+    graph.built_for = Some(BuiltFor::of(scene));
     Ok((grid, field, graph))
 }

@@ -300,6 +300,7 @@ pub fn trace(grid: &Grid, field: &DistanceField, keep: &[bool]) -> VoronoiGraph 
         start: None,
         goal: None,
         obstacles: GridObstacle::of_field(grid, field),
+        built_for: None,
     }
 }
 

@@ -91,6 +91,7 @@ fn short_dead_end_spurs_are_pruned_and_long_ones_kept() {
         start: Some(0),
         goal: Some(2),
         obstacles: vec![],
+        built_for: None,
     };
     g.prune_spurs(2.0);
     // The spur's tip goes first, then the edge it leaves dangling; the long spur stays.
