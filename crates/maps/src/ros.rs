@@ -127,6 +127,25 @@ pub fn read_map(
             format!("image size {w} x {h} is not supported"),
         ));
     }
+    // As for a scene's coordinates: far beyond any map, and small enough for the planner's
+    // arithmetic (a resolution of 1e300 hung it, 1e9 asked for 104 GB of path samples).
+    let extent = yaml.resolution * w.max(h) as f64;
+    let far = yaml.origin[0].abs().max(yaml.origin[1].abs()) + extent;
+    if !(far <= homospline_geom::scene::MAX_MAGNITUDE) {
+        return Err(err(
+            yaml_source,
+            None,
+            format!(
+                "resolution: {:e} m per cell over {} x {} cells from origin [{}, {}] reaches {far:e}; coordinates must stay within {:e}",
+                yaml.resolution,
+                w,
+                h,
+                yaml.origin[0],
+                yaml.origin[1],
+                homospline_geom::scene::MAX_MAGNITUDE
+            ),
+        ));
+    }
     let mut occupied = vec![true; w * h];
     for (col, row, px) in gray.enumerate_pixels() {
         let mut p = px.0[0] as f64 / 255.0;

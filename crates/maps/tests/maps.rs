@@ -120,6 +120,30 @@ fn malformed_maps_are_named_errors() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("corrupt.pgm: cannot decode the image"), "{e}");
+    // A resolution or origin that puts the map beyond the scenes' coordinate limit (1e9):
+    // a resolution of 1e300 hung the planner, 1e9 asked for 104 GB of path samples.
+    let path = fixture("ros/turtlebot3_world/map.yaml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let img = fixture("ros/turtlebot3_world/map.pgm");
+    let bytes = std::fs::read(&img).unwrap();
+    for (from, to) in [
+        ("resolution: 0.050000", "resolution: 1e300"),
+        ("resolution: 0.050000", "resolution: 1e7"),
+        ("origin: [-10.000000", "origin: [-2e9"),
+    ] {
+        let changed = text.replace(from, to);
+        assert_ne!(changed, text, "{to}: the YAML was not changed");
+        let yaml = ros::read_yaml(&changed, &path).unwrap();
+        let e = ros::read_map(&yaml, &path, &bytes, &img)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("coordinates must stay within 1e9"), "{to}: {e}");
+    }
+    let yaml = ros::read_yaml(&text.replace("0.050000", "1e4"), &path).unwrap();
+    assert!(
+        ros::read_map(&yaml, &path, &bytes, &img).is_ok(),
+        "1e4 m per cell reads"
+    );
 }
 
 #[test]

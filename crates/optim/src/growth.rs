@@ -309,9 +309,16 @@ pub fn admissible(spline: &Spline, guard: &Guard<'_>, samples_per_segment: usize
     }
 }
 
-/// Spacing of the reported path's samples along a curve of length `length`.
+/// Samples along a reported path, at most, before each segment's rounding up and the
+/// refinement around its least clearance ([`report_spacing`]; together below twice this).
+pub const MAX_REPORT_SAMPLES: Real = 100_000.0;
+
+/// Spacing of the reported path's samples along a curve of length `length`: a thousandth of
+/// it, at most half a unit (two samples per cell of a map), but no finer than
+/// [`MAX_REPORT_SAMPLES`] along the curve: a scene of kilometres in metres has paths
+/// of millions of half units (at 1e7 units across, 4.7 GB of samples and no end).
 pub fn report_spacing(length: Real) -> Real {
-    (length / 1000.0).min(0.5)
+    (length / 1000.0).min(0.5).max(length / MAX_REPORT_SAMPLES)
 }
 
 /// Whether the curve stays inside `bounds`: certified per segment by its Bezier control box,

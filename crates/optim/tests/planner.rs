@@ -16,7 +16,8 @@ fn check_path(scene: &Scene, plan: &Plan) {
         let path = &c.path;
         assert_eq!(path[0], scene.start);
         assert_eq!(*path.last().unwrap(), scene.goal);
-        let spacing = (c.length / 1000.0).min(0.5);
+        // A thousandth of the length, at most half a unit, at least 1e-5 of the length.
+        let spacing = (c.length / 1000.0).min(0.5).max(c.length / 1e5);
         assert!(
             path.windows(2)
                 .all(|w| (w[1] - w[0]).norm() <= spacing * (1.0 + 1e-9)),
@@ -406,4 +407,27 @@ fn polish_lowers_only_the_chosen_class_and_keeps_it_first_and_safe() {
         "polish: {polished_any} chosen classes cheaper of {}",
         3 * scenes.len()
     );
+}
+
+#[test]
+fn a_scene_kilometres_across_in_small_units_gets_a_bounded_report() {
+    // The reported path was sampled every half unit however long the curve: a scene of
+    // 2e8 units (valid: coordinates up to 1e9) asked for 5 GB of samples and aborted.
+    let text = "name: vast\nbounds: {min: [-1e8, -1e8], max: [1e8, 1e8]}\n\
+                start: [-9e7, 0]\ngoal: [9e7, 0]\nobstacles:\n  - name: hill\n    circles: [[0, 0, 1e7]]\n";
+    let scene = Scene::from_str(text, "vast.yaml").unwrap();
+    let p = plan(&scene, &PlanConfig::default()).unwrap();
+    assert!(!p.classes.is_empty());
+    for c in &p.classes {
+        assert!(
+            // The spacing is bounded; each segment's rounding up and the refinement around
+            // the least clearance add up to half as many again.
+            c.path.len() <= 2 * homospline_optim::growth::MAX_REPORT_SAMPLES as usize,
+            "{}: {} samples",
+            c.signature,
+            c.path.len()
+        );
+        assert!(c.length > 1.8e8, "{}: length {}", c.signature, c.length);
+    }
+    check_path(&scene, &p);
 }
