@@ -97,8 +97,13 @@ pub fn plan_config(o: &PlanOptions, scene: Option<&Scene>) -> Result<PlanConfig,
             return Err(format!("--resolution {r}: must be positive"));
         }
     }
-    if o.threads == Some(0) {
-        return Err("--threads 0: must be at least 1".into());
+    if let Some(n) = o.threads
+        && !(1..=homospline_optim::planner::MAX_THREADS).contains(&n)
+    {
+        return Err(format!(
+            "--threads {n}: must be between 1 and {}",
+            homospline_optim::planner::MAX_THREADS
+        ));
     }
     let base = match scene {
         Some(_) => PlanConfig::default(),

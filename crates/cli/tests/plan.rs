@@ -207,6 +207,24 @@ fn bad_options_exit_2_with_the_option_named() {
         ),
         (vec!["plan", "--classes", "0"], "--classes 0"),
         (vec!["plan", "--resolution", "0"], "--resolution 0"),
+        // Found by an adversarial run: each of these was accepted.
+        (
+            vec!["plan", "--threads", "5000"],
+            "--threads 5000: must be between 1 and 256",
+        ),
+        (
+            vec!["plan", "--weight", "dm=-5"],
+            "parameter dm must be finite and >= 0, got -5",
+        ),
+        (
+            vec![
+                "plan",
+                "fixtures/scenes/narrow-pass.yaml",
+                "--resolution",
+                "0.05",
+            ],
+            "5 cells along the scene's longer side (at least 16)",
+        ),
         (vec!["plan", "no/such.yaml"], "no/such.yaml: cannot read"),
         (
             vec!["plan", "--graph", "no/such.msgpack"],

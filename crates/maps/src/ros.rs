@@ -131,7 +131,7 @@ pub fn read_map(
     // arithmetic (a resolution of 1e300 hung it, 1e9 asked for 104 GB of path samples).
     let extent = yaml.resolution * w.max(h) as f64;
     let far = yaml.origin[0].abs().max(yaml.origin[1].abs()) + extent;
-    if !(far <= homospline_geom::scene::MAX_MAGNITUDE) {
+    if far.is_nan() || far > homospline_geom::scene::MAX_MAGNITUDE {
         return Err(err(
             yaml_source,
             None,

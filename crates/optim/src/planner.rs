@@ -133,7 +133,8 @@ pub struct PlanConfig {
     pub search: SearchConfig,
     /// Growth loop and cost.
     pub growth: GrowthConfig,
-    /// Worker threads; `None` uses rayon's default. The result is the same for any count.
+    /// Worker threads, 1 to [`MAX_THREADS`]; `None` uses rayon's default. The result is the
+    /// same for any count.
     pub threads: Option<usize>,
     /// Tolerance of the certified clearance, map units.
     pub certify_tolerance: Real,
@@ -515,6 +516,10 @@ pub fn plan_with_graph(
     )
 }
 
+/// Most worker threads a plan may ask for ([`PlanConfig::threads`]): far beyond the
+/// classes a plan has, and a pool of 5,000 threads took longer to start than 20 s.
+pub const MAX_THREADS: usize = 256;
+
 /// Plans in `world`; `graph` gives the Voronoi graph (with start and goal attached) when the
 /// Voronoi seed asks for it.
 pub fn plan_world(
@@ -524,6 +529,13 @@ pub fn plan_world(
 ) -> Result<Plan, PlanError> {
     if cfg.classes == 0 {
         return Err(PlanError::Config("classes must be at least 1".into()));
+    }
+    if let Some(n) = cfg.threads
+        && !(1..=MAX_THREADS).contains(&n)
+    {
+        return Err(PlanError::Config(format!(
+            "threads must be between 1 and {MAX_THREADS}, got {n}"
+        )));
     }
     if !(cfg.clearance_floor.is_finite() && cfg.clearance_floor >= 0.0) {
         return Err(PlanError::Config(format!(

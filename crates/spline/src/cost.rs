@@ -233,8 +233,8 @@ pub const TERMS: [Term; 11] = [
 pub enum Rule {
     /// Finite and `> 0`.
     Positive,
-    /// Finite.
-    Finite,
+    /// Finite and `>= 0` (a negative `dm` marked colliding classes safe).
+    NonNegative,
 }
 
 /// One real parameter of the cost that [`CostConfig::set`] can change.
@@ -258,7 +258,7 @@ pub const PARAMETERS: [Parameter; 6] = [
     },
     Parameter {
         name: "dm",
-        rule: Rule::Finite,
+        rule: Rule::NonNegative,
         get: |c| c.dm,
         get_mut: |c| &mut c.dm,
     },
@@ -434,8 +434,12 @@ impl CostConfig {
                         v,
                     ));
                 }
-                Rule::Finite if !v.is_finite() => {
-                    return Err(CostConfigError::Parameter(p.name, "must be finite", v));
+                Rule::NonNegative if !(v.is_finite() && v >= 0.0) => {
+                    return Err(CostConfigError::Parameter(
+                        p.name,
+                        "must be finite and >= 0",
+                        v,
+                    ));
                 }
                 _ => {}
             }

@@ -6,12 +6,27 @@ use thiserror::Error;
 /// Largest grid, in cells, the field can label exactly (keys are raster indices below 2^25).
 pub const MAX_CELLS: usize = 1 << 25;
 
+/// Fewest cells a scene's grid may have along the longer side of its bounds: coarser, the
+/// grid no longer sees the scene (at 3 x 3 cells the graph's nodes lay far outside the
+/// bounds, and at 5 cells across a scene of a hundred units it had no path).
+pub const MIN_CELLS_ACROSS: usize = 16;
+
 /// Why a grid cannot be made.
 #[derive(Debug, Error, PartialEq)]
 pub enum GridError {
     /// Resolution not positive and finite.
     #[error("resolution must be positive and finite, got {0}")]
     Resolution(Real),
+    /// Too few cells along the scene's longer side.
+    #[error(
+        "the grid would have {cells} cells along the scene's longer side (at least {min}): raise the resolution"
+    )]
+    TooCoarse {
+        /// Cells along the longer side.
+        cells: usize,
+        /// The limit.
+        min: usize,
+    },
     /// Too many cells.
     #[error(
         "the grid would have {cells} cells (at most {max} are supported): lower the resolution"
@@ -103,6 +118,12 @@ impl Grid {
         let ext = scene.bounds.extent();
         let w = (ext.x / h).ceil();
         let hh = (ext.y / h).ceil();
+        if w.max(hh) < MIN_CELLS_ACROSS as Real {
+            return Err(GridError::TooCoarse {
+                cells: w.max(hh) as usize,
+                min: MIN_CELLS_ACROSS,
+            });
+        }
         if w * hh > MAX_CELLS as Real {
             return Err(GridError::TooLarge {
                 cells: (w * hh).min(usize::MAX as Real) as usize,
