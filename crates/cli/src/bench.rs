@@ -33,9 +33,13 @@ pub struct BenchJob {
 pub struct BenchInfo {
     /// The `.scen` files, directories expanded.
     pub files: Vec<PathBuf>,
-    /// Scenarios picked over all files (before sharding).
+    /// How many scenarios, over all files, the run picked its rows from: every scenario of
+    /// the files with `sample` or with neither option, the first `limit` of each file with
+    /// `limit`. The rows are those picked (`sample`: spread over every bucket), and with a
+    /// shard its slice of them: a run's message reads "ROWS of PICKED scenarios picked".
     pub picked: usize,
-    /// Each map prepared, with its size.
+    /// Each map the files' scenarios name, with its size: every one is read and checked
+    /// against the sizes its scenarios declare; those this shard plans on are prepared.
     pub maps: Vec<String>,
     /// Time spent preparing maps, ms.
     pub prepare_ms: f64,
@@ -52,9 +56,12 @@ pub fn files_in(dir: &Path, ext: &str) -> Result<Vec<PathBuf>, String> {
     Ok(v)
 }
 
-/// The `.scen` files named: files as given, directories expanded (sorted).
+/// The `.scen` files named: files as given, directories expanded (sorted). A file named
+/// twice (the same canonical path, given again, through another spelling or inside a
+/// directory given) is refused: its scenarios would be planned twice, and `bench-merge`
+/// refuses a CSV that holds a scenario twice.
 pub fn scen_files(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
-    let mut out = Vec::new();
+    let mut out: Vec<PathBuf> = Vec::new();
     for p in paths {
         if p.is_dir() {
             let v = files_in(p, "scen")?;
@@ -64,6 +71,23 @@ pub fn scen_files(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
             out.extend(v);
         } else {
             out.push(p.clone());
+        }
+    }
+    let mut seen: BTreeMap<PathBuf, &Path> = BTreeMap::new();
+    for f in &out {
+        let canonical = f
+            .canonicalize()
+            .map_err(|e| format!("{}: cannot read: {e}", f.display()))?;
+        if let Some(first) = seen.insert(canonical, f) {
+            let also = if first == f.as_path() {
+                String::new()
+            } else {
+                format!(" (as {})", first.display())
+            };
+            return Err(format!(
+                "{}: the same .scen file is given twice{also}: its scenarios would be planned twice",
+                f.display()
+            ));
         }
     }
     Ok(out)
@@ -105,26 +129,51 @@ pub fn run_files(
     let files = scen_files(&job.files)?;
     let mut items: Vec<(usize, usize)> = Vec::new();
     let mut scenarios = Vec::new();
+    let mut picked = 0;
     for (f, path) in files.iter().enumerate() {
         let name = path.display().to_string();
         let text =
             std::fs::read_to_string(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
         let scen = movingai::read_scen(&text, &name).map_err(|e| e.to_string())?;
-        let picked: Vec<usize> = match (job.limit, job.sample) {
-            (Some(n), _) => (0..n.min(scen.len())).collect(),
-            (_, Some(n)) => bench::sample_indices(scen.len(), n),
-            _ => (0..scen.len()).collect(),
+        let (from, chosen): (usize, Vec<usize>) = match (job.limit, job.sample) {
+            (Some(n), _) => (n.min(scen.len()), (0..n.min(scen.len())).collect()),
+            (_, Some(n)) => (scen.len(), bench::sample_indices(scen.len(), n)),
+            _ => (scen.len(), (0..scen.len()).collect()),
         };
-        items.extend(picked.into_iter().map(|k| (f, k)));
+        picked += from;
+        items.extend(chosen.into_iter().map(|k| (f, k)));
         scenarios.push(scen);
     }
-    let picked = items.len();
     let items: Vec<(usize, usize)> = items
         .into_iter()
         .enumerate()
         .filter(|(i, _)| job.shard.takes(*i))
         .map(|(_, x)| x)
         .collect();
+    // Every map the files name is read, and every scenario checked against it, whatever this
+    // shard plans: each shard of a sweep refuses the same input. Only the maps this shard
+    // plans on are prepared.
+    let mut read: BTreeMap<PathBuf, homospline_maps::OccupancyMap> = BTreeMap::new();
+    for (f, scen) in scenarios.iter().enumerate() {
+        let name = files[f].display().to_string();
+        for s in scen {
+            let map_path = map_beside(&files[f], &s.map);
+            if !read.contains_key(&map_path) {
+                let text = std::fs::read_to_string(&map_path).map_err(|e| {
+                    format!(
+                        "{name}:{}: its map {}: cannot read: {e}",
+                        s.line,
+                        map_path.display()
+                    )
+                })?;
+                let map = movingai::read_map(&text, &map_path.display().to_string())
+                    .map_err(|e| e.to_string())?;
+                read.insert(map_path.clone(), map);
+            }
+            s.check_map_size(&name, &read[&map_path], &map_path.display().to_string())
+                .map_err(|e| e.to_string())?;
+        }
+    }
     let mut maps: BTreeMap<PathBuf, PreparedMap> = BTreeMap::new();
     let mut prepare_ms = 0.0;
     for &(f, k) in &items {
@@ -132,17 +181,8 @@ pub fn run_files(
         if maps.contains_key(&map_path) {
             continue;
         }
-        let text = std::fs::read_to_string(&map_path).map_err(|e| {
-            format!(
-                "{}: its map {}: cannot read: {e}",
-                files[f].display(),
-                map_path.display()
-            )
-        })?;
-        let map = movingai::read_map(&text, &map_path.display().to_string())
-            .map_err(|e| e.to_string())?;
         let t = std::time::Instant::now();
-        let prepared = PreparedMap::new(&map).map_err(|e| e.to_string())?;
+        let prepared = PreparedMap::new(&read[&map_path]).map_err(|e| e.to_string())?;
         prepare_ms += t.elapsed().as_secs_f64() * 1e3;
         maps.insert(map_path, prepared);
     }
@@ -155,9 +195,9 @@ pub fn run_files(
         progress(done + 1, items.len());
     }
     let info = BenchInfo {
-        maps: maps
+        maps: read
             .values()
-            .map(|m| format!("{} ({} x {})", m.name, m.map().width, m.map().height))
+            .map(|m| format!("{} ({} x {})", m.name, m.width, m.height))
             .collect(),
         files,
         picked,
@@ -178,10 +218,11 @@ pub fn csv_text(rows: &[Row]) -> String {
 }
 
 /// The rows of several CSV texts (shards of one sweep), sorted by file and scenario; a
-/// scenario in two of them is refused. `names` name the texts in errors.
+/// scenario in two of them, or twice in one, is refused. `names` name the texts in errors.
 pub fn rows_of_named(texts: &[(String, String)]) -> Result<Vec<Row>, String> {
-    let mut rows = Vec::new();
-    for (name, text) in texts {
+    // Each row with the text and line it came from.
+    let mut rows: Vec<(Row, usize, usize)> = Vec::new();
+    for (t, (name, text)) in texts.iter().enumerate() {
         let mut lines = text.lines();
         match lines.next() {
             Some(h) if h.trim() == CSV_HEADER => {}
@@ -195,20 +236,36 @@ pub fn rows_of_named(texts: &[(String, String)]) -> Result<Vec<Row>, String> {
             if l.trim().is_empty() {
                 continue;
             }
-            rows.push(Row::from_csv(l, name, i + 2).map_err(|e| e.to_string())?);
+            let row = Row::from_csv(l, name, i + 2).map_err(|e| e.to_string())?;
+            rows.push((row, t, i + 2));
         }
     }
-    rows.sort_by(|a, b| a.file.cmp(&b.file).then(a.index.cmp(&b.index)));
+    rows.sort_by(|(a, ..), (b, ..)| a.file.cmp(&b.file).then(a.index.cmp(&b.index)));
     if let Some(w) = rows
         .windows(2)
-        .find(|w| w[0].file == w[1].file && w[0].index == w[1].index)
+        .find(|w| w[0].0.file == w[1].0.file && w[0].0.index == w[1].0.index)
     {
-        return Err(format!(
-            "scenario {} of {} is in more than one CSV: overlapping shards?",
-            w[0].index, w[0].file
-        ));
+        let ((row, t0, l0), (_, t1, l1)) = (&w[0], &w[1]);
+        // Sorting is stable: the first of the two comes first.
+        let (first, again) = (&texts[*t0].0, &texts[*t1].0);
+        return Err(if t0 == t1 {
+            format!(
+                "{again}:{l1}: scenario {} of {} is also at line {l0} of the same CSV",
+                row.index, row.file
+            )
+        } else {
+            let twice = if first == again {
+                "; the same CSV given twice?"
+            } else {
+                ""
+            };
+            format!(
+                "{again}:{l1}: scenario {} of {} is in more than one CSV (also {first}:{l0}{twice}): overlapping shards?",
+                row.index, row.file
+            )
+        });
     }
-    Ok(rows)
+    Ok(rows.into_iter().map(|(r, ..)| r).collect())
 }
 
 /// [`rows_of_named`] for unnamed texts (`csv 1`, `csv 2`, ...).

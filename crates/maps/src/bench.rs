@@ -60,6 +60,26 @@ pub struct Row {
 /// The CSV header of [`Row::to_csv`].
 pub const CSV_HEADER: &str = "file,index,line,bucket,start_x,start_y,goal_x,goal_y,optimal,length,ratio,clearance,classes,success,time_ms,outcome";
 
+/// The columns of [`CSV_HEADER`], in order.
+const COLUMNS: [&str; 16] = [
+    "file",
+    "index",
+    "line",
+    "bucket",
+    "start_x",
+    "start_y",
+    "goal_x",
+    "goal_y",
+    "optimal",
+    "length",
+    "ratio",
+    "clearance",
+    "classes",
+    "success",
+    "time_ms",
+    "outcome",
+];
+
 impl Row {
     /// A collision-free plan within the time limit.
     pub fn success(&self) -> bool {
@@ -119,65 +139,186 @@ impl Row {
         )
     }
 
-    /// Reads a line written by [`Row::to_csv`]; `source` and `line` name it in errors.
+    /// Reads a line written by [`Row::to_csv`]; `source` and `line` name it in errors, as
+    /// `source:line: column: problem`. Every field is checked as the writer writes it:
+    /// counts, finite non-negative numbers, `NaN` where there is no value, `true` or `false`;
+    /// and the columns that follow from others must agree with them (`ratio` is
+    /// `length / optimal`, `success` is `true` for `ok` only, `classes` is the count in the
+    /// outcome of a scenario with no collision-free class and 0 otherwise).
     pub fn from_csv(text: &str, source: &str, line: usize) -> Result<Self, MapError> {
-        let err = |problem: String| MapError::Format {
+        let at = |problem: String| MapError::Format {
             source_name: source.to_owned(),
             line: Some(line),
             problem,
         };
-        let f: Vec<&str> = text.split(',').collect();
-        if f.len() != 16 {
-            return Err(err(format!(
-                "expected 16 fields ({CSV_HEADER}), got {}",
-                f.len()
+        let raw: Vec<&str> = text.split(',').collect();
+        if raw.len() != COLUMNS.len() {
+            return Err(at(format!(
+                "expected {} fields ({CSV_HEADER}), got {}",
+                COLUMNS.len(),
+                raw.len()
             )));
         }
-        let num = |i: usize, what: &str| -> Result<f64, MapError> {
-            f[i].trim()
-                .parse::<f64>()
-                .map_err(|_| err(format!("{what}: '{}' is not a number", f[i])))
+        let f: Vec<&str> = raw.iter().map(|x| x.trim()).collect();
+        let err = |i: usize, problem: String| at(format!("{}: {problem}", COLUMNS[i]));
+        let number = |i: usize| -> Result<f64, MapError> {
+            f[i].parse::<f64>()
+                .map_err(|_| err(i, format!("'{}' is not a number", f[i])))
         };
-        let int = |i: usize, what: &str| -> Result<usize, MapError> {
-            f[i].trim()
-                .parse::<usize>()
-                .map_err(|_| err(format!("{what}: '{}' is not a count", f[i])))
+        // A finite number >= 0.
+        let amount = |i: usize| -> Result<f64, MapError> {
+            let v = number(i)?;
+            if v.is_finite() && v >= 0.0 {
+                Ok(v)
+            } else {
+                Err(err(
+                    i,
+                    format!("'{}' is not a finite non-negative number", f[i]),
+                ))
+            }
         };
-        let what = f[15].trim();
+        // No value: `NaN`, as the writer writes it.
+        let nothing = |i: usize, why: &str| -> Result<(), MapError> {
+            if number(i)?.is_nan() {
+                Ok(())
+            } else {
+                Err(err(
+                    i,
+                    format!("'{}' given, but {why} (the writer writes NaN)", f[i]),
+                ))
+            }
+        };
+        let count = |i: usize| -> Result<usize, MapError> {
+            f[i].parse::<usize>()
+                .map_err(|_| err(i, format!("'{}' is not a count", f[i])))
+        };
+        let file = raw[0];
+        if f[0].is_empty() {
+            return Err(err(0, "empty: a scenario file is needed".into()));
+        }
+        let index = count(1)?;
+        let at_line = count(2)?;
+        if at_line <= index {
+            return Err(err(
+                2,
+                format!(
+                    "{at_line} cannot hold scenario {index} (1-based lines, one scenario a line: the line is more than the index)"
+                ),
+            ));
+        }
+        let bucket = f[3]
+            .parse::<u32>()
+            .map_err(|_| err(3, format!("'{}' is not a bucket number", f[3])))?;
+        let start = Point::new(amount(4)?, amount(5)?);
+        let goal = Point::new(amount(6)?, amount(7)?);
+        let optimal = amount(8)?;
+        let what = f[15];
+        let zero_classes = || -> Result<(), MapError> {
+            match count(12)? {
+                0 => Ok(()),
+                n => Err(err(
+                    12,
+                    format!(
+                        "{n} given, but the outcome is '{what}' (the writer writes 0 unless no class is collision-free)"
+                    ),
+                )),
+            }
+        };
+        let no_path = "there is no path";
         let outcome = if what == "ok" {
-            Outcome::Planned {
-                length: num(9, "length")?,
-                clearance: num(11, "clearance")?,
+            let length = amount(9)?;
+            let clearance = number(11)?;
+            if clearance.is_nan() || clearance <= 0.0 {
+                return Err(err(
+                    11,
+                    format!(
+                        "'{}' is not a positive clearance (an `ok` plan is collision-free)",
+                        f[11]
+                    ),
+                ));
             }
+            zero_classes()?;
+            Outcome::Planned { length, clearance }
         } else if what == "timeout" {
-            Outcome::Timeout {
-                length: num(9, "length")?,
+            let length = amount(9)?;
+            nothing(11, "the clearance is written for `ok` only")?;
+            zero_classes()?;
+            Outcome::Timeout { length }
+        } else if let Some(n) = what.strip_prefix("no collision-free class among ") {
+            let classes = n
+                .parse::<usize>()
+                .map_err(|_| err(15, format!("'{what}': '{n}' is not a count of classes")))?;
+            nothing(9, no_path)?;
+            nothing(11, no_path)?;
+            if count(12)? != classes {
+                return Err(err(
+                    12,
+                    format!("'{}' given, but the outcome says {classes}", f[12]),
+                ));
             }
-        } else if what.starts_with("no collision-free class") {
-            Outcome::NoPlan {
-                classes: int(12, "classes")?,
-            }
+            Outcome::NoPlan { classes }
         } else if let Some(e) = what.strip_prefix("error: ") {
+            nothing(9, no_path)?;
+            nothing(11, no_path)?;
+            zero_classes()?;
             Outcome::Error(e.to_owned())
         } else {
-            return Err(err(format!(
-                "outcome: '{what}' is not one this program writes"
-            )));
+            return Err(err(
+                15,
+                format!(
+                    "'{what}' is not one this program writes (ok, timeout, no collision-free class among N, error: ...)"
+                ),
+            ));
         };
-        Ok(Self {
-            file: f[0].to_owned(),
-            index: int(1, "index")?,
-            line: int(2, "line")?,
-            bucket: f[3]
-                .trim()
-                .parse::<u32>()
-                .map_err(|_| err(format!("bucket: '{}' is not a bucket number", f[3])))?,
-            start: Point::new(num(4, "start_x")?, num(5, "start_y")?),
-            goal: Point::new(num(6, "goal_x")?, num(7, "goal_y")?),
-            optimal: num(8, "optimal")?,
+        let row = Self {
+            file: file.to_owned(),
+            index,
+            line: at_line,
+            bucket,
+            start,
+            goal,
+            optimal,
             outcome,
-            time_ms: num(14, "time_ms")?,
-        })
+            time_ms: amount(14)?,
+        };
+        // The columns computed from others.
+        let (given, ratio) = (number(10)?, row.ratio());
+        if ratio.is_nan() {
+            if !given.is_nan() {
+                return Err(err(
+                    10,
+                    format!(
+                        "'{}' given, but there is no length / optimal (no path, or optimal 0: the writer writes NaN)",
+                        f[10]
+                    ),
+                ));
+            }
+        } else if !(given.is_finite() && (given - ratio).abs() <= 1e-9 * ratio) {
+            return Err(err(
+                10,
+                format!("'{}' is not length / optimal = {ratio}", f[10]),
+            ));
+        }
+        let success = match f[13] {
+            "true" => true,
+            "false" => false,
+            other => {
+                return Err(err(
+                    13,
+                    format!("'{other}' is not a boolean (true or false)"),
+                ));
+            }
+        };
+        if success != row.success() {
+            return Err(err(
+                13,
+                format!(
+                    "'{}' given, but the outcome is '{what}' (success is true for `ok` only)",
+                    f[13]
+                ),
+            ));
+        }
+        Ok(row)
     }
 }
 
@@ -312,6 +453,9 @@ impl Shard {
     }
 }
 
+/// What [`summary`] says of no rows.
+pub const NO_SCENARIOS: &str = "no scenarios in this shard or these CSVs: nothing to summarise (a shard gets none when there are more shards than scenarios picked; its CSV is the header alone)";
+
 fn median(v: &[f64]) -> f64 {
     let mut v: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
     v.sort_by(f64::total_cmp);
@@ -325,7 +469,14 @@ fn median(v: &[f64]) -> f64 {
 /// The summary of some rows (any order: they are sorted by file and index): success rate,
 /// timeouts, times, length over the optimum, bands of buckets, and every scenario not
 /// planned with its cause.
+///
+/// No rows (a shard of more shards than scenarios, or CSVs with a header only) give one
+/// line saying so. No figure is printed as NaN or infinite: a figure with nothing to
+/// measure is `-`.
 pub fn summary(rows: &[Row]) -> String {
+    if rows.is_empty() {
+        return format!("{NO_SCENARIOS}\n");
+    }
     let mut rows: Vec<&Row> = rows.iter().collect();
     rows.sort_by(|a, b| a.file.cmp(&b.file).then(a.index.cmp(&b.index)));
     let n = rows.len();
@@ -354,13 +505,20 @@ pub fn summary(rows: &[Row]) -> String {
         median(&times),
         times.iter().copied().fold(0.0, f64::max)
     );
-    let _ = writeln!(
-        s,
-        "length / octile optimum  median {:.4}, min {:.4}, max {:.4} (a smooth any-angle path can be shorter than the octile one)",
-        median(&ratios),
-        ratios.iter().copied().fold(f64::INFINITY, f64::min),
-        ratios.iter().copied().fold(0.0, f64::max)
-    );
+    if ratios.is_empty() {
+        let _ = writeln!(
+            s,
+            "length / octile optimum  - (no successful plan of a scenario with an optimum above 0)"
+        );
+    } else {
+        let _ = writeln!(
+            s,
+            "length / octile optimum  median {:.4}, min {:.4}, max {:.4} (a smooth any-angle path can be shorter than the octile one)",
+            median(&ratios),
+            ratios.iter().copied().fold(f64::INFINITY, f64::min),
+            ratios.iter().copied().fold(0.0, f64::max)
+        );
+    }
     // Per bucket, in at most ten bands of buckets.
     // In u64: buckets span all of u32.
     let (lo, hi) = rows.iter().fold((u64::MAX, 0u64), |(l, h), r| {
@@ -387,9 +545,10 @@ pub fn summary(rows: &[Row]) -> String {
                 .iter()
                 .map(|r| if r.success() { r.ratio() } else { f64::NAN })
                 .collect();
+            let q = median(&q);
             let _ = writeln!(
                 s,
-                "{:>3}-{:<4}  {:>5}-{:<8} {:>5}  {:>7}  {:>9.1}  {:>12.4}",
+                "{:>3}-{:<4}  {:>5}-{:<8} {:>5}  {:>7}  {:>9.1}  {:>12}",
                 b0,
                 b1,
                 4 * b0,
@@ -397,7 +556,11 @@ pub fn summary(rows: &[Row]) -> String {
                 in_band.len(),
                 in_band.iter().filter(|r| r.success()).count(),
                 median(&t),
-                median(&q)
+                if q.is_finite() {
+                    format!("{q:.4}")
+                } else {
+                    "-".into()
+                }
             );
         }
     }
@@ -485,5 +648,205 @@ mod tests {
                 .to_string()
                 .contains("x.csv:3")
         );
+    }
+
+    fn row(outcome: Outcome) -> Row {
+        Row {
+            file: "m.map.scen".into(),
+            index: 7,
+            line: 9,
+            bucket: 2,
+            start: Point::new(1.5, 2.5),
+            goal: Point::new(3.5, 4.5),
+            optimal: 10.0,
+            outcome,
+            time_ms: 1.25,
+        }
+    }
+
+    /// `line` with column `column` set to `value`.
+    fn with(line: &str, column: &str, value: &str) -> String {
+        let i = COLUMNS.iter().position(|c| *c == column).unwrap();
+        let mut f: Vec<&str> = line.split(',').collect();
+        f[i] = value;
+        f.join(",")
+    }
+
+    #[test]
+    fn every_csv_field_is_checked_as_the_writer_writes_it() {
+        assert_eq!(COLUMNS.join(","), CSV_HEADER);
+        let ok = row(Outcome::Planned {
+            length: 12.5,
+            clearance: 0.25,
+        })
+        .to_csv();
+        let timeout = row(Outcome::Timeout { length: 3.0 }).to_csv();
+        let none = row(Outcome::NoPlan { classes: 5 }).to_csv();
+        let error = row(Outcome::Error("start is outside".into())).to_csv();
+        let cases = [
+            (&ok, "file", " ", "file: empty"),
+            (&ok, "index", "-1", "index: '-1' is not a count"),
+            (&ok, "line", "0", "line: 0 cannot hold scenario 7"),
+            (&ok, "line", "7", "line: 7 cannot hold scenario 7"),
+            (&ok, "bucket", "x", "bucket: 'x' is not a bucket number"),
+            (
+                &ok,
+                "start_x",
+                "inf",
+                "start_x: 'inf' is not a finite non-negative",
+            ),
+            (
+                &ok,
+                "goal_y",
+                "NaN",
+                "goal_y: 'NaN' is not a finite non-negative",
+            ),
+            (
+                &ok,
+                "optimal",
+                "-1",
+                "optimal: '-1' is not a finite non-negative",
+            ),
+            (
+                &ok,
+                "length",
+                "NaN",
+                "length: 'NaN' is not a finite non-negative",
+            ),
+            (
+                &ok,
+                "clearance",
+                "NaN",
+                "clearance: 'NaN' is not a positive clearance",
+            ),
+            (
+                &ok,
+                "clearance",
+                "-0.5",
+                "clearance: '-0.5' is not a positive clearance",
+            ),
+            (
+                &ok,
+                "classes",
+                "3",
+                "classes: 3 given, but the outcome is 'ok'",
+            ),
+            (
+                &ok,
+                "ratio",
+                "1.5",
+                "ratio: '1.5' is not length / optimal = 1.25",
+            ),
+            (
+                &ok,
+                "ratio",
+                "NaN",
+                "ratio: 'NaN' is not length / optimal = 1.25",
+            ),
+            (&ok, "success", "maybe", "success: 'maybe' is not a boolean"),
+            (
+                &ok,
+                "success",
+                "false",
+                "success: 'false' given, but the outcome is 'ok'",
+            ),
+            (
+                &ok,
+                "time_ms",
+                "NaN",
+                "time_ms: 'NaN' is not a finite non-negative",
+            ),
+            (
+                &ok,
+                "time_ms",
+                "-2",
+                "time_ms: '-2' is not a finite non-negative",
+            ),
+            (
+                &ok,
+                "outcome",
+                "fine",
+                "outcome: 'fine' is not one this program writes",
+            ),
+            (
+                &timeout,
+                "success",
+                "true",
+                "success: 'true' given, but the outcome is 'timeout'",
+            ),
+            (
+                &timeout,
+                "clearance",
+                "0.5",
+                "clearance: '0.5' given, but the clearance",
+            ),
+            (
+                &none,
+                "classes",
+                "4",
+                "classes: '4' given, but the outcome says 5",
+            ),
+            (
+                &none,
+                "length",
+                "3",
+                "length: '3' given, but there is no path",
+            ),
+            (
+                &none,
+                "ratio",
+                "0.3",
+                "ratio: '0.3' given, but there is no length / optimal",
+            ),
+            (
+                &none,
+                "outcome",
+                "no collision-free class among many",
+                "outcome: 'no collision-free class among many': 'many' is not a count",
+            ),
+            (
+                &error,
+                "clearance",
+                "1",
+                "clearance: '1' given, but there is no path",
+            ),
+            (
+                &error,
+                "success",
+                "True",
+                "success: 'True' is not a boolean",
+            ),
+        ];
+        for (line, column, value, needle) in cases {
+            let bad = with(line, column, value);
+            let e = Row::from_csv(&bad, "x.csv", 3).unwrap_err().to_string();
+            assert!(e.starts_with(&format!("x.csv:3: {needle}")), "{bad}: {e}");
+        }
+        // An optimum of 0 has no ratio: NaN, and only NaN.
+        let mut zero = row(Outcome::Planned {
+            length: 1.0,
+            clearance: 0.5,
+        });
+        zero.optimal = 0.0;
+        let line = zero.to_csv();
+        assert_eq!(Row::from_csv(&line, "x.csv", 3).unwrap(), zero);
+        assert!(Row::from_csv(&with(&line, "ratio", "1"), "x.csv", 3).is_err());
+    }
+
+    #[test]
+    fn summaries_print_no_nan_or_infinity() {
+        let empty = summary(&[]);
+        assert_eq!(empty, format!("{NO_SCENARIOS}\n"));
+        let failed = summary(&[
+            row(Outcome::NoPlan { classes: 2 }),
+            row(Outcome::Timeout { length: 3.0 }),
+        ]);
+        for text in [&empty, &failed] {
+            for bad in ["NaN", "inf"] {
+                assert!(!text.contains(bad), "{text}");
+            }
+        }
+        assert!(failed.contains("length / octile optimum  -"), "{failed}");
+        assert!(failed.contains("success      0/2"), "{failed}");
     }
 }

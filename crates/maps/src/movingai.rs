@@ -1,5 +1,6 @@
-//! MovingAI benchmark maps (`.map`) and scenarios (`.scen`), read with the `movingai` crate
-//! after a line-by-line check that gives malformed files an error naming the line.
+//! MovingAI benchmark maps (`.map`) and scenarios (`.scen`), read line by line so that every
+//! malformed file gets an error naming the line (`file:line: problem`); a scenario line's
+//! fields are parsed by the `movingai` crate.
 //!
 //! Coordinates: one map unit per cell, x to the right, y down the file's rows; cell `(i, j)`
 //! covers `[i, i + 1] x [j, j + 1]`; a scenario's cell `(sx, sy)` is the point
@@ -16,6 +17,10 @@ pub struct Scenario {
     pub bucket: u32,
     /// The map file it names.
     pub map: String,
+    /// The map's width the line declares, cells.
+    pub map_width: usize,
+    /// The map's height the line declares, cells.
+    pub map_height: usize,
     /// Start, map coordinates (cell centre).
     pub start: Point,
     /// Goal, map coordinates (cell centre).
@@ -26,6 +31,29 @@ pub struct Scenario {
     pub line: usize,
 }
 
+impl Scenario {
+    /// Checks that `map` (read from `map_source`) has the size this scenario's line of
+    /// `source` declares: a scenario written for another map is refused, `source:line`.
+    pub fn check_map_size(
+        &self,
+        source: &str,
+        map: &OccupancyMap,
+        map_source: &str,
+    ) -> Result<(), MapError> {
+        if (self.map_width, self.map_height) == (map.width, map.height) {
+            return Ok(());
+        }
+        Err(format_err(
+            source,
+            Some(self.line),
+            format!(
+                "map size: the line declares a {} x {} map (width x height), but its map {map_source} is {} x {}",
+                self.map_width, self.map_height, map.width, map.height
+            ),
+        ))
+    }
+}
+
 fn format_err(source: &str, line: Option<usize>, problem: impl Into<String>) -> MapError {
     MapError::Format {
         source_name: source.to_owned(),
@@ -34,11 +62,18 @@ fn format_err(source: &str, line: Option<usize>, problem: impl Into<String>) -> 
     }
 }
 
-/// Reads a `.map` file's text.
+/// The header keys of a `.map`, in the order MovingAI writes them.
+const HEADER_KEYS: [&str; 3] = ["type", "height", "width"];
+
+/// Reads a `.map` file's text. The header holds `type` (`octile`, or `4-connected`, which
+/// reads the same here: the planner does not walk cells), `height` and `width`, each once
+/// and in any order, then the line `map` and `height` rows of `width` cells. Every error
+/// names its line; a field missing from the header is reported at the `map` line.
 pub fn read_map(text: &str, source: &str) -> Result<OccupancyMap, MapError> {
-    let err = |line: Option<usize>, p: String| format_err(source, line, p);
+    let err = |line: usize, p: String| format_err(source, Some(line), p);
     let lines: Vec<&str> = text.lines().collect();
-    let mut header = std::collections::HashMap::new();
+    // Each key's value and 1-based line.
+    let mut header: [Option<(&str, usize)>; 3] = [None; 3];
     let mut body_at = None;
     for (n, l) in lines.iter().enumerate() {
         let l = l.trim();
@@ -47,64 +82,102 @@ pub fn read_map(text: &str, source: &str) -> Result<OccupancyMap, MapError> {
             break;
         }
         let mut parts = l.split_whitespace();
-        match (parts.next(), parts.next(), parts.next()) {
-            (Some(k @ ("type" | "height" | "width")), Some(v), None) => {
-                header.insert(k, (v, n + 1));
+        let (key, value, rest) = (parts.next(), parts.next(), parts.next());
+        let Some(key) = key else { continue };
+        let slot = HEADER_KEYS.iter().position(|k| *k == key);
+        match (slot, value, rest) {
+            (Some(i), Some(v), None) => {
+                if let Some((_, first)) = header[i] {
+                    return Err(err(
+                        n + 1,
+                        format!("a second `{key}` line (the first is line {first})"),
+                    ));
+                }
+                header[i] = Some((v, n + 1));
             }
-            (None, _, _) => {}
             _ => {
                 return Err(err(
-                    Some(n + 1),
+                    n + 1,
                     format!("expected `type`, `height`, `width` or `map`, got '{l}'"),
                 ));
             }
         }
     }
-    let body_at = body_at.ok_or_else(|| err(None, "no `map` line: not a MovingAI map".into()))?;
-    let dim = |k: &str| -> Result<usize, MapError> {
-        let (v, n) = header
-            .get(k)
-            .ok_or_else(|| err(None, format!("missing `{k}` line")))?;
+    let Some(body_at) = body_at else {
+        return Err(if lines.iter().all(|l| l.trim().is_empty()) {
+            err(1, "empty file: not a MovingAI map".into())
+        } else {
+            err(
+                lines.len(),
+                "no `map` line: the file ends in its header (not a MovingAI map?)".into(),
+            )
+        });
+    };
+    // Present, else missing from the header: reported at the `map` line.
+    let field = |i: usize| -> Result<(&str, usize), MapError> {
+        header[i].ok_or_else(|| {
+            err(
+                body_at,
+                format!(
+                    "missing `{}` line in the header (it must come before `map`)",
+                    HEADER_KEYS[i]
+                ),
+            )
+        })
+    };
+    let (kind, n) = field(0)?;
+    if !(kind.eq_ignore_ascii_case("octile") || kind.eq_ignore_ascii_case("4-connected")) {
+        return Err(err(
+            n,
+            format!("type '{kind}' is not a MovingAI map type (octile, or 4-connected)"),
+        ));
+    }
+    let dim = |i: usize| -> Result<usize, MapError> {
+        let (v, n) = field(i)?;
         v.parse::<usize>()
             .ok()
             .filter(|&d| d > 0 && d <= 16_384)
-            .ok_or_else(|| err(Some(*n), format!("{k} '{v}' is not a size in 1..=16384")))
+            .ok_or_else(|| {
+                err(
+                    n,
+                    format!("{} '{v}' is not a size in 1..=16384", HEADER_KEYS[i]),
+                )
+            })
     };
-    let (w, h) = (dim("width")?, dim("height")?);
-    let rows: Vec<&str> = lines[body_at..]
+    let (h, w) = (dim(1)?, dim(2)?);
+    // The rows with their 1-based lines (blank lines are skipped).
+    let rows: Vec<(usize, &str)> = lines
         .iter()
-        .copied()
-        .filter(|r| !r.trim().is_empty())
+        .enumerate()
+        .skip(body_at)
+        .filter(|(_, r)| !r.trim().is_empty())
+        .map(|(i, r)| (i + 1, r.trim_end()))
         .collect();
     if rows.len() != h {
+        // At the first row too many, or after the last row there is.
+        let at = match rows.get(h) {
+            Some(&(n, _)) => n,
+            None => rows.last().map_or(body_at, |&(n, _)| n),
+        };
         return Err(err(
-            Some(body_at + rows.len().min(h)),
+            at,
             format!("expected {h} rows after `map`, found {}", rows.len()),
         ));
     }
-    for (r, row) in rows.iter().enumerate() {
-        let n = body_at + r + 1;
-        let row = row.trim_end();
-        if row.chars().count() != w {
-            return Err(err(
-                Some(n),
-                format!("row {r} has {} cells, expected {w}", row.chars().count()),
-            ));
+    let mut occupied = Vec::with_capacity(w * h);
+    for (r, &(n, row)) in rows.iter().enumerate() {
+        let cells = row.chars().count();
+        if cells != w {
+            return Err(err(n, format!("row {r} has {cells} cells, expected {w}")));
         }
-        if let Some((c, ch)) = row
-            .chars()
-            .enumerate()
-            .find(|(_, ch)| !matches!(ch, '.' | 'G' | 'S' | '@' | 'O' | 'T' | 'W'))
-        {
-            return Err(err(Some(n), format!("unknown cell '{ch}' at column {c}")));
+        for (c, ch) in row.chars().enumerate() {
+            match ch {
+                '.' | 'G' | 'S' => occupied.push(false),
+                '@' | 'O' | 'T' | 'W' => occupied.push(true),
+                _ => return Err(err(n, format!("unknown cell '{ch}' at column {c}"))),
+            }
         }
     }
-    let parsed = ::movingai::parser::parse_map(text).map_err(|e| err(None, e.to_string()))?;
-    use ::movingai::Map2D;
-    let occupied = (0..h)
-        .flat_map(|j| (0..w).map(move |i| (i, j)))
-        .map(|(i, j)| matches!(parsed.get((i, j)), '@' | 'O' | 'T' | 'W'))
-        .collect();
     Ok(OccupancyMap {
         name: stem(source),
         width: w,
@@ -116,20 +189,45 @@ pub fn read_map(text: &str, source: &str) -> Result<OccupancyMap, MapError> {
     })
 }
 
-/// Reads a `.scen` file's text.
+/// Reads a `.scen` file's text: an optional first line `version 1` (or `version 1.0`; any
+/// other version is refused), then one scenario a line, its fields tab-separated (bucket,
+/// map, map width, map height, start x, start y, goal x, goal y, optimal length). The
+/// declared map size is checked against the map by [`Scenario::check_map_size`].
 pub fn read_scen(text: &str, source: &str) -> Result<Vec<Scenario>, MapError> {
+    let err = |n: usize, p: String| format_err(source, Some(n), p);
     let mut out = Vec::new();
     for (n, line) in text.lines().enumerate() {
-        if n == 0 && line.starts_with("version") || line.trim().is_empty() {
+        if line.trim().is_empty() {
             continue;
         }
-        let rec = ::movingai::parser::parse_scen(line)
-            .map_err(|e| format_err(source, Some(n + 1), e.to_string()))?;
+        // The `movingai` crate skips every line that starts with `version`: read them here.
+        if line.trim_start().starts_with("version") {
+            if n > 0 {
+                return Err(err(
+                    n + 1,
+                    format!(
+                        "'{}': a `version` line may only be the first line",
+                        line.trim()
+                    ),
+                ));
+            }
+            let words: Vec<&str> = line.split_whitespace().collect();
+            if !matches!(words.as_slice(), ["version", "1" | "1.0"]) {
+                return Err(err(
+                    1,
+                    format!(
+                        "'{}': unknown version (MovingAI scenario files begin with `version 1` or `version 1.0`)",
+                        line.trim()
+                    ),
+                ));
+            }
+            continue;
+        }
+        let rec = ::movingai::parser::parse_scen(line).map_err(|e| err(n + 1, e.to_string()))?;
         for r in rec {
             if !(r.optimal_length.is_finite() && r.optimal_length >= 0.0) {
-                return Err(format_err(
-                    source,
-                    Some(n + 1),
+                return Err(err(
+                    n + 1,
                     format!("optimal length {} is not a length", r.optimal_length),
                 ));
             }
@@ -137,6 +235,8 @@ pub fn read_scen(text: &str, source: &str) -> Result<Vec<Scenario>, MapError> {
             out.push(Scenario {
                 bucket: r.bucket,
                 map: r.map_file,
+                map_width: r.map_width,
+                map_height: r.map_height,
                 start: c(r.start_pos),
                 goal: c(r.goal_pos),
                 optimal_length: r.optimal_length,
@@ -148,4 +248,128 @@ pub fn read_scen(text: &str, source: &str) -> Result<Vec<Scenario>, MapError> {
         return Err(format_err(source, None, "no scenarios"));
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn map_err(text: &str) -> String {
+        read_map(text, "m.map").unwrap_err().to_string()
+    }
+
+    #[test]
+    fn map_header_errors_name_their_line() {
+        let e = map_err("type hex\nheight 1\nwidth 2\nmap\n..\n");
+        assert_eq!(
+            e,
+            "m.map:1: type 'hex' is not a MovingAI map type (octile, or 4-connected)"
+        );
+        // A field missing from the header is reported at the `map` line, by name.
+        let e = map_err("height 1\nwidth 2\nmap\n..\n");
+        assert_eq!(
+            e,
+            "m.map:3: missing `type` line in the header (it must come before `map`)"
+        );
+        let e = map_err("type octile\nheight 1\nwidth two\nmap\n..\n");
+        assert_eq!(e, "m.map:3: width 'two' is not a size in 1..=16384");
+        let e = map_err("type octile\nwidth 2\nheight 1\nwidth 3\nmap\n..\n");
+        assert_eq!(e, "m.map:4: a second `width` line (the first is line 2)");
+        let e = map_err("type octile\nheight 1\nwidth 2\n");
+        assert_eq!(
+            e,
+            "m.map:3: no `map` line: the file ends in its header (not a MovingAI map?)"
+        );
+        assert_eq!(map_err("\n \n"), "m.map:1: empty file: not a MovingAI map");
+        // Rows are counted by their own lines, blank lines between them included.
+        let e = map_err("type octile\nheight 2\nwidth 2\nmap\n..\n\n.\n");
+        assert_eq!(e, "m.map:7: row 1 has 1 cells, expected 2");
+        let e = map_err("type octile\nheight 1\nwidth 2\nmap\n..\n..\n");
+        assert_eq!(e, "m.map:6: expected 1 rows after `map`, found 2");
+    }
+
+    #[test]
+    fn maps_read_as_the_movingai_crate_reads_them() {
+        use ::movingai::Map2D;
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/maps/movingai/");
+        let mut names: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().into_string().unwrap())
+            .filter(|n| n.ends_with(".map"))
+            .collect();
+        names.sort();
+        assert!(names.len() >= 8, "{names:?}");
+        for name in &names {
+            let text = std::fs::read_to_string(format!("{dir}{name}")).unwrap();
+            let map = read_map(&text, name).unwrap();
+            let theirs = ::movingai::parser::parse_map(&text).unwrap();
+            assert_eq!((map.width, map.height), (theirs.width(), theirs.height()));
+            let occupied: Vec<bool> = (0..map.height)
+                .flat_map(|j| (0..map.width).map(move |i| (i, j)))
+                .map(|c| matches!(theirs.get(c), '@' | 'O' | 'T' | 'W'))
+                .collect();
+            assert_eq!(map.occupied, occupied, "{name}");
+            assert!(map.occupied.iter().any(|&o| o) && map.occupied.iter().any(|&o| !o));
+        }
+        // `4-connected` and any case of `octile` read, as the crate reads them.
+        for kind in ["4-connected", "Octile"] {
+            let text = format!("type {kind}\nheight 1\nwidth 2\nmap\n.@\n");
+            assert_eq!(read_map(&text, "m.map").unwrap().occupied, [false, true]);
+        }
+    }
+
+    const LINE: &str = "0\troom.map\t32\t32\t1\t2\t3\t4\t5.0";
+
+    #[test]
+    fn scenario_versions_other_than_1_are_refused_at_their_line() {
+        for v in ["version 1", "version 1.0"] {
+            let s = read_scen(&format!("{v}\n{LINE}\n"), "s.scen").unwrap();
+            assert_eq!((s[0].map_width, s[0].map_height, s[0].line), (32, 32, 2));
+        }
+        // No version line: read as version 1.
+        assert_eq!(read_scen(LINE, "s.scen").unwrap().len(), 1);
+        for (text, at) in [
+            (
+                format!("version 2\n{LINE}\n"),
+                "s.scen:1: 'version 2': unknown version",
+            ),
+            (
+                format!("version\n{LINE}\n"),
+                "s.scen:1: 'version': unknown version",
+            ),
+            (
+                format!("version1\n{LINE}\n"),
+                "s.scen:1: 'version1': unknown version",
+            ),
+            (
+                format!("version 1\n{LINE}\nversion 1\n{LINE}\n"),
+                "s.scen:3: 'version 1': a `version` line may only be the first line",
+            ),
+        ] {
+            let e = read_scen(&text, "s.scen").unwrap_err().to_string();
+            assert!(e.starts_with(at), "{e}");
+        }
+    }
+
+    #[test]
+    fn a_scenario_for_a_map_of_another_size_is_refused_at_its_line() {
+        let text = format!(
+            "version 1\n{LINE}\n\n{}\n",
+            LINE.replace("32\t32", "64\t32")
+        );
+        let s = read_scen(&text, "s.scen").unwrap();
+        let rows = format!("{}\n", ".".repeat(32)).repeat(32);
+        let map = read_map(
+            &format!("type octile\nheight 32\nwidth 32\nmap\n{rows}"),
+            "room.map",
+        )
+        .unwrap();
+        assert!(s[0].check_map_size("s.scen", &map, "room.map").is_ok());
+        assert_eq!(
+            s[1].check_map_size("s.scen", &map, "room.map")
+                .unwrap_err()
+                .to_string(),
+            "s.scen:4: map size: the line declares a 64 x 32 map (width x height), but its map room.map is 32 x 32"
+        );
+    }
 }

@@ -1,0 +1,383 @@
+//! `homospline bench-scen` and `bench-merge` on bad and edge input, end to end: a `.scen`
+//! given twice, an empty shard, CSV fields checked on merge, `.scen` and `.map` headers, and
+//! the count of scenarios picked.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Output;
+
+use common::*;
+
+const ROOM_SCEN: &str = "fixtures/maps/movingai/room-32-32-4-random-1.scen";
+const MAZE_SCEN: &str = "fixtures/maps/movingai/maze-32-32-2-random-1.scen";
+
+/// Scenarios in the fixture files (their lines but the `version` line).
+const ROOM_SCENARIOS: usize = 341;
+const MAZE_SCENARIOS: usize = 333;
+
+/// Runs `homospline args` without a Slurm job array in the environment.
+fn run(args: &[&str]) -> Output {
+    homospline()
+        .args(args)
+        .env_remove("SLURM_ARRAY_TASK_ID")
+        .output()
+        .unwrap()
+}
+
+fn stdout_of(out: &Output) -> String {
+    assert_ok(out);
+    String::from_utf8(out.stdout.clone()).unwrap()
+}
+
+/// A fresh scratch directory of this test process.
+fn scratch(name: &str) -> PathBuf {
+    let dir = tmp(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn text(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// No figure printed as NaN, infinite or negative zero.
+fn assert_no_odd_figures(text: &str) {
+    for bad in ["NaN", "inf,", "inf ", "-0.00"] {
+        assert!(!text.contains(bad), "{bad} in {text}");
+    }
+}
+
+#[test]
+fn a_scen_file_given_twice_is_refused_naming_it() {
+    let err = refused(&["bench-scen", ROOM_SCEN, ROOM_SCEN, "--limit", "1"]);
+    assert!(
+        err.contains(&format!(
+            "{ROOM_SCEN}: the same .scen file is given twice: its scenarios would be planned twice"
+        )),
+        "{err}"
+    );
+    // Through another spelling of its path: the same file.
+    let other = format!("./{ROOM_SCEN}");
+    assert_refused(
+        &["bench-scen", ROOM_SCEN, &other, "--limit", "1"],
+        &format!("{other}: the same .scen file is given twice (as {ROOM_SCEN})"),
+    );
+    // Inside a directory given too.
+    let dir = scratch("twice");
+    let scen = dir.join("room.scen");
+    std::fs::copy(root().join(ROOM_SCEN), &scen).unwrap();
+    std::fs::copy(
+        root().join("fixtures/maps/movingai/room-32-32-4.map"),
+        dir.join("room-32-32-4.map"),
+    )
+    .unwrap();
+    assert_refused(
+        &["bench-scen", text(&dir), text(&scen), "--limit", "1"],
+        "room.scen: the same .scen file is given twice",
+    );
+    // Two different files are fine, and so is a merge of their CSV.
+    let csv = tmp("two-files.csv");
+    let out = run(&[
+        "bench-scen",
+        ROOM_SCEN,
+        text(&scen),
+        "--limit",
+        "1",
+        "--classes",
+        "1",
+        "--csv",
+        text(&csv),
+    ]);
+    assert!(stdout_of(&out).contains("success      2/2"));
+    let merged = stdout_of(&run(&["bench-merge", text(&csv)]));
+    assert!(merged.contains("2 scenarios from 1 CSV files"), "{merged}");
+}
+
+#[test]
+fn an_empty_shard_says_so_and_its_csv_merges() {
+    let (empty, full) = (tmp("empty-shard.csv"), tmp("full-shard.csv"));
+    let shard = |k: &str, csv: &Path| {
+        run(&[
+            "bench-scen",
+            ROOM_SCEN,
+            "--limit",
+            "1",
+            "--classes",
+            "1",
+            "--shard",
+            k,
+            "--csv",
+            text(csv),
+        ])
+    };
+    let out = stdout_of(&shard("2/2", &empty));
+    assert!(out.contains("0 of 1 scenarios picked"), "{out}");
+    assert!(out.contains("shard 2/2"), "{out}");
+    assert!(
+        out.contains("no scenarios in this shard or these CSVs"),
+        "{out}"
+    );
+    assert!(!out.contains("success"), "{out}");
+    assert_no_odd_figures(&out);
+    // The CSV is the header alone.
+    let csv = std::fs::read_to_string(&empty).unwrap();
+    assert_eq!(csv.lines().count(), 1, "{csv}");
+    assert!(csv.starts_with("file,index,line,"), "{csv}");
+    // Merged alone: no scenarios, said so.
+    let merged = stdout_of(&run(&["bench-merge", text(&empty)]));
+    assert!(merged.contains("0 scenarios from 1 CSV files"), "{merged}");
+    assert!(
+        merged.contains("no scenarios in this shard or these CSVs"),
+        "{merged}"
+    );
+    assert_no_odd_figures(&merged);
+    // Merged with the other shard: that shard's summary.
+    stdout_of(&shard("1/2", &full));
+    let merged = stdout_of(&run(&["bench-merge", text(&empty), text(&full)]));
+    assert!(merged.contains("1 scenarios from 2 CSV files"), "{merged}");
+    assert!(merged.contains("success      1/1"), "{merged}");
+    assert_no_odd_figures(&merged);
+}
+
+/// A CSV as `bench-scen` writes it: a plan, a timeout, no plan, an error.
+const GOOD_ROWS: [&str; 4] = [
+    "s.scen,0,2,5,21.5,14.5,9.5,0.5,16,20,1.25,0.5,0,true,20.000,ok",
+    "s.scen,1,3,9,29.5,30.5,5.5,25.5,40,50,1.25,NaN,0,false,90.500,timeout",
+    "s.scen,2,4,9,1.5,1.5,3.5,1.5,2,NaN,NaN,NaN,3,false,5.000,no collision-free class among 3",
+    "s.scen,3,5,9,1.5,1.5,99.5,1.5,2,NaN,NaN,NaN,0,false,0.100,error: goal [99.5; 1.5] is outside the map",
+];
+
+/// Writes a CSV of the good rows with row `i` (0-based) replaced by `bad`; returns its path.
+fn csv_with(name: &str, i: usize, bad: &str) -> PathBuf {
+    let mut rows = GOOD_ROWS.map(String::from);
+    rows[i] = bad.to_owned();
+    let p = tmp(name);
+    std::fs::write(
+        &p,
+        format!(
+            "{}\n{}\n",
+            homospline_maps::bench::CSV_HEADER,
+            rows.join("\n")
+        ),
+    )
+    .unwrap();
+    p
+}
+
+#[test]
+fn bench_merge_checks_every_field() {
+    // The good rows merge.
+    let good = csv_with("good.csv", 0, GOOD_ROWS[0]);
+    let out = stdout_of(&run(&["bench-merge", text(&good)]));
+    assert!(
+        out.contains("success      1/4 (25.0 %), timeouts 1"),
+        "{out}"
+    );
+    assert!(out.contains("median 1.2500"), "{out}");
+    let cases = [
+        (
+            1,
+            "s.scen,1,3,9,29.5,30.5,5.5,25.5,40,50,1.25,NaN,0,false,NaN,timeout",
+            "time_ms: 'NaN' is not a finite non-negative number",
+        ),
+        (
+            0,
+            "s.scen,0,2,5,21.5,14.5,9.5,0.5,16,20,1.25,0.5,0,maybe,20.000,ok",
+            "success: 'maybe' is not a boolean (true or false)",
+        ),
+        (
+            1,
+            "s.scen,1,3,9,29.5,30.5,5.5,25.5,40,50,1.25,NaN,0,true,90.500,timeout",
+            "success: 'true' given, but the outcome is 'timeout'",
+        ),
+        (
+            0,
+            "s.scen,0,2,5,21.5,14.5,9.5,0.5,16,20,0.9,0.5,0,true,20.000,ok",
+            "ratio: '0.9' is not length / optimal = 1.25",
+        ),
+        (
+            2,
+            "s.scen,2,4,9,1.5,1.5,3.5,1.5,2,NaN,1.0,NaN,3,false,5.000,no collision-free class among 3",
+            "ratio: '1.0' given, but there is no length / optimal",
+        ),
+        (
+            2,
+            "s.scen,2,4,9,1.5,1.5,3.5,1.5,2,NaN,NaN,NaN,2,false,5.000,no collision-free class among 3",
+            "classes: '2' given, but the outcome says 3",
+        ),
+        (
+            0,
+            "s.scen,0,2,5,21.5,14.5,9.5,0.5,-16,20,1.25,0.5,0,true,20.000,ok",
+            "optimal: '-16' is not a finite non-negative number",
+        ),
+        (
+            0,
+            "s.scen,0,2,5,inf,14.5,9.5,0.5,16,20,1.25,0.5,0,true,20.000,ok",
+            "start_x: 'inf' is not a finite non-negative number",
+        ),
+        (
+            3,
+            "s.scen,3,5,9,1.5,1.5,99.5,1.5,2,7,NaN,NaN,0,false,0.100,error: no",
+            "length: '7' given, but there is no path",
+        ),
+        (
+            0,
+            "s.scen,1,3,5,21.5,14.5,9.5,0.5,16,20,1.25,0.5,0,true,20.000,ok",
+            "scenario 1 of s.scen is also at line 2 of the same CSV",
+        ),
+    ];
+    for (k, (i, bad, needle)) in cases.into_iter().enumerate() {
+        let name = format!("bad-{k}.csv");
+        let p = csv_with(&name, i, bad);
+        let err = refused(&["bench-merge", text(&p)]);
+        // file:line: column: problem (the duplicate at the later of its two lines).
+        let line = if needle.starts_with("scenario") {
+            3
+        } else {
+            i + 2
+        };
+        assert!(
+            err.contains(&format!("{name}:{line}: {needle}")),
+            "{bad}: {err}"
+        );
+    }
+}
+
+/// A directory holding room-32-32-4.map and a `.scen` of `text` beside it; returns the
+/// `.scen`'s path.
+fn scen_beside_room(dir: &str, name: &str, text: &str) -> PathBuf {
+    let dir = scratch(dir);
+    std::fs::copy(
+        root().join("fixtures/maps/movingai/room-32-32-4.map"),
+        dir.join("room-32-32-4.map"),
+    )
+    .unwrap();
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+const ROOM_LINE: &str = "5\troom-32-32-4.map\t32\t32\t21\t14\t9\t0\t23.65685425";
+
+#[test]
+fn scen_headers_must_match_the_map_and_the_version() {
+    // A line declaring another map size, even past --limit (every shard refuses alike).
+    let other_size = ROOM_LINE.replace("\t32\t32\t", "\t64\t64\t");
+    let p = scen_beside_room(
+        "size",
+        "size.scen",
+        &format!("version 1\n{ROOM_LINE}\n{other_size}\n"),
+    );
+    let err = refused(&["bench-scen", text(&p), "--limit", "1"]);
+    assert!(
+        err.contains(
+            "size.scen:3: map size: the line declares a 64 x 64 map (width x height), but its map"
+        ) && err.contains("room-32-32-4.map is 32 x 32"),
+        "{err}"
+    );
+    // Width and height are not swapped silently either.
+    let p = scen_beside_room(
+        "swapped",
+        "swapped.scen",
+        &format!(
+            "version 1\n{}\n",
+            ROOM_LINE.replace("\t32\t32\t", "\t32\t33\t")
+        ),
+    );
+    assert_refused(
+        &["bench-scen", text(&p)],
+        "swapped.scen:2: map size: the line declares a 32 x 33 map",
+    );
+    // Unknown versions.
+    for v in ["version 2", "version 1.1", "version"] {
+        let p = scen_beside_room("version", "v.scen", &format!("{v}\n{ROOM_LINE}\n"));
+        assert_refused(
+            &["bench-scen", text(&p)],
+            &format!("v.scen:1: '{v}': unknown version"),
+        );
+    }
+    // The versions MovingAI writes (the fixtures: `version 1`).
+    for v in ["version 1", "version 1.0"] {
+        let p = scen_beside_room("version-ok", "v.scen", &format!("{v}\n{ROOM_LINE}\n"));
+        let out = stdout_of(&run(&["bench-scen", text(&p), "--classes", "1"]));
+        assert!(out.contains("1 of 1 scenarios picked"), "{out}");
+    }
+}
+
+#[test]
+fn map_header_errors_name_file_and_line() {
+    let dir = scratch("headers");
+    let rows = format!("{}\n", ".".repeat(4)).repeat(2);
+    for (name, header, needle) in [
+        (
+            "hex.map",
+            "type hex\nheight 2\nwidth 4\nmap\n",
+            "hex.map:1: type 'hex' is not a MovingAI map type",
+        ),
+        (
+            "untyped.map",
+            "height 2\nwidth 4\nmap\n",
+            "untyped.map:3: missing `type` line in the header",
+        ),
+        (
+            "narrow.map",
+            "type octile\nheight 2\nmap\n",
+            "narrow.map:3: missing `width` line in the header",
+        ),
+        (
+            "twice.map",
+            "type octile\nheight 2\nwidth 4\nheight 2\nmap\n",
+            "twice.map:4: a second `height` line (the first is line 2)",
+        ),
+    ] {
+        let p = dir.join(name);
+        std::fs::write(&p, format!("{header}{rows}")).unwrap();
+        assert_refused(
+            &["plan", text(&p), "--start", "0.5,0.5", "--goal", "3.5,1.5"],
+            needle,
+        );
+    }
+}
+
+#[test]
+fn the_count_picked_is_out_of_what_the_run_picked_from() {
+    let picked = |args: &[&str]| -> String {
+        let mut all = vec!["bench-scen"];
+        all.extend_from_slice(args);
+        all.extend_from_slice(&["--classes", "1"]);
+        let out = stdout_of(&run(&all));
+        out.lines().next().unwrap().to_owned()
+    };
+    // --sample: of every scenario of the file.
+    let line = picked(&[ROOM_SCEN, "--sample", "3"]);
+    assert!(
+        line.contains(&format!(
+            "3 of {ROOM_SCENARIOS} scenarios picked (sampled evenly over every bucket)"
+        )),
+        "{line}"
+    );
+    // Several files: of all their scenarios.
+    let line = picked(&[ROOM_SCEN, MAZE_SCEN, "--sample", "1"]);
+    assert!(
+        line.contains(&format!(
+            "2 of {} scenarios picked",
+            ROOM_SCENARIOS + MAZE_SCENARIOS
+        )),
+        "{line}"
+    );
+    // A shard: its share of them.
+    let line = picked(&[ROOM_SCEN, "--sample", "3", "--shard", "1/2"]);
+    assert!(
+        line.contains(&format!("2 of {ROOM_SCENARIOS} scenarios picked"))
+            && line.contains("shard 1/2"),
+        "{line}"
+    );
+    // --limit N: of the first N of each file, which the message says.
+    let line = picked(&[ROOM_SCEN, MAZE_SCEN, "--limit", "1"]);
+    assert!(
+        line.contains("2 of 2 scenarios picked (the first of each file: the shortest paths only)"),
+        "{line}"
+    );
+}
