@@ -33,9 +33,8 @@ pub struct BenchJob {
 pub struct BenchInfo {
     /// The `.scen` files, directories expanded.
     pub files: Vec<PathBuf>,
-    /// How many scenarios, over all files, the run picked its rows from: every scenario of
-    /// the files with `sample` or with neither option, the first `limit` of each file with
-    /// `limit`. The rows are those picked (`sample`: spread over every bucket), and with a
+    /// How many scenarios the files hold, all together. The rows are those picked from them
+    /// (`sample`: spread over every bucket; `limit`: the first of each file), and with a
     /// shard its slice of them: a run's message reads "ROWS of PICKED scenarios picked".
     pub picked: usize,
     /// Each map the files' scenarios name, with its size: every one is read and checked
@@ -135,12 +134,12 @@ pub fn run_files(
         let text =
             std::fs::read_to_string(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
         let scen = movingai::read_scen(&text, &name).map_err(|e| e.to_string())?;
-        let (from, chosen): (usize, Vec<usize>) = match (job.limit, job.sample) {
-            (Some(n), _) => (n.min(scen.len()), (0..n.min(scen.len())).collect()),
-            (_, Some(n)) => (scen.len(), bench::sample_indices(scen.len(), n)),
-            _ => (scen.len(), (0..scen.len()).collect()),
+        let chosen: Vec<usize> = match (job.limit, job.sample) {
+            (Some(n), _) => (0..n.min(scen.len())).collect(),
+            (_, Some(n)) => bench::sample_indices(scen.len(), n),
+            _ => (0..scen.len()).collect(),
         };
-        picked += from;
+        picked += scen.len();
         items.extend(chosen.into_iter().map(|k| (f, k)));
         scenarios.push(scen);
     }

@@ -113,7 +113,10 @@ fn an_empty_shard_says_so_and_its_csv_merges() {
         ])
     };
     let out = stdout_of(&shard("2/2", &empty));
-    assert!(out.contains("0 of 1 scenarios picked"), "{out}");
+    assert!(
+        out.contains(&format!("0 of {ROOM_SCENARIOS} scenarios picked")),
+        "{out}"
+    );
     assert!(out.contains("shard 2/2"), "{out}");
     assert!(
         out.contains("no scenarios in this shard or these CSVs"),
@@ -374,10 +377,13 @@ fn the_count_picked_is_out_of_what_the_run_picked_from() {
             && line.contains("shard 1/2"),
         "{line}"
     );
-    // --limit N: of the first N of each file, which the message says.
+    // --limit N: the first N of each file, which the message says, out of all of them.
     let line = picked(&[ROOM_SCEN, MAZE_SCEN, "--limit", "1"]);
     assert!(
-        line.contains("2 of 2 scenarios picked (the first of each file: the shortest paths only)"),
+        line.contains(&format!(
+            "2 of {} scenarios picked (the first of each file: the shortest paths only)",
+            ROOM_SCENARIOS + MAZE_SCENARIOS
+        )),
         "{line}"
     );
 }
