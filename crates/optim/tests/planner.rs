@@ -26,10 +26,14 @@ fn check_path(scene: &Scene, plan: &Plan) {
         );
         let min = path
             .windows(2)
-            .map(|w| set.distance_to_segment(&w[0], &w[1]).unwrap().0)
+            // No circle: no distance, infinitely clear.
+            .map(|w| {
+                set.distance_to_segment(&w[0], &w[1])
+                    .map_or(f64::INFINITY, |d| d.0)
+            })
             .fold(f64::INFINITY, f64::min);
         assert!(
-            (min - c.min_clearance).abs() < 1e-9,
+            min == c.min_clearance || (min - c.min_clearance).abs() < 1e-9,
             "{}: reported clearance {} vs {}",
             scene.name,
             c.min_clearance,
@@ -429,5 +433,23 @@ fn a_scene_kilometres_across_in_small_units_gets_a_bounded_report() {
         );
         assert!(c.length > 1.8e8, "{}: length {}", c.signature, c.length);
     }
+    check_path(&scene, &p);
+}
+
+#[test]
+fn a_scene_without_obstacles_has_a_finite_cost() {
+    // Its maximal-clearance excess is infinite (no obstacle to be near), and the term's
+    // weight 0 times that made every class's total NaN, `null` in the JSON.
+    let text = "bounds: {min: [0, 0], max: [10, 10]}\nstart: [1, 1]\ngoal: [9, 9]\n";
+    let scene = Scene::from_str(text, "open.yaml").unwrap();
+    let p = plan(&scene, &PlanConfig::default()).unwrap();
+    let c = p.chosen().expect("a plan");
+    assert!(c.cost.total.is_finite(), "total {}", c.cost.total);
+    assert!(c.collision_free && c.safe);
+    assert!(
+        (c.length - 8.0 * 2f64.sqrt()).abs() < 0.5,
+        "length {}",
+        c.length
+    );
     check_path(&scene, &p);
 }

@@ -470,9 +470,14 @@ impl CostConfig {
 
     /// The weighted sum of `t`, term by term in the order of [`TERMS`].
     pub fn total(&self, t: &CostTerms) -> Real {
+        // A term of weight 0 does not count, even where it is unbounded: with no obstacle
+        // the maximal-clearance excess is infinite, and 0 * inf made the total NaN.
         TERMS
             .iter()
-            .fold(0.0, |acc, term| acc + (term.weight)(self) * (term.value)(t))
+            .fold(0.0, |acc, term| match (term.weight)(self) {
+                0.0 => acc,
+                w => acc + w * (term.value)(t),
+            })
     }
 }
 
