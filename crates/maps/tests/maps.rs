@@ -380,3 +380,17 @@ fn map_plans_are_the_same_for_any_thread_count() {
     assert_eq!(one, with(2));
     assert_eq!(one, with(4));
 }
+
+#[test]
+fn start_and_goal_at_one_point_is_a_plan_to_stay() {
+    // It was an empty path at clearance -inf, reported as no collision-free class (exit 1),
+    // while the same on a scene planned a curve of length 0.
+    let map = movingai_map("room-32-32-4");
+    let p = Point::new(1.5, 1.5);
+    let (plan, _) = plan_map(&map, p, p, &PlanConfig::default()).unwrap();
+    let c = plan.chosen().expect("a plan");
+    assert_eq!(c.path, vec![p, p]);
+    assert_eq!(c.length, 0.0);
+    assert!(c.collision_free && c.in_class);
+    assert!((c.min_clearance - 0.5).abs() < 1e-9, "{}", c.min_clearance);
+}

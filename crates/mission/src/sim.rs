@@ -885,6 +885,13 @@ fn run_mission<K: Known>(
     let (mut replans, mut switches) = (0, 0);
     let (mut driven, mut abandoned) = (0.0, 0.0);
     let mut last_switch = Real::NEG_INFINITY;
+    // Start and goal at one point: the best path is to stay (a plan's curve through them has
+    // a length of rounding, and time over it read 166463).
+    let hindsight_length = if start == goal {
+        Some(0.0)
+    } else {
+        hindsight_length
+    };
     // Offline: the classes on the prior map.
     let offline = run.routes_from(start, None, false, &ugv_track.samples);
     run.replan_ms.clear();
@@ -962,6 +969,20 @@ fn run_mission<K: Known>(
         &alternatives,
         ugv.sensor_range,
     );
+    if start == goal {
+        // Already there: reached before anything moves.
+        run.event(0.0, start, EventKind::Reached);
+        return Ok(finish(
+            run,
+            true,
+            0.0,
+            0.0,
+            ugv_track,
+            scouts,
+            adopted,
+            (0, 0, 0.0),
+        ));
+    }
     let mut reached = false;
     // The robots look around before anyone moves: a blockage within sensor range of the start
     // is known before the UGV drives into it.

@@ -442,3 +442,19 @@ fn a_fast_ugv_with_a_coarse_step_never_drives_through_what_it_has_not_seen() {
         assert!(r.reached, "{}: not reached", w.name);
     }
 }
+
+#[test]
+fn a_mission_whose_goal_is_its_start_is_reached_at_once() {
+    // It drove a step of nothing and read time over the optimum as 166463 (the optimum's
+    // length a rounding error).
+    let mut w = fixture_worlds().into_iter().next().unwrap();
+    w.truth.goal = w.truth.start;
+    w.prior.goal = w.prior.start;
+    let r = run(&w, Policy::Ahead);
+    assert!(r.reached);
+    assert_eq!(r.time, 0.0);
+    assert_eq!(r.ugv_distance, 0.0);
+    assert_eq!(r.hindsight_length, Some(0.0));
+    assert_eq!(r.distance_ratio(), None);
+    assert_eq!(r.time_ratio(w.team.ugv.speed), None);
+}

@@ -2075,6 +2075,14 @@ fn report_class(
                 in_class,
             )
         }
+        // Start and goal at one point: there is nothing to grow, and the plan is to stay.
+        // (A map reported an empty path at clearance -inf, and exit 1.)
+        None if world.start == world.goal => {
+            let path = vec![world.start, world.goal];
+            let clear = model.polyline_clearance(&path);
+            let inside = world.bounds.contains(&world.start);
+            (path, 0.0, clear, clear, clear > 0.0 && inside, true)
+        }
         None => (
             Vec::new(),
             0.0,
