@@ -201,6 +201,30 @@ fn bad_map_input_exits_2_with_the_file_named() {
             ],
             "start [0.5, 0.5] is in an occupied cell",
         ),
+        // On the side or corner of an occupied cell (cells are closed squares), or on the
+        // map's edge: clearance 0. Each was accepted and planned with every class colliding.
+        (
+            vec![
+                "plan",
+                "fixtures/maps/movingai/room-32-32-4.map",
+                "--start",
+                "1,1",
+                "--goal",
+                "30.5,30.5",
+            ],
+            "start [1, 1] lies on the side or corner of an occupied cell",
+        ),
+        (
+            vec![
+                "plan",
+                "fixtures/maps/movingai/room-32-32-4.map",
+                "--start",
+                "1.5,1.5",
+                "--goal",
+                "1.5,1",
+            ],
+            "goal [1.5, 1] lies on the side or corner of an occupied cell",
+        ),
         (
             vec![
                 "plan",

@@ -152,6 +152,29 @@ impl OccupancyMap {
         (i < self.width && j < self.height).then(|| !self.occupied[j * self.width + i])
     }
 
+    /// Why `p` cannot be a robot's position though its cell is free ([`OccupancyMap::free_at`]):
+    /// cells are closed squares and the map's edge is a wall, so a point on the side or
+    /// corner of an occupied cell, or on the edge, touches an obstacle (clearance 0).
+    /// `None` when `p` is clear of both.
+    pub fn touches_obstacle(&self, p: &Point) -> Option<&'static str> {
+        let fx = (p.x - self.origin.x) / self.cell;
+        let fy = (p.y - self.origin.y) / self.cell;
+        if fx <= 0.0 || fy <= 0.0 || fx >= self.width as Real || fy >= self.height as Real {
+            return Some("lies on the map's edge");
+        }
+        // The cells whose closed square holds `p`: its own, and the one before it along an
+        // axis where it lies on a cell side.
+        let along = |f: Real| {
+            let i = f as usize;
+            if f == i as Real { [i - 1, i] } else { [i, i] }
+        };
+        let (is, js) = (along(fx), along(fy));
+        let touches = js
+            .iter()
+            .any(|&j| is.iter().any(|&i| self.occupied[j * self.width + i]));
+        touches.then_some("lies on the side or corner of an occupied cell")
+    }
+
     /// Distance from `p` to the closed square of cell `(i, j)` (0 inside it).
     pub fn distance_to_cell(&self, p: &Point, cell: (usize, usize)) -> Real {
         self.squared_distance_to_cell(p, cell).sqrt()
@@ -213,7 +236,10 @@ impl OccupancyMap {
         match self.free_at(p) {
             None => Err(err(&format!("is outside the map {:?}", self.bounds()))),
             Some(false) => Err(err("is in an occupied cell")),
-            Some(true) => Ok(()),
+            Some(true) => match self.touches_obstacle(p) {
+                Some(why) => Err(err(why)),
+                None => Ok(()),
+            },
         }
     }
 }

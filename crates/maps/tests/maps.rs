@@ -394,3 +394,41 @@ fn start_and_goal_at_one_point_is_a_plan_to_stay() {
     assert!(c.collision_free && c.in_class);
     assert!((c.min_clearance - 0.5).abs() < 1e-9, "{}", c.min_clearance);
 }
+
+#[test]
+fn a_point_touching_an_occupied_cell_or_the_edge_is_not_a_position() {
+    // 3 x 2 cells of 2 units from (10, 20), cell (1, 0) occupied.
+    let map = OccupancyMap {
+        name: "tiny".into(),
+        width: 3,
+        height: 2,
+        cell: 2.0,
+        origin: Point::new(10.0, 20.0),
+        occupied: vec![false, true, false, false, false, false],
+        y_down: false,
+    };
+    let at = |x: f64, y: f64| map.touches_obstacle(&Point::new(x, y));
+    assert_eq!(at(11.0, 21.0), None);
+    assert_eq!(
+        at(13.0, 23.0),
+        None,
+        "a free cell's corner among free cells"
+    );
+    for (x, y) in [
+        (12.0, 21.0),
+        (14.0, 21.0),
+        (12.0, 22.0),
+        (13.0, 22.0),
+        (16.0, 22.0),
+    ] {
+        let why = if x == 16.0 {
+            "lies on the map's edge"
+        } else {
+            "lies on the side or corner of an occupied cell"
+        };
+        assert_eq!(at(x, y), Some(why), "({x}, {y})");
+    }
+    for (x, y) in [(10.0, 21.0), (11.0, 20.0), (11.0, 24.0)] {
+        assert_eq!(at(x, y), Some("lies on the map's edge"), "({x}, {y})");
+    }
+}

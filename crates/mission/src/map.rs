@@ -168,7 +168,14 @@ impl WorldFile {
                             format!("({}, {}) is in an occupied cell of the {which}", p.x, p.y),
                         ));
                     }
-                    Some(true) => {}
+                    Some(true) => {
+                        if let Some(why) = m.touches_obstacle(&p) {
+                            return Err(err(
+                                field,
+                                format!("({}, {}) {why} of the {which}", p.x, p.y),
+                            ));
+                        }
+                    }
                 }
             }
         }
