@@ -453,3 +453,38 @@ fn a_scene_without_obstacles_has_a_finite_cost() {
     );
     check_path(&scene, &p);
 }
+
+#[test]
+fn a_start_or_goal_on_the_bounds_plans_at_any_resolution() {
+    // A point on the bounds lies on the side of the grid's wall ring wherever the
+    // resolution divides the bounds evenly: the goal (100, 70) of narrow-pass was refused
+    // ("falls in an occupied cell: raise the resolution") at the default and planned at 10,
+    // the start (0, -8) the other way round.
+    let base = fixture_scenes()
+        .into_iter()
+        .find(|s| s.name == "narrow-pass")
+        .unwrap();
+    for (start, goal) in [
+        ((5.0, 47.0), (100.0, 70.0)),
+        ((5.0, 47.0), (100.0, 47.0)),
+        ((0.0, -8.0), (95.0, 47.0)),
+        ((0.0, 47.0), (95.0, 47.0)),
+    ] {
+        for resolution in [None, Some(3.0), Some(10.0)] {
+            let mut scene = base.clone();
+            scene.start = homospline_geom::Point::new(start.0, start.1);
+            scene.goal = homospline_geom::Point::new(goal.0, goal.1);
+            let cfg = PlanConfig {
+                resolution,
+                ..PlanConfig::default()
+            };
+            let p = plan(&scene, &cfg)
+                .unwrap_or_else(|e| panic!("{start:?} -> {goal:?} at {resolution:?}: {e}"));
+            assert!(
+                p.chosen().is_some(),
+                "{start:?} -> {goal:?} at {resolution:?}"
+            );
+            check_path(&scene, &p);
+        }
+    }
+}

@@ -323,15 +323,34 @@ pub fn build_complete(
     MapGraph::build(grid, field).with_endpoints(grid, field, start, goal)
 }
 
-/// The cell holding `p`, which must be free.
+/// The cell holding `p`, which must be free; or, where `p` lies on a side or corner of its
+/// cell (within a billionth of a cell), a free neighbour whose closed square holds it. A
+/// point on a scene's bounds lies on the side of the grid's wall ring wherever the
+/// resolution divides the bounds evenly: it was refused at some resolutions and not others.
 fn free_cell(grid: &Grid, p: Point, what: &'static str) -> Result<(usize, usize), GraphError> {
     let (i, j) = grid
         .cell_of(&p)
         .ok_or(GraphError::Outside(what, p.x, p.y))?;
-    if grid.occupied(i, j) {
-        return Err(GraphError::Occupied(what, p.x, p.y));
+    if !grid.occupied(i, j) {
+        return Ok((i, j));
     }
-    Ok((i, j))
+    const ON_SIDE: Real = 1e-9;
+    let options = |f: Real, k: usize, n: usize| {
+        let d = f - k as Real;
+        [
+            Some(k),
+            (d < ON_SIDE && k > 0).then(|| k - 1),
+            (1.0 - d < ON_SIDE && k + 1 < n).then_some(k + 1),
+        ]
+    };
+    let fx = (p.x - grid.origin().x) / grid.cell();
+    let fy = (p.y - grid.origin().y) / grid.cell();
+    let (is, js) = (options(fx, i, grid.width()), options(fy, j, grid.height()));
+    js.iter()
+        .flatten()
+        .flat_map(|&j| is.iter().flatten().map(move |&i| (i, j)))
+        .find(|&(i, j)| !grid.occupied(i, j))
+        .ok_or(GraphError::Occupied(what, p.x, p.y))
 }
 
 /// The clearance of the cell holding `p` in map units (0 outside the grid).
