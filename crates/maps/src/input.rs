@@ -17,8 +17,20 @@ pub enum Input {
     Map(OccupancyMap),
 }
 
-/// Reads the input at `path`: `.map` is a MovingAI map, a `.yaml`/`.yml` with an `image:` key
-/// a ROS map (its image read beside it), anything else a scene. The error is the message a
+/// The top-level keys of a ROS map YAML, none of which a scene file has.
+const ROS_KEYS: [&str; 6] = [
+    "image",
+    "resolution",
+    "origin",
+    "negate",
+    "occupied_thresh",
+    "free_thresh",
+];
+
+/// Reads the input at `path`: `.map` is a MovingAI map, a `.yaml`/`.yml` with a top-level
+/// key of a ROS map (`image:`, `resolution:`, ... ; [`ROS_KEYS`]) a ROS map (its image read
+/// beside it), anything else a scene. (With `image:` alone, a ROS map YAML that lacked it was
+/// read as a scene: "unknown field `resolution`".) The error is the message a
 /// front end shows: file, line and field where known.
 pub fn load(
     path: &Path,
@@ -30,7 +42,14 @@ pub fn load(
     let text = std::str::from_utf8(&bytes).ok();
     let is_ros = !is_map
         && path.extension().is_some_and(|e| e == "yaml" || e == "yml")
-        && text.is_some_and(|t| t.lines().any(|l| l.trim_start().starts_with("image:")));
+        && text.is_some_and(|t| {
+            t.lines().any(|l| {
+                ROS_KEYS.iter().any(|k| {
+                    l.strip_prefix(k)
+                        .is_some_and(|r| r.trim_start().starts_with(':'))
+                })
+            })
+        });
     if is_map {
         let text = text.ok_or_else(|| format!("{name}: not a text file"))?;
         return movingai::read_map(text, &name)

@@ -432,3 +432,16 @@ fn a_point_touching_an_occupied_cell_or_the_edge_is_not_a_position() {
         assert_eq!(at(x, y), Some("lies on the map's edge"), "({x}, {y})");
     }
 }
+
+#[test]
+fn a_ros_map_yaml_without_its_image_says_so() {
+    // Detected by `image:` alone, it was read as a scene: "unknown field `resolution`".
+    let text = "resolution: 0.05\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
+    let e = match homospline_maps::input::load(std::path::Path::new("noimage.yaml"), |_| {
+        Ok(text.as_bytes().to_vec())
+    }) {
+        Err(e) => e,
+        Ok(_) => panic!("read"),
+    };
+    assert_eq!(e, "noimage.yaml:5: missing field `image`");
+}
