@@ -727,6 +727,11 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
             Input::Map(map)
         }
     };
+    if matches!(a.seed, SeedArg::Straight) && a.graph.is_some() {
+        return Err(bad(
+            "--graph gives the Voronoi seed's classes; --seed straight plans one class from the straight line",
+        ));
+    }
     let weights = parse_weights(&a.weights)?;
     let options = PlanOptions {
         seed: match a.seed {
@@ -889,7 +894,7 @@ fn bench_scen(a: BenchArgs) -> anyhow::Result<u8> {
     .map_err(bad)?;
     bar.finish_and_clear();
     say!(
-        "{}: {} of {} scenarios picked{}{}, on {}; maps prepared once in {:.1} ms",
+        "{}: {} of {} scenarios picked{}{}{}, on {}; maps prepared once in {:.1} ms",
         info.files
             .iter()
             .map(|f| f.display().to_string())
@@ -897,6 +902,11 @@ fn bench_scen(a: BenchArgs) -> anyhow::Result<u8> {
             .join(", "),
         rows.len(),
         info.picked,
+        if a.limit.is_some() || a.sample.is_some() {
+            format!(" from {}", info.total)
+        } else {
+            String::new()
+        },
         match (a.limit, a.sample) {
             (Some(_), _) => " (the first of each file: the shortest paths only)",
             (_, Some(_)) => " (sampled evenly over every bucket)",

@@ -213,6 +213,26 @@ fn bad_options_exit_2_with_the_option_named() {
             "--threads 5000: must be between 1 and 256",
         ),
         (
+            vec!["plan", "--avoid", "abc"],
+            "avoid 'abc': not a class: e, or ray crossings such as -1+2",
+        ),
+        (
+            vec!["plan", "--avoid", "-9"],
+            "avoid '-9': ray 9: there are",
+        ),
+        (
+            vec!["plan", "--seed", "straight", "--avoid", "e"],
+            "the straight seed plans one class",
+        ),
+        (
+            vec!["plan", "--seed", "straight", "--diverse", "0.5"],
+            "the straight seed plans one class",
+        ),
+        (
+            vec!["plan", "--seed", "straight", "--graph", "g.msgpack"],
+            "--seed straight plans one class",
+        ),
+        (
             vec!["plan", "--weight", "dm=-5"],
             "parameter dm must be finite and >= 0, got -5",
         ),

@@ -516,6 +516,36 @@ pub fn plan_with_graph(
     )
 }
 
+/// Why `text` names no class of a scene or map with `rays` rays, if it does not: a class is
+/// written as its signature prints, `e` or ray crossings such as `-1+12` (rays from 1). A
+/// mistyped class was left out of nothing, silently.
+fn avoid_misfit(text: &str, rays: usize) -> Option<String> {
+    if text == "e" {
+        return None;
+    }
+    let mut rest = text;
+    if rest.is_empty() {
+        return Some("not a class: e, or ray crossings such as -1+2".into());
+    }
+    while let Some(sign) = rest.chars().next() {
+        if sign != '+' && sign != '-' {
+            return Some("not a class: e, or ray crossings such as -1+2".into());
+        }
+        let digits = rest[1..]
+            .find(['+', '-'])
+            .map_or(&rest[1..], |end| &rest[1..1 + end]);
+        match digits.parse::<usize>() {
+            Ok(k) if k >= 1 && k <= rays && !digits.starts_with('0') => {}
+            Ok(k) if k >= 1 && !digits.starts_with('0') => {
+                return Some(format!("ray {k}: there are {rays} rays here"));
+            }
+            _ => return Some("not a class: e, or ray crossings such as -1+2".into()),
+        }
+        rest = &rest[1 + digits.len()..];
+    }
+    None
+}
+
 /// Most worker threads a plan may ask for ([`PlanConfig::threads`]): far beyond the
 /// classes a plan has, and a pool of 5,000 threads took longer to start than 20 s.
 pub const MAX_THREADS: usize = 256;
@@ -529,6 +559,17 @@ pub fn plan_world(
 ) -> Result<Plan, PlanError> {
     if cfg.classes == 0 {
         return Err(PlanError::Config("classes must be at least 1".into()));
+    }
+    for a in &cfg.avoid {
+        avoid_misfit(a, world.rays.len()).map_or(Ok(()), |why| {
+            Err(PlanError::Config(format!("avoid '{a}': {why}")))
+        })?;
+    }
+    if cfg.seed == Seed::Straight && (!cfg.avoid.is_empty() || cfg.diverse.is_some()) {
+        return Err(PlanError::Config(
+            "avoid and diverse choose among the Voronoi seed's classes; the straight seed plans one class"
+                .into(),
+        ));
     }
     if let Some(n) = cfg.threads
         && !(1..=MAX_THREADS).contains(&n)
@@ -2125,6 +2166,28 @@ pub const DIVERSE_CANDIDATES: usize = 4;
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_avoided_class_must_be_written_as_signatures_print() {
+        for ok in ["e", "-1", "+3-1+12", "-12"] {
+            assert_eq!(avoid_misfit(ok, 12), None, "{ok}");
+        }
+        for (bad, why) in [
+            ("abc", "not a class"),
+            ("", "not a class"),
+            ("1-2", "not a class"),
+            ("-", "not a class"),
+            ("-1+", "not a class"),
+            ("+0", "not a class"),
+            ("-01", "not a class"),
+            ("-1x", "not a class"),
+            ("E", "not a class"),
+            ("-13", "ray 13: there are 12 rays here"),
+        ] {
+            let got = avoid_misfit(bad, 12).unwrap_or_default();
+            assert!(got.contains(why), "{bad}: {got}");
+        }
+    }
     use homospline_geom::Circle;
     use homospline_spline::CircleModel;
     use proptest::prelude::*;
