@@ -395,9 +395,22 @@ fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
     Ok(if result.reached { 0 } else { 1 })
 }
 
+/// Writes an output file; its directory must exist (none is made: a mistyped path fails
+/// instead of leaving a stray tree), and the error says which is missing.
 fn write(path: &Path, what: &str, bytes: &[u8]) -> anyhow::Result<()> {
-    std::fs::write(path, bytes)
-        .with_context(|| format!("{}: cannot write the {what}", path.display()))
+    std::fs::write(path, bytes).with_context(|| {
+        match path
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty() && !d.exists())
+        {
+            Some(d) => format!(
+                "{}: cannot write the {what}: the directory {} does not exist",
+                path.display(),
+                d.display()
+            ),
+            None => format!("{}: cannot write the {what}", path.display()),
+        }
+    })
 }
 
 fn check(path: &Path) -> anyhow::Result<u8> {

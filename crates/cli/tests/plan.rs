@@ -594,3 +594,21 @@ fn polish_lowers_the_chosen_class_and_refuses_bad_counts_and_maps() {
         "--polish applies to scenes",
     );
 }
+
+#[test]
+fn an_output_into_a_missing_directory_fails_with_exit_3_naming_it() {
+    let dir = tmp("no-such-dir");
+    let _ = std::fs::remove_dir_all(&dir);
+    let target = dir.join("p.json");
+    let out = homospline()
+        .args(["plan", "--json", target.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(3));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        err.contains(&format!("the directory {} does not exist", dir.display())),
+        "{err}"
+    );
+    assert!(!dir.exists(), "no directory is made");
+}
