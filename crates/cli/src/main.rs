@@ -504,25 +504,47 @@ fn graph_dir(
             files.push(p.clone());
         }
     }
-    std::fs::create_dir_all(dir)
-        .with_context(|| format!("{}: cannot create the directory", dir.display()))?;
-    let mut stems = std::collections::BTreeSet::new();
-    for (i, f) in files.iter().enumerate() {
+    if files.is_empty() {
+        return Err(bad(format!(
+            "{}: no input to build a graph of (a directory gives its .map files)",
+            inputs
+                .iter()
+                .map(|p| p.display().to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )));
+    }
+    // Every name is checked before anything is written: a clash found halfway left the
+    // first inputs' graphs behind.
+    let mut stems = std::collections::BTreeMap::new();
+    for f in &files {
         let stem = f
             .file_stem()
             .and_then(|s| s.to_str())
             .unwrap_or("graph")
             .to_owned();
-        if !stems.insert(stem.clone()) {
+        if let Some(first) = stems.insert(stem.clone(), f) {
             return Err(bad(format!(
-                "two inputs would both be saved as {stem}.msgpack"
+                "{} and {} would both be saved as {stem}.msgpack",
+                first.display(),
+                f.display()
             )));
         }
+    }
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("{}: cannot create the directory", dir.display()))?;
+    for (i, f) in files.iter().enumerate() {
         if !shard.takes(i) {
             continue;
         }
-        let out = dir.join(format!("{stem}.msgpack"));
-        graph(f, resolution, Some(out), None, None)?;
+        let stem = f.file_stem().and_then(|s| s.to_str()).unwrap_or("graph");
+        graph(
+            f,
+            resolution,
+            Some(dir.join(format!("{stem}.msgpack"))),
+            None,
+            None,
+        )?;
     }
     Ok(0)
 }

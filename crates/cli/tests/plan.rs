@@ -612,3 +612,38 @@ fn an_output_into_a_missing_directory_fails_with_exit_3_naming_it() {
     );
     assert!(!dir.exists(), "no directory is made");
 }
+
+#[test]
+fn graph_out_dir_checks_its_inputs_before_writing_anything() {
+    let (out, other, empty) = (tmp("od-out"), tmp("od-other"), tmp("od-empty"));
+    for d in [&out, &other, &empty] {
+        let _ = std::fs::remove_dir_all(d);
+    }
+    std::fs::create_dir_all(&other).unwrap();
+    std::fs::create_dir_all(&empty).unwrap();
+    let map = "fixtures/maps/movingai/room-32-32-4.map";
+    let twin = other.join("room-32-32-4.map");
+    std::fs::copy(root().join(map), &twin).unwrap();
+    // Two inputs of one name: refused before the first was written (it used to be).
+    assert_refused(
+        &[
+            "graph",
+            "--out-dir",
+            out.to_str().unwrap(),
+            map,
+            twin.to_str().unwrap(),
+        ],
+        "would both be saved as room-32-32-4.msgpack",
+    );
+    assert!(!out.exists(), "nothing written");
+    // A directory without maps: refused (it exited 0 having done nothing).
+    assert_refused(
+        &[
+            "graph",
+            "--out-dir",
+            out.to_str().unwrap(),
+            empty.to_str().unwrap(),
+        ],
+        "no input to build a graph of",
+    );
+}
