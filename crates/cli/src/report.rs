@@ -15,6 +15,9 @@ use serde::Serialize;
 struct PlanJson<'a> {
     scene: &'a str,
     seed: &'a str,
+    /// What `safe` was judged by, and the floor `best` had to meet.
+    dm: f64,
+    clearance_floor: f64,
     classes: Vec<ClassJson<'a>>,
     best: Option<usize>,
     pareto: &'a [usize],
@@ -97,6 +100,8 @@ pub fn plan_json_with(plan: &Plan, optima: &[Option<Optimum>]) -> String {
     let doc = PlanJson {
         scene: &plan.scene,
         seed: plan.seed.name(),
+        dm: plan.dm,
+        clearance_floor: plan.clearance_floor,
         classes: plan
             .classes
             .iter()

@@ -647,3 +647,22 @@ fn graph_out_dir_checks_its_inputs_before_writing_anything() {
         "no input to build a graph of",
     );
 }
+
+#[test]
+fn the_json_says_what_safe_was_judged_by() {
+    // An outside tool could not check `safe` or `best` without knowing dm and the floor.
+    let json = tmp("judged.json");
+    let out = homospline()
+        .args(["plan", "--weight", "dm=2.5", "--clearance-floor", "1.5"])
+        .args(["--json", json.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let v = read_json(&json);
+    assert_eq!(v["dm"], 2.5);
+    assert_eq!(v["clearance_floor"], 1.5);
+    for c in v["classes"].as_array().unwrap() {
+        let cert = c["certified_clearance"].as_f64().unwrap();
+        assert_eq!(c["safe"].as_bool().unwrap(), cert >= 2.5, "{c}");
+    }
+}

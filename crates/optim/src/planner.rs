@@ -348,6 +348,10 @@ pub struct Plan {
     pub goal: Point,
     /// Seeding used.
     pub seed: Seed,
+    /// The minimal distance `dm` the classes' `safe` was judged by.
+    pub dm: Real,
+    /// The clearance floor the chosen class had to meet ([`PlanConfig::clearance_floor`]).
+    pub clearance_floor: Real,
     /// Classes in rank order.
     pub classes: Vec<ClassPlan>,
     /// Rank of the chosen class: the best-ranked collision-free class certified at least
@@ -941,6 +945,8 @@ pub fn plan_world(
         start: world.start,
         goal: world.goal,
         seed: cfg.seed,
+        dm: cfg.growth.cost.dm,
+        clearance_floor: cfg.clearance_floor,
         classes,
         best,
         pareto,
