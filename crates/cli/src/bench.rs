@@ -1,12 +1,13 @@
 //! `bench-scen` and `bench-merge` for every front end (the command line and the Python
-//! package): `.scen` files and directories expanded, scenarios picked and sharded, maps read
-//! and prepared once, rows planned; CSV text to and from rows. This module reads files.
+//! package): `.scen` files and directories expanded, scenarios picked and sharded, every map
+//! read and checked (only its size kept), those the shard plans on prepared once, rows
+//! planned; CSV text to and from rows. This module reads files.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use homospline_maps::bench::{self, CSV_HEADER, Row, Shard};
-use homospline_maps::{PreparedMap, movingai};
+use homospline_maps::{OccupancyMap, PreparedMap, movingai};
 
 /// A sweep, or one shard of it.
 #[derive(Clone, Debug)]
@@ -33,12 +34,16 @@ pub struct BenchJob {
 pub struct BenchInfo {
     /// The `.scen` files, directories expanded.
     pub files: Vec<PathBuf>,
-    /// How many scenarios the files hold, all together. The rows are those picked from them
-    /// (`sample`: spread over every bucket; `limit`: the first of each file), and with a
-    /// shard its slice of them: a run's message reads "ROWS of PICKED scenarios picked".
+    /// How many scenarios the files hold, all together.
+    pub total: usize,
+    /// How many of them the sweep picked, before sharding: all (`total`) without options,
+    /// `sample` of each file spread over every bucket, or the first `limit` of each file.
+    /// The rows are this shard's slice of them: a run's message reads "ROWS of PICKED
+    /// scenarios picked from TOTAL".
     pub picked: usize,
-    /// Each map the files' scenarios name, with its size: every one is read and checked
-    /// against the sizes its scenarios declare; those this shard plans on are prepared.
+    /// Each map the files' scenarios name, with its size (`name (W x H)`): every one is read
+    /// and checked against the sizes its scenarios declare; those this shard plans on are
+    /// prepared.
     pub maps: Vec<String>,
     /// Time spent preparing maps, ms.
     pub prepare_ms: f64,
@@ -101,6 +106,23 @@ fn map_beside(scen_file: &Path, map: &str) -> PathBuf {
     scen_file.parent().unwrap_or(Path::new(".")).join(name)
 }
 
+/// Reads the map at `path`, which line `line` of `scen` names.
+fn read_map_of(scen: &str, line: usize, path: &Path) -> Result<OccupancyMap, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        format!(
+            "{scen}:{line}: its map {}: cannot read: {e}",
+            path.display()
+        )
+    })?;
+    movingai::read_map(&text, &path.display().to_string()).map_err(|e| e.to_string())
+}
+
+/// A map's name and size (width, height), all a run keeps of a map it does not plan on.
+struct MapSize {
+    name: String,
+    size: (usize, usize),
+}
+
 /// Checks the job and plans its shard: one row per scenario, in order.
 pub fn run_files(
     job: &BenchJob,
@@ -128,7 +150,7 @@ pub fn run_files(
     let files = scen_files(&job.files)?;
     let mut items: Vec<(usize, usize)> = Vec::new();
     let mut scenarios = Vec::new();
-    let mut picked = 0;
+    let mut total = 0;
     for (f, path) in files.iter().enumerate() {
         let name = path.display().to_string();
         let text =
@@ -139,49 +161,65 @@ pub fn run_files(
             (_, Some(n)) => bench::sample_indices(scen.len(), n),
             _ => (0..scen.len()).collect(),
         };
-        picked += scen.len();
+        total += scen.len();
         items.extend(chosen.into_iter().map(|k| (f, k)));
         scenarios.push(scen);
     }
+    let picked = items.len();
     let items: Vec<(usize, usize)> = items
         .into_iter()
         .enumerate()
         .filter(|(i, _)| job.shard.takes(*i))
         .map(|(_, x)| x)
         .collect();
-    // Every map the files name is read, and every scenario checked against it, whatever this
-    // shard plans: each shard of a sweep refuses the same input. Only the maps this shard
-    // plans on are prepared.
-    let mut read: BTreeMap<PathBuf, homospline_maps::OccupancyMap> = BTreeMap::new();
+    // Every map the files name is read, and every scenario checked against its size,
+    // whatever this shard plans: each shard of a sweep refuses the same input. Only the
+    // size is kept: the maps this shard plans on are read again below, one at a time.
+    let mut sizes: BTreeMap<PathBuf, MapSize> = BTreeMap::new();
     for (f, scen) in scenarios.iter().enumerate() {
         let name = files[f].display().to_string();
         for s in scen {
             let map_path = map_beside(&files[f], &s.map);
-            if !read.contains_key(&map_path) {
-                let text = std::fs::read_to_string(&map_path).map_err(|e| {
-                    format!(
-                        "{name}:{}: its map {}: cannot read: {e}",
-                        s.line,
-                        map_path.display()
-                    )
-                })?;
-                let map = movingai::read_map(&text, &map_path.display().to_string())
-                    .map_err(|e| e.to_string())?;
-                read.insert(map_path.clone(), map);
+            if !sizes.contains_key(&map_path) {
+                let map = read_map_of(&name, s.line, &map_path)?;
+                let size = MapSize {
+                    name: map.name,
+                    size: (map.width, map.height),
+                };
+                sizes.insert(map_path.clone(), size);
             }
-            s.check_map_size(&name, &read[&map_path], &map_path.display().to_string())
-                .map_err(|e| e.to_string())?;
+            s.check_map_size(
+                &name,
+                sizes[&map_path].size,
+                &map_path.display().to_string(),
+            )
+            .map_err(|e| e.to_string())?;
         }
     }
+    // The maps this shard plans on, each read again and prepared: a read map is dropped once
+    // prepared (the prepared map holds its own copy).
     let mut maps: BTreeMap<PathBuf, PreparedMap> = BTreeMap::new();
     let mut prepare_ms = 0.0;
     for &(f, k) in &items {
-        let map_path = map_beside(&files[f], &scenarios[f][k].map);
+        let s = &scenarios[f][k];
+        let map_path = map_beside(&files[f], &s.map);
         if maps.contains_key(&map_path) {
             continue;
         }
+        let map = read_map_of(&files[f].display().to_string(), s.line, &map_path)?;
+        let was = sizes[&map_path].size;
+        if (map.width, map.height) != was {
+            return Err(format!(
+                "{}: changed during the run: {} x {} when read again to be prepared, {} x {} when its scenarios were checked",
+                map_path.display(),
+                map.width,
+                map.height,
+                was.0,
+                was.1
+            ));
+        }
         let t = std::time::Instant::now();
-        let prepared = PreparedMap::new(&read[&map_path]).map_err(|e| e.to_string())?;
+        let prepared = PreparedMap::new(&map).map_err(|e| e.to_string())?;
         prepare_ms += t.elapsed().as_secs_f64() * 1e3;
         maps.insert(map_path, prepared);
     }
@@ -194,11 +232,12 @@ pub fn run_files(
         progress(done + 1, items.len());
     }
     let info = BenchInfo {
-        maps: read
+        maps: sizes
             .values()
-            .map(|m| format!("{} ({} x {})", m.name, m.width, m.height))
+            .map(|m| format!("{} ({} x {})", m.name, m.size.0, m.size.1))
             .collect(),
         files,
+        total,
         picked,
         prepare_ms,
     };

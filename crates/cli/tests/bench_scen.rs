@@ -42,10 +42,35 @@ fn text(p: &Path) -> &str {
     p.to_str().unwrap()
 }
 
-/// No figure printed as NaN, infinite or negative zero.
+/// No figure printed as NaN, infinite or negative zero: no word `NaN`, `inf` or `infinity`
+/// (any case, wherever it stands: before a comma, a space, the end of a line or of the
+/// text), and no `-0.00`.
 fn assert_no_odd_figures(text: &str) {
-    for bad in ["NaN", "inf,", "inf ", "-0.00"] {
-        assert!(!text.contains(bad), "{bad} in {text}");
+    for word in text.split(|c: char| !(c.is_alphanumeric() || c == '_')) {
+        for bad in ["nan", "inf", "infinity"] {
+            assert!(!word.eq_ignore_ascii_case(bad), "{word} in {text}");
+        }
+    }
+    assert!(!text.contains("-0.00"), "-0.00 in {text}");
+}
+
+#[test]
+fn odd_figures_are_caught_wherever_they_stand() {
+    let caught = |text: &str| std::panic::catch_unwind(|| assert_no_odd_figures(text)).is_err();
+    for text in [
+        "max inf\nnext line",
+        "max inf",
+        "median NaN\n",
+        "ratio (inf)",
+        "min -inf, max 2",
+        "max inf ms",
+        "mean -0.00 ms",
+        "nan",
+    ] {
+        assert!(caught(text), "{text:?} passed");
+    }
+    for text in ["information, infeasible, Infinite", "success 1/1 (100.0 %)"] {
+        assert!(!caught(text), "{text:?} caught");
     }
 }
 
@@ -114,10 +139,11 @@ fn an_empty_shard_says_so_and_its_csv_merges() {
     };
     let out = stdout_of(&shard("2/2", &empty));
     assert!(
-        out.contains(&format!("0 of {ROOM_SCENARIOS} scenarios picked")),
+        out.contains(&format!(
+            "0 of 1 scenarios picked from {ROOM_SCENARIOS} (the first of each file: the shortest paths only), shard 2/2"
+        )),
         "{out}"
     );
-    assert!(out.contains("shard 2/2"), "{out}");
     assert!(
         out.contains("no scenarios in this shard or these CSVs"),
         "{out}"
@@ -277,7 +303,9 @@ fn scen_headers_must_match_the_map_and_the_version() {
     assert!(
         err.contains(
             "size.scen:3: map size: the line declares a 64 x 64 map (width x height), but its map"
-        ) && err.contains("room-32-32-4.map is 32 x 32"),
+        ) && err.contains(
+            "room-32-32-4.map is 32 x 32: scaled maps are not supported (MovingAI would scale the map to 64 x 64)"
+        ),
         "{err}"
     );
     // Width and height are not swapped silently either.
@@ -307,6 +335,39 @@ fn scen_headers_must_match_the_map_and_the_version() {
         let out = stdout_of(&run(&["bench-scen", text(&p), "--classes", "1"]));
         assert!(out.contains("1 of 1 scenarios picked"), "{out}");
     }
+}
+
+#[test]
+fn scen_files_with_blank_lines_a_byte_order_mark_or_joined_read() {
+    let other = ROOM_LINE.replace("\t23.65685425", "\t23.6568");
+    for (name, scen, n) in [
+        ("blank.scen", format!("\n\nversion 1\n{ROOM_LINE}\n"), 1),
+        ("bom.scen", format!("\u{feff}version 1\n{ROOM_LINE}\n"), 1),
+        (
+            "joined.scen",
+            format!("version 1\n{ROOM_LINE}\nversion 1\n{other}\n"),
+            2,
+        ),
+    ] {
+        let p = scen_beside_room("readable", name, &scen);
+        let out = stdout_of(&run(&["bench-scen", text(&p), "--classes", "1"]));
+        assert!(
+            out.contains(&format!(
+                "{n} of {n} scenarios picked, on room-32-32-4 (32 x 32)"
+            )),
+            "{name}: {out}"
+        );
+    }
+    // Joined files of different versions: refused at the second version line.
+    let p = scen_beside_room(
+        "joined-versions",
+        "mixed.scen",
+        &format!("version 1\n{ROOM_LINE}\nversion 1.0\n{other}\n"),
+    );
+    assert_refused(
+        &["bench-scen", text(&p)],
+        "mixed.scen:3: 'version 1.0' differs from the version line 1 ('version 1')",
+    );
 }
 
 #[test]
@@ -353,11 +414,12 @@ fn the_count_picked_is_out_of_what_the_run_picked_from() {
         let out = stdout_of(&run(&all));
         out.lines().next().unwrap().to_owned()
     };
+    // ROWS of PICKED (the sweep, before sharding) from TOTAL (every scenario of the files).
     // --sample: of every scenario of the file.
     let line = picked(&[ROOM_SCEN, "--sample", "3"]);
     assert!(
         line.contains(&format!(
-            "3 of {ROOM_SCENARIOS} scenarios picked (sampled evenly over every bucket)"
+            "3 of 3 scenarios picked from {ROOM_SCENARIOS} (sampled evenly over every bucket), on"
         )),
         "{line}"
     );
@@ -365,25 +427,60 @@ fn the_count_picked_is_out_of_what_the_run_picked_from() {
     let line = picked(&[ROOM_SCEN, MAZE_SCEN, "--sample", "1"]);
     assert!(
         line.contains(&format!(
-            "2 of {} scenarios picked",
+            "2 of 2 scenarios picked from {} (sampled evenly over every bucket), on",
             ROOM_SCENARIOS + MAZE_SCENARIOS
         )),
         "{line}"
     );
-    // A shard: its share of them.
+    // A shard: its share of the sweep, the sweep, and all the files hold.
     let line = picked(&[ROOM_SCEN, "--sample", "3", "--shard", "1/2"]);
     assert!(
-        line.contains(&format!("2 of {ROOM_SCENARIOS} scenarios picked"))
-            && line.contains("shard 1/2"),
+        line.contains(&format!(
+            "2 of 3 scenarios picked from {ROOM_SCENARIOS} (sampled evenly over every bucket), shard 1/2, on"
+        )),
         "{line}"
     );
     // --limit N: the first N of each file, which the message says, out of all of them.
-    let line = picked(&[ROOM_SCEN, MAZE_SCEN, "--limit", "1"]);
+    let line = picked(&[ROOM_SCEN, MAZE_SCEN, "--limit", "1", "--shard", "2/2"]);
     assert!(
         line.contains(&format!(
-            "2 of {} scenarios picked (the first of each file: the shortest paths only)",
+            "1 of 2 scenarios picked from {} (the first of each file: the shortest paths only), shard 2/2, on",
             ROOM_SCENARIOS + MAZE_SCENARIOS
         )),
         "{line}"
+    );
+    // No option: every scenario is picked, a shard plans its share of them.
+    let p = scen_beside_room(
+        "all",
+        "all.scen",
+        &format!("version 1\n{ROOM_LINE}\n{ROOM_LINE}\n{ROOM_LINE}\n"),
+    );
+    let line = picked(&[text(&p), "--shard", "1/2"]);
+    assert!(
+        line.contains("2 of 3 scenarios picked, shard 1/2, on room-32-32-4 (32 x 32)"),
+        "{line}"
+    );
+}
+
+/// A CSV the older writer wrote (length, ratio and clearance with 4 decimals), and the
+/// writer's own `inf` for a ratio whose quotient overflows, merge.
+#[test]
+fn bench_merge_reads_rounded_and_infinite_ratios() {
+    let rounded = "s.scen,0,2,5,21.5,14.5,9.5,0.5,1.41421356,1.4181,1.0028,0.2500,0,true,20.000,ok";
+    let p = csv_with("rounded.csv", 0, rounded);
+    let out = stdout_of(&run(&["bench-merge", text(&p)]));
+    assert!(out.contains("success      1/4"), "{out}");
+    assert_no_odd_figures(&out);
+    let tiny = format!("0.{}1", "0".repeat(309));
+    let infinite = format!("s.scen,0,2,5,21.5,14.5,9.5,0.5,{tiny},1e10,inf,0.5,0,true,20.000,ok");
+    let p = csv_with("infinite.csv", 0, &infinite);
+    let out = stdout_of(&run(&["bench-merge", text(&p)]));
+    assert!(out.contains("success      1/4"), "{out}");
+    assert_no_odd_figures(&out);
+    // A ratio more than rounding explains is still refused.
+    let p = csv_with("off.csv", 0, &rounded.replace(",1.0028,", ",1.0031,"));
+    assert_refused(
+        &["bench-merge", text(&p)],
+        "off.csv:2: ratio: '1.0031' is not length / optimal = 1.00274",
     );
 }

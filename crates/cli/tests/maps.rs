@@ -74,7 +74,7 @@ fn bench_scen_reports_success_time_and_length_ratio() {
     assert_ok(&out);
     let text = String::from_utf8(out.stdout).unwrap();
     for needle in [
-        "3 of 461 scenarios picked (the first of each file: the shortest paths only), on random-32-32-10",
+        "3 of 3 scenarios picked from 461 (the first of each file: the shortest paths only), on random-32-32-10",
         "success",
         "time / plan",
         "length / octile optimum",

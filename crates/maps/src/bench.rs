@@ -144,7 +144,9 @@ impl Row {
     /// counts, finite non-negative numbers, `NaN` where there is no value, `true` or `false`;
     /// and the columns that follow from others must agree with them (`ratio` is
     /// `length / optimal`, `success` is `true` for `ok` only, `classes` is the count in the
-    /// outcome of a scenario with no collision-free class and 0 otherwise).
+    /// outcome of a scenario with no collision-free class and 0 otherwise). The `ratio` is
+    /// compared within the rounding of 4 decimals (see `ratio_agrees`): `inf` and `NaN`
+    /// only where length / optimal is infinite or has no value.
     pub fn from_csv(text: &str, source: &str, line: usize) -> Result<Self, MapError> {
         let at = |problem: String| MapError::Format {
             source_name: source.to_owned(),
@@ -293,7 +295,7 @@ impl Row {
                     ),
                 ));
             }
-        } else if !(given.is_finite() && (given - ratio).abs() <= 1e-9 * ratio) {
+        } else if !ratio_agrees(given, ratio, optimal) {
             return Err(err(
                 10,
                 format!("'{}' is not length / optimal = {ratio}", f[10]),
@@ -320,6 +322,21 @@ impl Row {
         }
         Ok(row)
     }
+}
+
+/// Whether the `ratio` column `given` agrees with `ratio`, the row's length over its
+/// optimum `optimal`: infinite both (the writer writes `inf` when the quotient overflows),
+/// or within what rounding each of the length, the optimum and the ratio to 4 decimals
+/// explains (an older writer wrote `{:.4}`; spreadsheets round too), plus 1e-9 relative.
+fn ratio_agrees(given: f64, ratio: f64, optimal: f64) -> bool {
+    if ratio.is_infinite() || given.is_infinite() {
+        return given == ratio;
+    }
+    // Half a unit in the 4th decimal of the ratio, and that of the length and the optimum
+    // carried through length / optimal.
+    const HALF: f64 = 5e-5;
+    let tolerance = HALF + HALF * (1.0 + ratio.abs()) / optimal + 1e-9 * ratio.abs();
+    (given - ratio).abs() <= tolerance
 }
 
 /// Plans scenario `index` of `file` on its prepared map; a plan that took longer than
@@ -831,6 +848,81 @@ mod tests {
         let line = zero.to_csv();
         assert_eq!(Row::from_csv(&line, "x.csv", 3).unwrap(), zero);
         assert!(Row::from_csv(&with(&line, "ratio", "1"), "x.csv", 3).is_err());
+    }
+
+    #[test]
+    fn ratios_rounded_to_4_decimals_or_infinite_are_read() {
+        let mut checked = 0;
+        for optimal in [1.0, 2.414_213_56, 3.0, 23.656_854_25, 517.5] {
+            for k in 0..400 {
+                let length = optimal * (1.0 + 0.001_37 * f64::from(k)) + 1.3e-5 * f64::from(k);
+                let r = Row {
+                    optimal,
+                    ..row(Outcome::Planned {
+                        length,
+                        clearance: 0.25,
+                    })
+                };
+                let line = r.to_csv();
+                // As the older writer wrote it: length, ratio and clearance with {:.4}.
+                let older = with(
+                    &with(
+                        &with(&line, "length", &format!("{length:.4}")),
+                        "ratio",
+                        &format!("{:.4}", r.ratio()),
+                    ),
+                    "clearance",
+                    "0.2500",
+                );
+                // As a spreadsheet may: the optimum rounded too.
+                let sheet = with(&older, "optimal", &format!("{optimal:.4}"));
+                for text in [older, sheet] {
+                    let read =
+                        Row::from_csv(&text, "x.csv", 3).unwrap_or_else(|e| panic!("{text}: {e}"));
+                    assert!((read.ratio() - r.ratio()).abs() < 1e-3, "{text}");
+                    checked += 1;
+                }
+            }
+        }
+        assert_eq!(checked, 4000);
+        // More than rounding explains is still refused.
+        let line = row(Outcome::Planned {
+            length: 12.5,
+            clearance: 0.25,
+        })
+        .to_csv();
+        for bad in ["1.2502", "1.2498", "inf", "-inf"] {
+            let e = Row::from_csv(&with(&line, "ratio", bad), "x.csv", 3)
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.starts_with(&format!(
+                    "x.csv:3: ratio: '{bad}' is not length / optimal = 1.25"
+                )),
+                "{e}"
+            );
+        }
+        assert!(Row::from_csv(&with(&line, "ratio", "1.2500"), "x.csv", 3).is_ok());
+        // An infinite quotient, as the writer writes it (`inf`), reads back.
+        let huge = Row {
+            optimal: 1e-310,
+            ..row(Outcome::Planned {
+                length: 1e10,
+                clearance: 0.25,
+            })
+        };
+        assert!(huge.ratio().is_infinite());
+        let line = huge.to_csv();
+        assert_eq!(line.split(',').nth(10), Some("inf"), "{line}");
+        assert_eq!(Row::from_csv(&line, "x.csv", 3).unwrap(), huge);
+        // ... and only `inf`.
+        let e = Row::from_csv(&with(&line, "ratio", "1e300"), "x.csv", 3)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("x.csv:3: ratio: '1e300' is not length / optimal = inf"),
+            "{e}"
+        );
     }
 
     #[test]

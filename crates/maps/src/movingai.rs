@@ -32,23 +32,27 @@ pub struct Scenario {
 }
 
 impl Scenario {
-    /// Checks that `map` (read from `map_source`) has the size this scenario's line of
-    /// `source` declares: a scenario written for another map is refused, `source:line`.
+    /// Checks that a map of `size` (width, height, cells; read from `map_source`) has the
+    /// size this scenario's line of `source` declares. MovingAI would scale the map to the
+    /// declared size; scaled maps are not supported, so the line is refused, `source:line`.
     pub fn check_map_size(
         &self,
         source: &str,
-        map: &OccupancyMap,
+        size: (usize, usize),
         map_source: &str,
     ) -> Result<(), MapError> {
-        if (self.map_width, self.map_height) == (map.width, map.height) {
+        if (self.map_width, self.map_height) == size {
             return Ok(());
         }
         Err(format_err(
             source,
             Some(self.line),
             format!(
-                "map size: the line declares a {} x {} map (width x height), but its map {map_source} is {} x {}",
-                self.map_width, self.map_height, map.width, map.height
+                "map size: the line declares a {w} x {h} map (width x height), but its map {map_source} is {} x {}: scaled maps are not supported (MovingAI would scale the map to {w} x {h})",
+                size.0,
+                size.1,
+                w = self.map_width,
+                h = self.map_height,
             ),
         ))
     }
@@ -189,37 +193,49 @@ pub fn read_map(text: &str, source: &str) -> Result<OccupancyMap, MapError> {
     })
 }
 
-/// Reads a `.scen` file's text: an optional first line `version 1` (or `version 1.0`; any
-/// other version is refused), then one scenario a line, its fields tab-separated (bucket,
-/// map, map width, map height, start x, start y, goal x, goal y, optimal length). The
-/// declared map size is checked against the map by [`Scenario::check_map_size`].
+/// Reads a `.scen` file's text: one scenario a line, its fields tab-separated (bucket, map,
+/// map width, map height, start x, start y, goal x, goal y, optimal length), after an
+/// optional line `version 1` (or `version 1.0`; any other version is refused). Blank lines
+/// are skipped, and so is a byte-order mark starting the file or a line. Files joined with
+/// `cat` read as one: a `version` line again later is accepted when it is the same as the
+/// first (its words), and refused at its line when it differs. The declared map size is
+/// checked against the map by [`Scenario::check_map_size`].
 pub fn read_scen(text: &str, source: &str) -> Result<Vec<Scenario>, MapError> {
     let err = |n: usize, p: String| format_err(source, Some(n), p);
     let mut out = Vec::new();
+    // The first `version` line: its words and 1-based line.
+    let mut version: Option<(Vec<&str>, usize)> = None;
     for (n, line) in text.lines().enumerate() {
+        // A byte-order mark: at the start of the file, or of a file joined after another.
+        let line = line.strip_prefix('\u{feff}').unwrap_or(line);
         if line.trim().is_empty() {
             continue;
         }
         // The `movingai` crate skips every line that starts with `version`: read them here.
         if line.trim_start().starts_with("version") {
-            if n > 0 {
-                return Err(err(
-                    n + 1,
-                    format!(
-                        "'{}': a `version` line may only be the first line",
-                        line.trim()
-                    ),
-                ));
-            }
             let words: Vec<&str> = line.split_whitespace().collect();
             if !matches!(words.as_slice(), ["version", "1" | "1.0"]) {
                 return Err(err(
-                    1,
+                    n + 1,
                     format!(
                         "'{}': unknown version (MovingAI scenario files begin with `version 1` or `version 1.0`)",
                         line.trim()
                     ),
                 ));
+            }
+            match &version {
+                None => version = Some((words, n + 1)),
+                Some((first, _)) if *first == words => {}
+                Some((first, at)) => {
+                    return Err(err(
+                        n + 1,
+                        format!(
+                            "'{}' differs from the version line {at} ('{}'): files of different versions joined into one?",
+                            line.trim(),
+                            first.join(" ")
+                        ),
+                    ));
+                }
             }
             continue;
         }
@@ -288,6 +304,13 @@ mod tests {
         assert_eq!(e, "m.map:6: expected 1 rows after `map`, found 2");
     }
 
+    /// Our cells against the `movingai` crate's own notion of passable, not a list of
+    /// characters: on the fixture maps a cell is blocked here exactly where the crate's
+    /// `is_traversable` says no; and each cell character MovingAI defines is blocked here
+    /// exactly where the crate's `is_traversable_from` says it cannot be entered from
+    /// ground (`.`). The two differ on water (`W`), which `is_traversable` counts as
+    /// traversable "in some situation" (from water) and which is never entered from ground:
+    /// blocked here.
     #[test]
     fn maps_read_as_the_movingai_crate_reads_them() {
         use ::movingai::Map2D;
@@ -304,12 +327,32 @@ mod tests {
             let map = read_map(&text, name).unwrap();
             let theirs = ::movingai::parser::parse_map(&text).unwrap();
             assert_eq!((map.width, map.height), (theirs.width(), theirs.height()));
-            let occupied: Vec<bool> = (0..map.height)
-                .flat_map(|j| (0..map.width).map(move |i| (i, j)))
-                .map(|c| matches!(theirs.get(c), '@' | 'O' | 'T' | 'W'))
-                .collect();
-            assert_eq!(map.occupied, occupied, "{name}");
+            assert_eq!(map.occupied.len(), theirs.coords().count());
+            // Row-major, as `occupied`.
+            for (k, c) in theirs.coords().enumerate() {
+                assert_eq!(
+                    map.occupied[k],
+                    !theirs.is_traversable(c),
+                    "{name}: cell {c:?} '{}'",
+                    theirs.get(c)
+                );
+            }
             assert!(map.occupied.iter().any(|&o| o) && map.occupied.iter().any(|&o| !o));
+        }
+        // Every character MovingAI defines, each beside ground: blocked here exactly where
+        // the crate says it cannot be entered from the ground beside it.
+        let kinds = ".G@OTSW";
+        let rows: String = kinds.chars().map(|ch| format!(".{ch}\n")).collect();
+        let text = format!("type octile\nheight {}\nwidth 2\nmap\n{rows}", kinds.len());
+        let map = read_map(&text, "kinds.map").unwrap();
+        let theirs = ::movingai::parser::parse_map(&text).unwrap();
+        for (j, ch) in kinds.chars().enumerate() {
+            assert_eq!(*theirs.get((1, j)), ch);
+            assert_eq!(
+                map.occupied[2 * j + 1],
+                !theirs.is_traversable_from((0, j), (1, j)),
+                "'{ch}'"
+            );
         }
         // `4-connected` and any case of `octile` read, as the crate reads them.
         for kind in ["4-connected", "Octile"] {
@@ -319,6 +362,10 @@ mod tests {
     }
 
     const LINE: &str = "0\troom.map\t32\t32\t1\t2\t3\t4\t5.0";
+
+    fn scen_err(text: &str) -> String {
+        read_scen(text, "s.scen").unwrap_err().to_string()
+    }
 
     #[test]
     fn scenario_versions_other_than_1_are_refused_at_their_line() {
@@ -342,13 +389,66 @@ mod tests {
                 "s.scen:1: 'version1': unknown version",
             ),
             (
-                format!("version 1\n{LINE}\nversion 1\n{LINE}\n"),
-                "s.scen:3: 'version 1': a `version` line may only be the first line",
+                format!("\nversion 1.1\n{LINE}\n"),
+                "s.scen:2: 'version 1.1': unknown version",
+            ),
+            // Joined files: an unknown version is refused at its own line.
+            (
+                format!("version 1\n{LINE}\nversion 2\n{LINE}\n"),
+                "s.scen:3: 'version 2': unknown version",
             ),
         ] {
-            let e = read_scen(&text, "s.scen").unwrap_err().to_string();
+            let e = scen_err(&text);
             assert!(e.starts_with(at), "{e}");
         }
+    }
+
+    #[test]
+    fn the_version_may_follow_blank_lines_or_a_byte_order_mark() {
+        for text in [
+            format!("\n  \nversion 1\n{LINE}\n"),
+            format!("\u{feff}version 1\n{LINE}\n"),
+            format!("\u{feff}\nversion 1\n{LINE}\n"),
+            format!("\u{feff}{LINE}\n"),
+        ] {
+            let s = read_scen(&text, "s.scen").unwrap_or_else(|e| panic!("{text:?}: {e}"));
+            assert_eq!(s.len(), 1, "{text:?}");
+            assert_eq!(s[0].map_width, 32);
+        }
+        assert_eq!(
+            read_scen(&format!("\n\nversion 1\n{LINE}\n"), "s.scen").unwrap()[0].line,
+            4
+        );
+    }
+
+    #[test]
+    fn files_joined_with_cat_read_when_their_versions_agree() {
+        let one = format!("version 1\n{LINE}\n{LINE}\n");
+        let two = format!("version 1\n{}\n", LINE.replace("5.0", "7.5"));
+        // Joined as `cat` joins them, with a byte-order mark on the second, and with
+        // the first missing its version line.
+        for text in [
+            format!("{one}{two}"),
+            format!("{one}\u{feff}{two}"),
+            format!("{LINE}\n{LINE}\n{two}"),
+        ] {
+            let s = read_scen(&text, "s.scen").unwrap_or_else(|e| panic!("{text:?}: {e}"));
+            assert_eq!(s.len(), 3, "{text:?}");
+            assert_eq!(s[2].optimal_length, 7.5);
+        }
+        assert_eq!(
+            read_scen(&format!("{one}{two}"), "s.scen")
+                .unwrap()
+                .iter()
+                .map(|s| s.line)
+                .collect::<Vec<_>>(),
+            [2, 3, 5]
+        );
+        // Another version than the first: refused at its line, naming the first.
+        assert_eq!(
+            scen_err(&format!("{one}version 1.0\n{LINE}\n")),
+            "s.scen:4: 'version 1.0' differs from the version line 1 ('version 1'): files of different versions joined into one?"
+        );
     }
 
     #[test]
@@ -358,18 +458,12 @@ mod tests {
             LINE.replace("32\t32", "64\t32")
         );
         let s = read_scen(&text, "s.scen").unwrap();
-        let rows = format!("{}\n", ".".repeat(32)).repeat(32);
-        let map = read_map(
-            &format!("type octile\nheight 32\nwidth 32\nmap\n{rows}"),
-            "room.map",
-        )
-        .unwrap();
-        assert!(s[0].check_map_size("s.scen", &map, "room.map").is_ok());
+        assert!(s[0].check_map_size("s.scen", (32, 32), "room.map").is_ok());
         assert_eq!(
-            s[1].check_map_size("s.scen", &map, "room.map")
+            s[1].check_map_size("s.scen", (32, 32), "room.map")
                 .unwrap_err()
                 .to_string(),
-            "s.scen:4: map size: the line declares a 64 x 32 map (width x height), but its map room.map is 32 x 32"
+            "s.scen:4: map size: the line declares a 64 x 32 map (width x height), but its map room.map is 32 x 32: scaled maps are not supported (MovingAI would scale the map to 64 x 32)"
         );
     }
 }
