@@ -197,14 +197,12 @@ pub fn read_map(text: &str, source: &str) -> Result<OccupancyMap, MapError> {
 /// map width, map height, start x, start y, goal x, goal y, optimal length), after an
 /// optional line `version 1` (or `version 1.0`; any other version is refused). Blank lines
 /// are skipped, and so is a byte-order mark starting the file or a line. Files joined with
-/// `cat` read as one: a `version` line again later is accepted when it is the same as the
-/// first (its words), and refused at its line when it differs. The declared map size is
+/// `cat` read as one: a `version` line may stand on any line, and `version 1` and
+/// `version 1.0` are the same version. The declared map size is
 /// checked against the map by [`Scenario::check_map_size`].
 pub fn read_scen(text: &str, source: &str) -> Result<Vec<Scenario>, MapError> {
     let err = |n: usize, p: String| format_err(source, Some(n), p);
     let mut out = Vec::new();
-    // The first `version` line: its words and 1-based line.
-    let mut version: Option<(Vec<&str>, usize)> = None;
     for (n, line) in text.lines().enumerate() {
         // A byte-order mark: at the start of the file, or of a file joined after another.
         let line = line.strip_prefix('\u{feff}').unwrap_or(line);
@@ -223,20 +221,8 @@ pub fn read_scen(text: &str, source: &str) -> Result<Vec<Scenario>, MapError> {
                     ),
                 ));
             }
-            match &version {
-                None => version = Some((words, n + 1)),
-                Some((first, _)) if *first == words => {}
-                Some((first, at)) => {
-                    return Err(err(
-                        n + 1,
-                        format!(
-                            "'{}' differs from the version line {at} ('{}'): files of different versions joined into one?",
-                            line.trim(),
-                            first.join(" ")
-                        ),
-                    ));
-                }
-            }
+            // `version 1` and `version 1.0` are the one version: files that say either may be
+            // joined.
             continue;
         }
         let rec = ::movingai::parser::parse_scen(line).map_err(|e| err(n + 1, e.to_string()))?;
@@ -444,11 +430,9 @@ mod tests {
                 .collect::<Vec<_>>(),
             [2, 3, 5]
         );
-        // Another version than the first: refused at its line, naming the first.
-        assert_eq!(
-            scen_err(&format!("{one}version 1.0\n{LINE}\n")),
-            "s.scen:4: 'version 1.0' differs from the version line 1 ('version 1'): files of different versions joined into one?"
-        );
+        // `version 1` joined with `version 1.0`: the one version, read.
+        let s = read_scen(&format!("{one}version 1.0\n{LINE}\n"), "s.scen").unwrap();
+        assert_eq!(s.len(), 3);
     }
 
     #[test]
