@@ -348,6 +348,12 @@ fn scen_files_with_blank_lines_a_byte_order_mark_or_joined_read() {
             format!("version 1\n{ROOM_LINE}\nversion 1\n{other}\n"),
             2,
         ),
+        // `version 1` and `version 1.0` are the one version.
+        (
+            "mixed.scen",
+            format!("version 1\n{ROOM_LINE}\nversion 1.0\n{other}\n"),
+            2,
+        ),
     ] {
         let p = scen_beside_room("readable", name, &scen);
         let out = stdout_of(&run(&["bench-scen", text(&p), "--classes", "1"]));
@@ -358,15 +364,15 @@ fn scen_files_with_blank_lines_a_byte_order_mark_or_joined_read() {
             "{name}: {out}"
         );
     }
-    // Joined files of different versions: refused at the second version line.
+    // A version other than 1 in a joined file: refused at its line.
     let p = scen_beside_room(
         "joined-versions",
-        "mixed.scen",
-        &format!("version 1\n{ROOM_LINE}\nversion 1.0\n{other}\n"),
+        "other.scen",
+        &format!("version 1\n{ROOM_LINE}\nversion 2\n{other}\n"),
     );
     assert_refused(
         &["bench-scen", text(&p)],
-        "mixed.scen:3: 'version 1.0' differs from the version line 1 ('version 1')",
+        "other.scen:3: 'version 2': unknown version",
     );
 }
 
