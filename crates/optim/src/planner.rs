@@ -550,6 +550,51 @@ fn avoid_misfit(text: &str, rays: usize) -> Option<String> {
     None
 }
 
+/// The plan when start and goal are one point: one class, `e`, the path that stays there,
+/// with the point's clearance; nothing to optimise, and it costs nothing. (On a scene the
+/// seeding panicked where the class path was one node, and elsewhere a curve looped a
+/// thousandth of a unit; on a map the path was empty at clearance -inf, exit 1.)
+fn plan_to_stay(world: &World<'_>, cfg: &PlanConfig) -> Plan {
+    let (s, path) = (world.start, vec![world.start, world.goal]);
+    let clear = world.model.polyline_clearance(&path);
+    let collision_free = clear > 0.0 && world.bounds.contains(&s);
+    let class = ClassPlan {
+        rank: 1,
+        signature: world.rays.signature(&path).to_string(),
+        seed_path: path.clone(),
+        via_points: path.clone(),
+        path,
+        cost: CostTerms::default(),
+        length: 0.0,
+        min_clearance: clear,
+        certified_clearance: clear,
+        collision_free,
+        safe: clear >= cfg.growth.cost.dm,
+        in_class: true,
+        iterations: 0,
+        rounds: Vec::new(),
+        evaluations: 0,
+        time_ms: 0.0,
+        graph_cost: 0.0,
+        overlap: 1.0,
+        pruned: false,
+    };
+    let best = (collision_free && clear >= cfg.clearance_floor).then_some(1);
+    Plan {
+        scene: world.name.clone(),
+        start: world.start,
+        goal: world.goal,
+        seed: cfg.seed,
+        dm: cfg.growth.cost.dm,
+        clearance_floor: cfg.clearance_floor,
+        classes: vec![class],
+        best,
+        pareto: vec![1],
+        timing: Timing::default(),
+        graph: None,
+    }
+}
+
 /// Most worker threads a plan may ask for ([`PlanConfig::threads`]): far beyond the
 /// classes a plan has, and a pool of 5,000 threads took longer to start than 20 s.
 pub const MAX_THREADS: usize = 256;
@@ -605,6 +650,9 @@ pub fn plan_world(
         return Err(PlanError::Config(format!(
             "prune must be a ratio of at least 1, got {r}"
         )));
+    }
+    if world.start == world.goal {
+        return Ok(plan_to_stay(world, cfg));
     }
     let t0 = Instant::now();
     let rays = &world.rays;
@@ -1281,6 +1329,10 @@ fn centre(poly: &[Point], model: &dyn ClearanceModel, cell: Real) -> Vec<Point> 
     let len: Real = poly.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
     let n = ((len / (0.5 * cell)).ceil() as usize).clamp(2, 20_000);
     let mut pts = resample(poly, n - 1);
+    if pts.len() < 3 {
+        // No inner point (a path of one point, start and goal at one node).
+        return pts;
+    }
     let last = pts.len() - 1;
     // Most points are already two cells clear: their clearances come in one batch.
     let clear = clearances_of(model, &pts);
@@ -1539,6 +1591,10 @@ pub const DENSE_SEED_SHARE: usize = 8;
 pub const SEED_MAX_GAP: Real = 16.0;
 
 fn resample(poly: &[Point], inner: usize) -> Vec<Point> {
+    if poly.len() < 2 {
+        // A class path of one point (start and goal at one node): nothing to spread.
+        return poly.to_vec();
+    }
     let cum: Vec<Real> = std::iter::once(0.0)
         .chain(poly.windows(2).scan(0.0, |acc, w| {
             *acc += (w[1] - w[0]).norm();
@@ -2121,14 +2177,6 @@ fn report_class(
                 min_clear > 0.0 && cert.collision_free() && inside,
                 in_class,
             )
-        }
-        // Start and goal at one point: there is nothing to grow, and the plan is to stay.
-        // (A map reported an empty path at clearance -inf, and exit 1.)
-        None if world.start == world.goal => {
-            let path = vec![world.start, world.goal];
-            let clear = model.polyline_clearance(&path);
-            let inside = world.bounds.contains(&world.start);
-            (path, 0.0, clear, clear, clear > 0.0 && inside, true)
         }
         None => (
             Vec::new(),

@@ -488,3 +488,43 @@ fn a_start_or_goal_on_the_bounds_plans_at_any_resolution() {
         }
     }
 }
+
+#[test]
+fn start_and_goal_at_one_point_is_a_plan_to_stay_anywhere() {
+    // At most points of convex (10, 10 among them) the class path was a single node and the
+    // seeding panicked (exit 101); narrow-pass's start happened to work.
+    let mut planned = 0;
+    for base in fixture_scenes() {
+        let b = base.bounds;
+        for (fx, fy) in [(0.1, 0.1), (0.25, 0.5), (0.5, 0.5), (0.8, 0.3), (0.9, 0.9)] {
+            let p = homospline_geom::Point::new(
+                b.min.x + fx * (b.max.x - b.min.x),
+                b.min.y + fy * (b.max.y - b.min.y),
+            );
+            if base
+                .circles()
+                .iter()
+                .any(|c| (p - c.center).norm() <= c.radius)
+            {
+                continue;
+            }
+            let mut scene = base.clone();
+            scene.start = p;
+            scene.goal = p;
+            let plan = plan(&scene, &PlanConfig::default())
+                .unwrap_or_else(|e| panic!("{} at {p:?}: {e}", base.name));
+            let c = plan
+                .chosen()
+                .unwrap_or_else(|| panic!("{} at {p:?}", base.name));
+            assert!(
+                c.length < 1e-6,
+                "{} at {p:?}: length {}",
+                base.name,
+                c.length
+            );
+            check_path(&scene, &plan);
+            planned += 1;
+        }
+    }
+    assert!(planned >= 15, "only {planned} points planned");
+}
