@@ -157,21 +157,32 @@ impl OccupancyMap {
     /// corner of an occupied cell, or on the edge, touches an obstacle (clearance 0).
     /// `None` when `p` is clear of both.
     pub fn touches_obstacle(&self, p: &Point) -> Option<&'static str> {
+        // Within a billionth of a cell counts as on it: a ROS map's decimal coordinates land
+        // a point on a cell side at 201.99999999999997 cells.
+        const ON_SIDE: Real = 1e-9;
         let fx = (p.x - self.origin.x) / self.cell;
         let fy = (p.y - self.origin.y) / self.cell;
-        if fx <= 0.0 || fy <= 0.0 || fx >= self.width as Real || fy >= self.height as Real {
+        let (w, h) = (self.width as Real, self.height as Real);
+        if fx <= ON_SIDE || fy <= ON_SIDE || fx >= w - ON_SIDE || fy >= h - ON_SIDE {
             return Some("lies on the map's edge");
         }
-        // The cells whose closed square holds `p`: its own, and the one before it along an
-        // axis where it lies on a cell side.
-        let along = |f: Real| {
-            let i = f as usize;
-            if f == i as Real { [i - 1, i] } else { [i, i] }
+        // The cells whose closed square holds `p`: its own, and its neighbour along an axis
+        // where it lies on a cell side.
+        let along = |f: Real, n: usize| {
+            let i = (f as usize).min(n - 1);
+            let d = f - i as Real;
+            [
+                Some(i),
+                (d < ON_SIDE && i > 0).then(|| i - 1),
+                (1.0 - d < ON_SIDE && i + 1 < n).then_some(i + 1),
+            ]
         };
-        let (is, js) = (along(fx), along(fy));
-        let touches = js
-            .iter()
-            .any(|&j| is.iter().any(|&i| self.occupied[j * self.width + i]));
+        let (is, js) = (along(fx, self.width), along(fy, self.height));
+        let touches = js.iter().flatten().any(|&j| {
+            is.iter()
+                .flatten()
+                .any(|&i| self.occupied[j * self.width + i])
+        });
         touches.then_some("lies on the side or corner of an occupied cell")
     }
 

@@ -445,3 +445,20 @@ fn a_ros_map_yaml_without_its_image_says_so() {
     };
     assert_eq!(e, "noimage.yaml:5: missing field `image`");
 }
+
+#[test]
+fn a_ros_point_on_a_cell_side_in_decimal_coordinates_touches_it() {
+    // (0.1 + 10) / 0.05 is 201.99999999999997 cells: the exact side test let this goal
+    // through, and its plan ran past 20 s.
+    let path = fixture("ros/nav2/tb3_sandbox.yaml");
+    let yaml = ros::read_yaml(&std::fs::read_to_string(&path).unwrap(), &path).unwrap();
+    let img = fixture(&format!("ros/nav2/{}", yaml.image));
+    let map = ros::read_map(&yaml, &path, &std::fs::read(&img).unwrap(), &img).unwrap();
+    for (x, y) in [(-2.825, 0.1), (-0.15, -1.125)] {
+        let p = Point::new(x, y);
+        assert!(
+            map.free_at(&p) == Some(false) || map.touches_obstacle(&p).is_some(),
+            "({x}, {y}) passes for a position"
+        );
+    }
+}
