@@ -863,8 +863,16 @@ fn run_mission<K: Known>(
         .unwrap_or_else(|| 20.0 * (goal - start).norm() / ugv.speed + 60.0);
     let dt = time_step(cfg.dt, &ugv, scouts.iter().map(|sc| &sc.uav));
     if !(max_time.is_finite() && max_time > 0.0) || max_time / dt > MAX_STEPS {
+        let hint = if dt < cfg.dt {
+            format!(
+                "the step is refined from --dt {} so that no robot travels more than half its sensor range between two looks: give the robots sensor ranges that suit their speeds",
+                cfg.dt
+            )
+        } else {
+            "raise --dt or the UGV's speed".to_owned()
+        };
         return Err(MissionError::Config(format!(
-            "the mission would take {:.0} time steps (time limit {max_time:.0} s over a step of {dt} s); at most {MAX_STEPS:.0}: raise --dt or the UGV's speed, or lower its speed against its sensor range",
+            "the mission would take {:.0} time steps (time limit {max_time:.0} s over a step of {dt} s); at most {MAX_STEPS:.0}: {hint}",
             max_time / dt,
         )));
     }
@@ -1093,6 +1101,11 @@ fn run_mission<K: Known>(
                 // No curve leaving along the heading clears what was just found (a blockage
                 // close ahead): the UGV stops and plans from a standstill, turning on the spot.
                 routes = run.routes_from(pos, None, true, &ugv_track.samples);
+                // One re-plan, one time: both tries count in it.
+                if let (Some(second), Some(first)) = (run.replan_ms.pop(), run.replan_ms.last_mut())
+                {
+                    *first += second;
+                }
             }
             let Some(best) = routes.first() else {
                 run.event(
@@ -1141,6 +1154,10 @@ fn run_mission<K: Known>(
             // obstacle near it). Switch only through the hysteresis. (A re-plan that finds no
             // class leaves the valid path as it is and is not counted.)
             let routes = run.routes_from(pos, Some(heading), true, &ugv_track.samples);
+            if routes.is_empty() {
+                // Not a re-plan (below), and so not timed as one.
+                run.replan_ms.pop();
+            }
             if let Some(best) = routes.first() {
                 replans += 1;
                 // The price of staying: the rest of the current path, or the current class

@@ -458,3 +458,63 @@ fn a_mission_whose_goal_is_its_start_is_reached_at_once() {
     assert_eq!(r.distance_ratio(), None);
     assert_eq!(r.time_ratio(w.team.ugv.speed), None);
 }
+
+#[test]
+fn every_timed_re_plan_is_a_counted_one_even_when_the_mission_ends_stuck() {
+    // A hidden wall across the whole scene: the UGV finds it, re-plans from its heading,
+    // then from a standstill, and is stuck. Both tries were timed apart (2 times, 1 re-plan).
+    let mut w = fixture_worlds()
+        .into_iter()
+        .find(|w| w.name == "narrow-pass-blocked")
+        .unwrap();
+    let wall = Obstacle {
+        name: "wall".into(),
+        circles: (0..12)
+            .map(|k| Circle::new(50.0, -8.0 + 7.0 * k as f64, 5.0))
+            .collect(),
+    };
+    w.truth.obstacles.push(wall);
+    w.hidden.push("wall".into());
+    let mut runs = 0;
+    for world in [&w].into_iter().chain(fixture_worlds().iter()) {
+        for policy in Policy::ALL {
+            let r = run(world, policy);
+            assert_eq!(
+                r.replan_ms.len(),
+                r.replans,
+                "{} {}: {:?}",
+                world.name,
+                policy.name(),
+                r.events.last()
+            );
+            runs += 1;
+        }
+    }
+    let stuck = run(&w, Policy::None);
+    assert!(!stuck.reached, "the wall has no way through");
+    assert!(runs > 3);
+}
+
+#[test]
+fn a_step_refined_past_the_limit_says_which_robot_setting_to_change() {
+    // A scout at 1000 units/s seeing 0.01 sets a step of 5e-6 s: "raise --dt or the UGV's
+    // speed" helped neither.
+    let mut w = fixture_worlds().into_iter().next().unwrap();
+    for u in &mut w.team.uavs {
+        u.speed = 1000.0;
+        u.sensor_range = 0.01;
+    }
+    let cfg = MissionConfig {
+        policy: Policy::Ahead,
+        ..MissionConfig::default()
+    };
+    let e = match simulate(&w, &cfg) {
+        Err(e) => e.to_string(),
+        Ok(r) => panic!("ran at a step of {} s", r.dt),
+    };
+    assert!(
+        e.contains("the step is refined from --dt 0.25")
+            && e.contains("sensor ranges that suit their speeds"),
+        "{e}"
+    );
+}
