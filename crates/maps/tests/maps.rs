@@ -462,3 +462,26 @@ fn a_ros_point_on_a_cell_side_in_decimal_coordinates_touches_it() {
         );
     }
 }
+
+#[test]
+fn every_class_on_a_ros_map_ends_at_the_goal_to_the_bit() {
+    // A class's seed ended at 1.9999999999999998 for a goal at 2 (the seed's interpolation),
+    // and so did its curve and path.
+    let path = fixture("ros/turtlebot3_world/map.yaml");
+    let yaml = ros::read_yaml(&std::fs::read_to_string(&path).unwrap(), &path).unwrap();
+    let img = fixture(&format!("ros/turtlebot3_world/{}", yaml.image));
+    let map = ros::read_map(&yaml, &path, &std::fs::read(&img).unwrap(), &img).unwrap();
+    let (s, t) = (Point::new(-2.0, -0.5), Point::new(2.0, 0.5));
+    let (plan, _) = plan_map(&map, s, t, &PlanConfig::default()).unwrap();
+    assert!(plan.classes.len() > 1);
+    for c in &plan.classes {
+        for pts in [&c.via_points, &c.path] {
+            assert_eq!(
+                (pts[0], pts[pts.len() - 1]),
+                (s, t),
+                "class {}",
+                c.signature
+            );
+        }
+    }
+}

@@ -1882,7 +1882,7 @@ impl<'w> ClassTask<'w> {
         // On scenes the first via-point set that already keeps the floor is preferred.
         let seed_guard = without_floor(&guard);
         let mut resorted = false;
-        let seed = match (signature, graph_cell) {
+        let mut seed = match (signature, graph_cell) {
             (Some(_), Some(cell)) if world.grid_is_exact => {
                 subdivided_seed(&seed_poly, model, &seed_guard, &growth, cell, None)
                     .unwrap_or_else(|| seed_poly.clone())
@@ -1899,6 +1899,14 @@ impl<'w> ClassTask<'w> {
                 }),
             (None, _) => seed_poly.clone(),
         };
+        // The ends are the start and goal to the bit: a map seed's interpolation ended a
+        // class's path at 1.9999999999999998 for a goal at 2.
+        if let (Some(first), Some(&s)) = (seed.first_mut(), seed_poly.first()) {
+            *first = s;
+        }
+        if let (Some(last), Some(&t)) = (seed.last_mut(), seed_poly.last()) {
+            *last = t;
+        }
         // On a map the via-points follow the path (hundreds on a long one), and with uniform
         // parameters over [0, 1] the roughness grows with a power of their number (the
         // paper's form: the first; the energy: the third): it would swamp every other term.
