@@ -17,6 +17,38 @@ pub const EXAMPLE_SCENE: &str = include_str!("../../../fixtures/scenes/narrow-pa
 
 use homospline_geom::Scene;
 
+/// A note for the obstacles of `scene` too small for its graph's grid at `resolution` (cells
+/// per unit): every circle's radius, robot radius included, under `sqrt(2) / 2` cells, so
+/// that it may hold no cell's centre. The grid, and so the homotopy classes, may not see
+/// them: a pebble in the middle of a corridor left one class where there are two. (The
+/// plans themselves are checked against the circles.) `None` when there is none.
+pub fn unseen_obstacles(scene: &Scene, resolution: f64) -> Option<String> {
+    let cell = 1.0 / resolution;
+    let small: Vec<&str> = scene
+        .obstacles
+        .iter()
+        .filter(|o| {
+            o.circles
+                .iter()
+                .all(|c| c.radius + scene.robot_radius < std::f64::consts::FRAC_1_SQRT_2 * cell)
+        })
+        .map(|o| o.name.as_str())
+        .collect();
+    (!small.is_empty()).then(|| {
+        let shown: Vec<String> = small.iter().take(5).map(|n| format!("'{n}'")).collect();
+        format!(
+            "note: {} obstacle{} ({}{}) {} smaller than the graph's cells ({cell:.3} units): the classes may not go round {}; a finer --resolution shows {}",
+            small.len(),
+            if small.len() == 1 { "" } else { "s" },
+            shown.join(", "),
+            if small.len() > 5 { ", ..." } else { "" },
+            if small.len() == 1 { "is" } else { "are" },
+            if small.len() == 1 { "it" } else { "them" },
+            if small.len() == 1 { "it" } else { "them" },
+        )
+    })
+}
+
 /// A human summary of a valid scene: what `homospline check` prints.
 pub fn summary(scene: &Scene) -> String {
     let set = scene.circle_set();

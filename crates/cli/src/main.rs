@@ -817,6 +817,15 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
                 Some(p) => Some(load_graph(p, scene, &cfg)?),
                 None => None,
             };
+            if cfg.seed == homospline_optim::Seed::Voronoi {
+                let resolution = saved.as_ref().map_or_else(
+                    || cfg.resolution.unwrap_or_else(|| default_resolution(scene)),
+                    |g| g.resolution,
+                );
+                if let Some(n) = homospline_cli::unseen_obstacles(scene, resolution) {
+                    eprintln!("{n}");
+                }
+            }
             let result = plan_with_graph(scene, saved, &cfg)
                 .map_err(|e| bad(format!("{}: {e}", scene.name)))?;
             let pic = a

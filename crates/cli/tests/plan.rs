@@ -666,3 +666,34 @@ fn the_json_says_what_safe_was_judged_by() {
         assert_eq!(c["safe"].as_bool().unwrap(), cert >= 2.5, "{c}");
     }
 }
+
+#[test]
+fn an_obstacle_smaller_than_a_cell_gets_a_note() {
+    // A block of radius 0.2 in narrow-pass's pass (cells of 0.39 units) left the classes
+    // through the pass out, silently.
+    let out = homospline()
+        .args(["plan", "--block", "50,30,0.2"])
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        err.contains(
+            "note: 1 obstacle ('blocked-0') is smaller than the graph's cells (0.391 units)"
+        ),
+        "{err}"
+    );
+    // None on the paper's scenes, and none once the grid is fine enough.
+    for args in [
+        vec!["plan"],
+        vec!["plan", "--block", "50,30,0.2", "--resolution", "10"],
+    ] {
+        let out = homospline().args(&args).output().unwrap();
+        assert_ok(&out);
+        assert!(
+            out.stderr.is_empty(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}

@@ -160,6 +160,13 @@ pub enum GraphError {
     /// Start and goal are in different free regions.
     #[error("start and goal are in different free regions: no path joins them")]
     DifferentRegions,
+    /// A scene's start and goal are in different free regions of its grid: a passage
+    /// narrower than a cell is closed at this resolution (cells per unit).
+    #[error(
+        "start and goal are in different free regions at {0} cells per unit: no path joins them on this grid (if a passage narrower than a cell, {cell} units, joins them, a finer --resolution opens it)",
+        cell = 1.0 / .0
+    )]
+    ApartAtResolution(Real),
     /// A serialised graph could not be read.
     #[error("cannot read the graph: {0}")]
     Decode(String),

@@ -77,9 +77,11 @@ pub fn build(
         // obstacle and itself (one that touches the wall, two joined by a blockage) it has no
         // crack, and it can come apart inside one free region. The complete graph (the ridge
         // of free space, as on maps) joins start and goal whenever their region does.
-        Err(GraphError::DifferentRegions) => {
-            build_complete(&grid, &field, scene.start, scene.goal)?
-        }
+        Err(GraphError::DifferentRegions) => build_complete(&grid, &field, scene.start, scene.goal)
+            .map_err(|e| match e {
+                GraphError::DifferentRegions => GraphError::ApartAtResolution(resolution),
+                e => e,
+            })?,
         other => other?,
     };
     // A thousandth of a cell of clearance for every point moved out of a circle.

@@ -248,8 +248,26 @@ fn start_and_goal_in_different_regions_are_an_error() {
         homospline_voronoi::build(&scene, 1.0)
             .unwrap_err()
             .to_string(),
-        "start and goal are in different free regions: no path joins them"
+        "start and goal are in different free regions at 1 cells per unit: no path joins them on this grid (if a passage narrower than a cell, 1 units, joins them, a finer --resolution opens it)"
     );
+    // A gap of 0.1 between two circles, a tenth of a cell: closed on the grid, open at
+    // 40 cells per unit, and the message says so.
+    let gap = Scene {
+        obstacles: vec![Obstacle {
+            name: "wall".into(),
+            circles: vec![Circle::new(20.0, 4.95, 5.0), Circle::new(20.0, 15.05, 5.0)],
+        }],
+        bounds: Bounds {
+            min: Point::new(0.0, 0.0),
+            max: Point::new(40.0, 20.0),
+        },
+        ..scene.clone()
+    };
+    let e = homospline_voronoi::build(&gap, 1.0)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("a finer --resolution opens it"), "{e}");
+    assert!(homospline_voronoi::build(&gap, 40.0).is_ok());
 }
 
 proptest! {
