@@ -646,17 +646,7 @@ mod tests {
             Outcome::NoPlan { classes: 5 },
             Outcome::Error("start is in an occupied cell".into()),
         ] {
-            let r = Row {
-                file: "m.map.scen".into(),
-                index: 7,
-                line: 9,
-                bucket: 2,
-                start: Point::new(1.5, 2.5),
-                goal: Point::new(3.5, 4.5),
-                optimal: 10.0,
-                outcome,
-                time_ms: 1.25,
-            };
+            let r = row(outcome);
             assert_eq!(Row::from_csv(&r.to_csv(), "x.csv", 2).unwrap(), r);
         }
         assert!(
