@@ -636,8 +636,15 @@ struct RawLines {
 /// The parser's message without its rendered snippet and its own position prefix (the
 /// error's header carries the position).
 fn parse_message(e: &serde_saphyr::Error) -> String {
+    yaml_problem(e, "malformed scene")
+}
+
+/// The problem a YAML parser's error states, without its own `error: line L column C: `
+/// prefix (the caller reports the location): for scene files and the other YAML inputs
+/// (`fallback` when the message is empty).
+pub fn yaml_problem(e: &serde_saphyr::Error, fallback: &str) -> String {
     let full = e.to_string();
-    let mut msg = full.lines().next().unwrap_or("malformed scene").trim();
+    let mut msg = full.lines().next().unwrap_or(fallback).trim();
     msg = msg.strip_prefix("error:").unwrap_or(msg).trim_start();
     if let Some(rest) = msg.strip_prefix("line ")
         && let Some((_, tail)) = rest.split_once(": ")

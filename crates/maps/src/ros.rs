@@ -46,15 +46,9 @@ fn err(source: &str, line: Option<usize>, problem: impl Into<String>) -> MapErro
 pub fn read_yaml(text: &str, source: &str) -> Result<RosMapYaml, MapError> {
     let y: RosMapYaml = serde_saphyr::from_str(text).map_err(|e| {
         let line = e.location().map(|l| l.line() as usize).filter(|&l| l > 0);
-        let msg = e.to_string();
-        let first = msg.lines().next().unwrap_or("malformed map YAML");
-        // The parser's own "error: line L column C: " repeats what the location says.
-        let first = first.strip_prefix("error: ").unwrap_or(first);
-        let problem = match first.split_once(": ") {
-            Some((at, rest)) if at.starts_with("line ") && at.contains(" column ") => rest,
-            _ => first,
-        };
-        err(source, line, problem.to_owned())
+        // Without the parser's own "error: line L column C: ", which the location repeats.
+        let problem = homospline_geom::scene::yaml_problem(&e, "malformed map YAML");
+        err(source, line, problem)
     })?;
     if !(y.resolution.is_finite() && y.resolution > 0.0) {
         return Err(err(
