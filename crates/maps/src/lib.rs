@@ -157,27 +157,19 @@ impl OccupancyMap {
     /// corner of an occupied cell, or on the edge, touches an obstacle (clearance 0).
     /// `None` when `p` is clear of both.
     pub fn touches_obstacle(&self, p: &Point) -> Option<&'static str> {
-        // Within a billionth of a cell counts as on it: a ROS map's decimal coordinates land
-        // a point on a cell side at 201.99999999999997 cells.
-        const ON_SIDE: Real = 1e-9;
+        // Within a billionth of a cell counts as on it (`cells_holding`).
+        use homospline_voronoi::grid::{ON_SIDE, cells_holding};
         let fx = (p.x - self.origin.x) / self.cell;
         let fy = (p.y - self.origin.y) / self.cell;
         let (w, h) = (self.width as Real, self.height as Real);
         if fx <= ON_SIDE || fy <= ON_SIDE || fx >= w - ON_SIDE || fy >= h - ON_SIDE {
             return Some("lies on the map's edge");
         }
-        // The cells whose closed square holds `p`: its own, and its neighbour along an axis
-        // where it lies on a cell side.
-        let along = |f: Real, n: usize| {
-            let i = (f as usize).min(n - 1);
-            let d = f - i as Real;
-            [
-                Some(i),
-                (d < ON_SIDE && i > 0).then(|| i - 1),
-                (1.0 - d < ON_SIDE && i + 1 < n).then_some(i + 1),
-            ]
-        };
-        let (is, js) = (along(fx, self.width), along(fy, self.height));
+        // The cells whose closed square holds `p`.
+        let (is, js) = (
+            cells_holding(fx, self.width),
+            cells_holding(fy, self.height),
+        );
         let touches = js.iter().flatten().any(|&j| {
             is.iter()
                 .flatten()

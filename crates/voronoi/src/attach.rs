@@ -334,18 +334,12 @@ fn free_cell(grid: &Grid, p: Point, what: &'static str) -> Result<(usize, usize)
     if !grid.occupied(i, j) {
         return Ok((i, j));
     }
-    const ON_SIDE: Real = 1e-9;
-    let options = |f: Real, k: usize, n: usize| {
-        let d = f - k as Real;
-        [
-            Some(k),
-            (d < ON_SIDE && k > 0).then(|| k - 1),
-            (1.0 - d < ON_SIDE && k + 1 < n).then_some(k + 1),
-        ]
-    };
     let fx = (p.x - grid.origin().x) / grid.cell();
     let fy = (p.y - grid.origin().y) / grid.cell();
-    let (is, js) = (options(fx, i, grid.width()), options(fy, j, grid.height()));
+    let (is, js) = (
+        crate::grid::cells_holding(fx, grid.width()),
+        crate::grid::cells_holding(fy, grid.height()),
+    );
     js.iter()
         .flatten()
         .flat_map(|&j| is.iter().flatten().map(move |&i| (i, j)))

@@ -6,6 +6,22 @@ use thiserror::Error;
 /// Largest grid, in cells, the field can label exactly (keys are raster indices below 2^25).
 pub const MAX_CELLS: usize = 1 << 25;
 
+/// How close to a cell side, in cells, a point counts as on it ([`cells_holding`]).
+pub const ON_SIDE: Real = 1e-9;
+
+/// Along one axis, at `f` cells from the origin in a row of `n` cells: the cell holding `f`,
+/// and its neighbour whose closed interval holds it too where `f` is within [`ON_SIDE`] of a
+/// side (decimal coordinates land a side at 201.99999999999997 cells).
+pub fn cells_holding(f: Real, n: usize) -> [Option<usize>; 3] {
+    let i = (f.max(0.0) as usize).min(n.saturating_sub(1));
+    let d = f - i as Real;
+    [
+        Some(i),
+        (d < ON_SIDE && i > 0).then(|| i - 1),
+        (1.0 - d < ON_SIDE && i + 1 < n).then_some(i + 1),
+    ]
+}
+
 /// Fewest cells a scene's grid may have along the longer side of its bounds: coarser, the
 /// grid no longer sees the scene (at 3 x 3 cells the graph's nodes lay far outside the
 /// bounds, and at 5 cells across a scene of a hundred units it had no path).
