@@ -106,11 +106,14 @@ def plan(
     prune: Optional[Union[str, float]] = None,
     clearance_search: Optional[str] = None,
     polish: int = 0,
+    finish_within: Optional[Union[str, int]] = None,
 ) -> Plan:
     """Plans a scene (the `plan` command); `soft_dm` turns the dm rule off; `prune` is
     `"off"` or a ratio (`--prune`; default 1.5); `clearance_search` is `"worst-node"`
     (default) or `"every-stretch"` (`--clearance-search`); `polish` is the chosen class's
-    polish rounds, 0 to 10 (`--polish`; default 0)."""
+    polish rounds, 0 to 10 (`--polish`; default 0); `finish_within` is `"off"` or the work
+    budget, in cost evaluations, under which the chosen class gets its interior-point
+    finish (`--finish-within`; default 1500)."""
 
 def plan_map(
     occupancy: npt.NDArray[np.bool_],

@@ -635,6 +635,14 @@ struct PlanArgs {
     /// safe if it was, at the floor and no dearer. Default 0
     #[arg(long, value_name = "N", default_value_t = 0)]
     polish: usize,
+    /// A work budget for the chosen class's interior-point finish (scenes): if the plan has
+    /// spent fewer cost evaluations than N when its classes are ranked, the chosen class gets
+    /// the finish (L-BFGS on the cost with a barrier on the clearance, from its curve at its
+    /// via-points; half a round's budget, at most what is left of N), kept only as a polish
+    /// round is. Evaluations, not time, so plans stay the same on any machine; `off` never
+    /// (default 1500, which keeps the paper scenes' plans under 5 ms; `--polish` replaces it)
+    #[arg(long, value_name = "N|off")]
+    finish_within: Option<String>,
     /// Also give each collision-free class's optima (scenes): the lengths of the shortest
     /// paths that keep its certified clearance from every circle, in its class and of any
     /// class (exact, the bounds left out; no curve of that clearance is shorter), in the
@@ -799,6 +807,7 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
         diverse: a.diverse,
         prune: a.prune.clone(),
         polish: a.polish,
+        finish_within: a.finish_within.clone(),
     };
     let scene_of = match &input {
         Input::Scene(s) => Some(s),

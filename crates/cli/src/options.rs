@@ -43,6 +43,8 @@ pub struct PlanOptions {
     pub prune: Option<String>,
     /// Polish rounds for the chosen class, 0 to 10 (scenes only).
     pub polish: usize,
+    /// The chosen class's finish: `off` or a work budget in evaluations (scenes only).
+    pub finish_within: Option<String>,
 }
 
 impl Default for PlanOptions {
@@ -65,6 +67,7 @@ impl Default for PlanOptions {
             diverse: None,
             prune: None,
             polish: 0,
+            finish_within: None,
         }
     }
 }
@@ -141,6 +144,25 @@ pub fn plan_config(o: &PlanOptions, scene: Option<&Scene>) -> Result<PlanConfig,
             }
         },
     };
+    let finish_within = match o.finish_within.as_deref().map(str::trim) {
+        None => base.finish_within,
+        Some("off") => None,
+        Some(text) => match text.parse::<usize>() {
+            Ok(n) if scene.is_some() || n == 0 => Some(n),
+            Ok(_) => {
+                return Err(
+                    "--finish-within applies to scenes; a map's classes are optimised while \
+                     its search goes on"
+                        .into(),
+                );
+            }
+            Err(_) => {
+                return Err(format!(
+                    "--finish-within {text}: expected off or a number of evaluations"
+                ));
+            }
+        },
+    };
     let rounds = o.rounds.unwrap_or(base.growth.max_rounds);
     if !(1..=100).contains(&rounds) {
         return Err(format!("--rounds {rounds}: must be between 1 and 100"));
@@ -192,6 +214,7 @@ pub fn plan_config(o: &PlanOptions, scene: Option<&Scene>) -> Result<PlanConfig,
         diverse: o.diverse,
         prune,
         polish: o.polish,
+        finish_within,
         ..base
     })
 }

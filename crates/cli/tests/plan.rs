@@ -422,9 +422,16 @@ fn plan_json(scene: &str, extra: &[&str], name: &str) -> serde_json::Value {
 #[test]
 fn prune_marks_the_stopped_classes_and_off_runs_every_class_to_its_end() {
     // On convex three classes cost more than 1.5 times the best after their first round.
+    // The chosen class's finish is off: it depends on the evaluations spent, which the
+    // pruning changes (convex: 1,324 evaluations, under `--finish-within`'s default, against
+    // 2,707 without pruning).
     let scene = "fixtures/scenes/convex.yaml";
-    let p = plan_json(scene, &[], "prune-default.json");
-    let f = plan_json(scene, &["--prune", "off"], "prune-off.json");
+    let p = plan_json(scene, &["--finish-within", "off"], "prune-default.json");
+    let f = plan_json(
+        scene,
+        &["--prune", "off", "--finish-within", "off"],
+        "prune-off.json",
+    );
     let stopped = |v: &serde_json::Value| {
         v["classes"]
             .as_array()
@@ -558,7 +565,7 @@ fn clearance_search_every_stretch_keeps_every_class_at_its_target() {
 #[test]
 fn polish_lowers_the_chosen_class_and_refuses_bad_counts_and_maps() {
     let scene = "fixtures/scenes/convex.yaml";
-    let d = plan_json(scene, &[], "polish-default.json");
+    let d = plan_json(scene, &["--finish-within", "off"], "polish-default.json");
     let p = plan_json(scene, &["--polish", "1"], "polish-one.json");
     let chosen =
         |v: &serde_json::Value| v["classes"][v["best"].as_u64().unwrap() as usize - 1].clone();
@@ -592,6 +599,63 @@ fn polish_lowers_the_chosen_class_and_refuses_bad_counts_and_maps() {
             "1",
         ],
         "--polish applies to scenes",
+    );
+}
+
+#[test]
+fn the_finish_within_its_budget_lowers_the_chosen_class_and_refuses_bad_budgets_and_maps() {
+    // Convex's classes spend 1,324 evaluations: under the default budget (1,500) the chosen
+    // class gets the finish, under 1,000 it does not, as with `off`.
+    let scene = "fixtures/scenes/convex.yaml";
+    let d = plan_json(scene, &[], "finish-default.json");
+    let off = plan_json(scene, &["--finish-within", "off"], "finish-off.json");
+    let small = plan_json(scene, &["--finish-within", "1000"], "finish-1000.json");
+    let chosen =
+        |v: &serde_json::Value| v["classes"][v["best"].as_u64().unwrap() as usize - 1].clone();
+    let (cd, co, cs) = (chosen(&d), chosen(&off), chosen(&small));
+    assert_eq!(cd["signature"], co["signature"]);
+    assert!(cd["safe"].as_bool().unwrap(), "{cd}");
+    let cost = |c: &serde_json::Value| c["cost"]["total"].as_f64().unwrap();
+    assert!(
+        cost(&cd) < 0.95 * cost(&co),
+        "{} against {}",
+        cost(&cd),
+        cost(&co)
+    );
+    let iterations = |c: &serde_json::Value| c["iterations"].as_u64().unwrap();
+    assert_eq!(iterations(&cd), iterations(&co) + 1);
+    let evaluations = |c: &serde_json::Value| c["evaluations"].as_u64().unwrap();
+    let total = |v: &serde_json::Value| -> u64 {
+        v["classes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(evaluations)
+            .sum()
+    };
+    // Half a round's budget (3 via-points: 6 coordinates, 30 each), within what was left.
+    assert_eq!(evaluations(&cd), evaluations(&co) + 90);
+    assert!(total(&off) + 90 <= 1500, "{}", total(&off));
+    assert_eq!(cs["path"], co["path"]);
+    assert_eq!(iterations(&cs), iterations(&co));
+    for bad in ["-1", "lots", "1.5"] {
+        assert_refused(
+            &["plan", scene, &format!("--finish-within={bad}")],
+            &format!("--finish-within {bad}: expected off or a number of evaluations"),
+        );
+    }
+    assert_refused(
+        &[
+            "plan",
+            "fixtures/maps/movingai/random-32-32-10.map",
+            "--start",
+            "1.5,27.5",
+            "--goal",
+            "30.5,2.5",
+            "--finish-within",
+            "2000",
+        ],
+        "--finish-within applies to scenes",
     );
 }
 

@@ -62,6 +62,9 @@ pub fn map_config() -> PlanConfig {
     // A map's doors and corners are a cell or two wide: `dm` stays a penalty there, and a
     // hard margin is the user's `--clearance-floor`.
     cfg.dm_rule = false;
+    // Like `--polish`, the chosen class's finish is for scenes: a map's classes are
+    // optimised while the search goes on.
+    cfg.finish_within = None;
     cfg
 }
 

@@ -145,6 +145,9 @@ impl Default for MissionConfig {
                 // Every class runs to its end: the classes the UGV does not take are its
                 // alternatives, compared by cost when it weighs a switch.
                 prune: None,
+                // No finish for the chosen class: a re-plan on the move waits for it, and
+                // the missions were measured without it.
+                finish_within: None,
                 ..PlanConfig::default()
             },
             policy: Policy::None,

@@ -188,6 +188,16 @@ pub struct PlanConfig {
     /// stays first; else its curve is put back. 0 (default): none. Scenes only, like the
     /// pruning; a class stopped by the pruning is not polished.
     pub polish: usize,
+    /// A work budget, in cost evaluations, for the chosen class's interior-point finish:
+    /// after the classes are ranked, if the plan has spent fewer evaluations than this, the
+    /// class it chooses gets one finish-only polish round ([`Growth::finish`]: L-BFGS on the
+    /// cost with a log barrier on the clearance, from its curve at its via-points) with half
+    /// a round's budget, at most what is left of this one. It is kept as a polish is (the
+    /// same class, collision-free, at the floor, safe if it was, no dearer), else undone.
+    /// A deterministic stand-in for a latency budget: evaluations, not time, so the plan
+    /// does not depend on the machine or its load. `None` or 0: never. Scenes only, like
+    /// [`PlanConfig::polish`], which replaces it when set.
+    pub finish_within: Option<usize>,
 }
 
 impl Default for PlanConfig {
@@ -207,9 +217,13 @@ impl Default for PlanConfig {
             diverse: None,
             prune: Some(DEFAULT_PRUNE),
             polish: 0,
+            finish_within: Some(DEFAULT_FINISH_WITHIN),
         }
     }
 }
+
+/// The default of [`PlanConfig::finish_within`].
+pub const DEFAULT_FINISH_WITHIN: usize = 1500;
 
 /// The default of [`PlanConfig::prune`].
 pub const DEFAULT_PRUNE: Real = 1.5;
@@ -1749,13 +1763,18 @@ fn choosable(c: &ClassPlan, cfg: &PlanConfig) -> bool {
 /// otherwise its curve is put back, its rounds and evaluations still counted. (Without a
 /// finite clearance target, under `--soft-dm` or from a straight seed, the rounds have
 /// nothing else to hold them.) A class stopped by the pruning is not polished.
+/// Without polish rounds, [`PlanConfig::finish_within`]: if the classes' evaluations so far
+/// are fewer, the chosen class gets the finish alone ([`Growth::finish`]) with what is left,
+/// kept or put back the same way.
 fn polish_chosen(
     world: &World<'_>,
     cfg: &PlanConfig,
     tasks: &mut [(usize, ClassTask<'_>)],
     runs: &mut [(usize, ClassRun)],
 ) {
-    if cfg.polish == 0 {
+    let spent: usize = runs.iter().map(|(_, (c, _))| c.evaluations).sum();
+    let finish_cap = cfg.finish_within.unwrap_or(0).saturating_sub(spent);
+    if cfg.polish == 0 && finish_cap == 0 {
         return;
     }
     let Some((chosen, old)) = runs
@@ -1770,7 +1789,12 @@ fn polish_chosen(
         return;
     };
     let saved = task.state.clone();
-    if !task.polish(world.model, cfg.polish) {
+    let ran = if cfg.polish > 0 {
+        task.polish(world.model, cfg.polish)
+    } else {
+        task.finish(world.model, finish_cap)
+    };
+    if !ran {
         return;
     }
     let mut run = task.report(world, cfg);
@@ -1994,6 +2018,17 @@ impl<'w> ClassTask<'w> {
             && self.timed(false, |g, cfg, guard| {
                 let before = g.rounds().len();
                 g.polish(model, cfg, guard, rounds);
+                g.rounds().len() > before
+            })
+    }
+
+    /// The class's finish-only polish round ([`Growth::finish`]) of at most `cap`
+    /// evaluations; a class stopped by the pruning is not polished. Returns whether it ran.
+    fn finish(&mut self, model: &dyn ClearanceModel, cap: usize) -> bool {
+        !self.pruned
+            && self.timed(false, |g, cfg, guard| {
+                let before = g.rounds().len();
+                g.finish(model, cfg, guard, cap);
                 g.rounds().len() > before
             })
     }

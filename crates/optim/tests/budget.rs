@@ -21,6 +21,14 @@ fn with_budget(per_dimension: usize, rounds: usize) -> PlanConfig {
             ..GrowthConfig::default()
         },
         polish: count_from_env("SCAN_POLISH", 0) as usize,
+        finish_within: match std::env::var("SCAN_FINISH") {
+            Ok(v) if v == "off" => None,
+            Ok(v) => Some(
+                v.parse()
+                    .expect("SCAN_FINISH: off or a number of evaluations"),
+            ),
+            Err(_) => PlanConfig::default().finish_within,
+        },
         ..PlanConfig::default()
     }
 }
@@ -52,7 +60,8 @@ fn budgets_from_env() -> Option<Vec<(usize, usize)>> {
 /// mean, 90th percentile and worst, and how many plans are 5 % or more above the cheapest.
 /// `SCAN_SCENES=N` sets the generated scenes (300), `SCAN_BUDGETS=30x3,20x3` the budgets
 /// (the default's first), `SCAN_POLISH=N` gives every plan (and the jitter scan's) `N`
-/// polish rounds, `SCAN_OPTIMIZER=lbfgs` runs the rounds with L-BFGS, `SCAN_OUT=FILE`
+/// polish rounds, `SCAN_FINISH=N|off` sets `PlanConfig::finish_within` (default 1500),
+/// `SCAN_OPTIMIZER=lbfgs` runs the rounds with L-BFGS, `SCAN_OUT=FILE`
 /// writes every plan's chosen cost and evaluations (`budget scene cost evaluations` per
 /// line) to compare runs of different code.
 #[test]

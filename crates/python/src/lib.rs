@@ -316,7 +316,7 @@ fn weights_of(weights: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, f64)
 /// Plans a scene: the k best homotopy classes, each optimised and checked (the `plan`
 /// command). `weights` maps names (`safety`, `dm`, ...) to values.
 #[pyfunction]
-#[pyo3(signature = (scene, classes=5, preset="paper-voronoi", weights=None, optimizer=None, seed="voronoi", roughness=None, clearance_floor=0.0, graph=None, soft_dm=false, prune=None, clearance_search=None, polish=0))]
+#[pyo3(signature = (scene, classes=5, preset="paper-voronoi", weights=None, optimizer=None, seed="voronoi", roughness=None, clearance_floor=0.0, graph=None, soft_dm=false, prune=None, clearance_search=None, polish=0, finish_within=None))]
 #[allow(clippy::too_many_arguments)]
 fn plan(
     py: Python<'_>,
@@ -333,6 +333,7 @@ fn plan(
     prune: Option<&Bound<'_, PyAny>>,
     clearance_search: Option<String>,
     polish: usize,
+    finish_within: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyPlan> {
     // `"off"` or a ratio, as the command line's `--prune`.
     let prune = match prune {
@@ -343,6 +344,21 @@ fn plan(
                 .extract::<f64>()
                 .map_err(|_| {
                     PyTypeError::new_err("prune: expected \"off\" or a number".to_owned())
+                })?
+                .to_string(),
+        }),
+    };
+    // `"off"` or a number of evaluations, as the command line's `--finish-within`.
+    let finish_within = match finish_within {
+        None => None,
+        Some(v) => Some(match v.extract::<String>() {
+            Ok(text) => text,
+            Err(_) => v
+                .extract::<u64>()
+                .map_err(|_| {
+                    PyTypeError::new_err(
+                        "finish_within: expected \"off\" or a number of evaluations".to_owned(),
+                    )
                 })?
                 .to_string(),
         }),
@@ -359,6 +375,7 @@ fn plan(
         prune,
         clearance_search,
         polish,
+        finish_within,
         ..PlanOptions::default()
     };
     let cfg = plan_config(&options, Some(&scene.inner)).map_err(bad)?;
