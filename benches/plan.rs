@@ -1,6 +1,7 @@
 //! Criterion bench of the full plan of each fixture scene with 5 classes (graph, classes,
-//! seeding, growth loop, certification, ranking), Nelder-Mead and L-BFGS, and Nelder-Mead
-//! with one polish round for the chosen class (`--polish 1`).
+//! seeding, growth loop, certification, ranking), Nelder-Mead and L-BFGS, Nelder-Mead
+//! without the chosen class's finish within its work budget (`--finish-within off`), and
+//! Nelder-Mead with one polish round for the chosen class (`--polish 1`).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use homospline_optim::{GrowthConfig, Optimizer, PlanConfig, plan};
@@ -9,10 +10,12 @@ use std::hint::black_box;
 fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("plan");
     for scene in homospline_testkit::fixture_scenes() {
-        for (name, optimizer, polish) in [
-            ("nelder-mead", Optimizer::NelderMead, 0),
-            ("lbfgs", Optimizer::Lbfgs, 0),
-            ("nelder-mead-polish-1", Optimizer::NelderMead, 1),
+        let budget = PlanConfig::default().finish_within;
+        for (name, optimizer, polish, finish_within) in [
+            ("nelder-mead", Optimizer::NelderMead, 0, budget),
+            ("lbfgs", Optimizer::Lbfgs, 0, budget),
+            ("nelder-mead-no-finish", Optimizer::NelderMead, 0, None),
+            ("nelder-mead-polish-1", Optimizer::NelderMead, 1, budget),
         ] {
             let cfg = PlanConfig {
                 growth: GrowthConfig {
@@ -20,6 +23,7 @@ fn bench(c: &mut Criterion) {
                     ..GrowthConfig::default()
                 },
                 polish,
+                finish_within,
                 ..PlanConfig::default()
             };
             let p = plan(&scene, &cfg).unwrap();
