@@ -198,6 +198,35 @@ fn plans_on_a_ros_map() {
     assert!(path_is_free(&map, &best.path));
 }
 
+/// The chosen class's finish and polish are for scenes: on a map neither runs, even when
+/// a configuration asks for them and takes the planner's path that ranks its classes after
+/// the search (`diverse`).
+#[test]
+fn a_map_plan_gets_no_finish_or_polish_whatever_the_configuration() {
+    let map = movingai_map("room-32-32-4");
+    let (s, g) = (Point::new(21.5, 14.5), Point::new(9.5, 0.5));
+    for (finish_within, polish) in [(Some(1_000_000), 0), (None, 2)] {
+        for diverse in [None, Some(0.5)] {
+            let cfg = PlanConfig {
+                finish_within,
+                polish,
+                diverse,
+                ..homospline_maps::map_config()
+            };
+            let (plan, _) = plan_map(&map, s, g, &cfg).unwrap();
+            assert!(plan.best.is_some());
+            for c in &plan.classes {
+                assert!(
+                    c.rounds.iter().all(|r| !r.polish),
+                    "{:?} {polish} {diverse:?}: class {}",
+                    finish_within,
+                    c.signature
+                );
+            }
+        }
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
 

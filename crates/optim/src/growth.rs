@@ -242,7 +242,8 @@ pub struct Round {
     /// the loop had ended.
     pub repair: bool,
     /// A polish round ([`Growth::polish`]): from a fresh simplex at the loop's best curve's
-    /// via-points, after the loop had ended.
+    /// via-points, after the loop had ended; or the interior-point finish alone at them
+    /// ([`Growth::finish`]).
     pub polish: bool,
 }
 
@@ -823,7 +824,8 @@ impl Growth {
     /// via-points: no via-point is grown, and each round starts a fresh simplex where the
     /// last one stopped. A round at the default budget stops far from the best curve of its
     /// via-points (on the paper scenes one more round from the chosen curve, with its
-    /// finish, lowers its cost by 0.4 to 23 %; README, *Performance*, nineteenth session),
+    /// finish, lowers its cost by 0.4 to 23 % without [`Growth::finish`] before it; README,
+    /// *Performance*, nineteenth session),
     /// and a growth's new curve starts off the curve before it, so a planner spends these
     /// on the class it chose.
     /// Under a clearance target, on a model that bounds how the clearance bends, the rounds
@@ -855,6 +857,8 @@ impl Growth {
     /// One polish round of the finish alone ([`Growth::polish`] without the simplex before
     /// the finish): from the loop's best curve, at its via-points, `interior_finish` with half
     /// a round's budget, at most `cap` evaluations (a value with its gradient counts one).
+    /// A `cap` below [`MIN_FINISH_EVALUATIONS`] runs nothing (each of the finish's stages
+    /// takes at least two evaluations, so a smaller one would spend more than `cap`).
     /// On the 320 scanned scenes this plans as well as a full polish round for 14 to 44 %
     /// less of its work (README, *Performance*, twenty-first session). Kept or put back as
     /// a polish round is; returns whether it was kept.
@@ -865,15 +869,15 @@ impl Growth {
         outer: &Guard<'_>,
         cap: usize,
     ) -> bool {
-        if cap == 0 || !self.done {
+        if cap < MIN_FINISH_EVALUATIONS || !self.done {
             return false;
         }
         let before = self.clone();
         let kept = self.polish_rounds(model, cfg, outer, 1, Finish::Only { cap }) > 0;
         if self.evaluations == before.evaluations {
-            // The finish had nothing to do (a curve short of the clearance target, as a
-            // straight seed's often is: the barrier needs a curve that keeps what it
-            // holds): no round is recorded.
+            // The finish had nothing to do: no clearance to hold (no target, floor or
+            // collision check, as on a straight seed) or a curve short of its target: no
+            // round is recorded.
             *self = before;
             return false;
         }
@@ -1125,6 +1129,10 @@ enum Finish {
     /// The finish alone, with half the round's budget, at most `cap` evaluations.
     Only { cap: usize },
 }
+
+/// The least budget [`Growth::finish`] runs with: two evaluations for each of the finish's
+/// stages.
+pub const MIN_FINISH_EVALUATIONS: usize = 2 * FINISH_WEIGHTS.len();
 
 /// Barrier samples per segment in the finish.
 pub const FINISH_SAMPLES: usize = 16;

@@ -5,7 +5,8 @@
 //!   argmin-shaped: `init`, `step`, `terminate`, an [`nelder_mead::Observer`], restarts.
 //! - [`lbfgs`]: [`Lbfgs`], for the analytic gradient (an option; Nelder-Mead stays default).
 //! - [`barrier`]: [`barrier::Barrier`], a log barrier on the clearance with its gradient, for
-//!   the interior-point finish of a polish round.
+//!   the interior-point finish of a polish round and of the chosen class's finish within
+//!   its work budget (`PlanConfig::finish_within`).
 //! - [`growth`]: [`grow`], the paper's loop: optimise, add a via-point, repeat.
 //! - [`planner`]: [`plan`], scene to ranked plan. It is the only module that touches every
 //!   lower crate (voronoi, homotopy, spline), and it holds no algorithm of its own beyond

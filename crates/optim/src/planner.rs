@@ -167,8 +167,9 @@ pub struct PlanConfig {
     /// first round's curve, marked [`ClassPlan::pruned`]. A heuristic: a first round can be a
     /// poor guide (a class's cost fell by 54 % in its second round on one generated scene).
     /// On 1,020 scenes (the fixtures and 1,000 generated ones; the ignored test
-    /// `scan_the_ratio` in `tests/prune.rs`), the default [`DEFAULT_PRUNE`] of 1.5 changes
-    /// one chosen class against running every class to its end (world-030: a class whose
+    /// `scan_the_ratio` in `tests/prune.rs`, with [`PlanConfig::finish_within`] off), the
+    /// default [`DEFAULT_PRUNE`] of 1.5 changes one chosen class against running every
+    /// class to its end (world-030: a class whose
     /// first round cost 1.98 times the reference's won, and the plan chosen instead costs
     /// 1.4 % more), as do 1.4 to 1.75, while 1.25 changes three (one of them 45 % dearer)
     /// and 2 to 4 none; 1.5 saves 60 % of the evaluations there (2.5: 53 %), and on the
@@ -178,7 +179,9 @@ pub struct PlanConfig {
     /// only, when L-BFGS rounds were too short for the wait to pay). `None`
     /// runs every class to its end (a mission does: its other classes are its alternatives).
     /// Applies where the classes are optimised after the search (scenes), not to a map's
-    /// classes, optimised while the search goes on.
+    /// classes, optimised while the search goes on. At the defaults the evaluations it saves
+    /// also decide whether the chosen class gets its finish ([`PlanConfig::finish_within`]):
+    /// convex's does with pruning (1,324 evaluations) and not without (2,707).
     pub prune: Option<Real>,
     /// Rounds of polish for the class the plan chooses ([`Growth::polish`]): after the
     /// classes are ranked, the first one's loop runs up to this many more rounds at its
@@ -192,11 +195,14 @@ pub struct PlanConfig {
     /// after the classes are ranked, if the plan has spent fewer evaluations than this, the
     /// class it chooses gets one finish-only polish round ([`Growth::finish`]: L-BFGS on the
     /// cost with a log barrier on the clearance, from its curve at its via-points) with half
-    /// a round's budget, at most what is left of this one. It is kept as a polish is (the
+    /// a round's budget, at most what is left of this one (nothing when fewer than
+    /// [`crate::growth::MIN_FINISH_EVALUATIONS`] are left). It is kept as a polish is (the
     /// same class, collision-free, at the floor, safe if it was, no dearer), else undone.
     /// A deterministic stand-in for a latency budget: evaluations, not time, so the plan
-    /// does not depend on the machine or its load. `None` or 0: never. Scenes only, like
-    /// [`PlanConfig::polish`], which replaces it when set.
+    /// does not depend on the machine or its load (a value with its gradient counts one,
+    /// though it costs about 2.5 times a simplex evaluation). `None` or 0: never. Scenes
+    /// only, like [`PlanConfig::polish`], which replaces it when set; on an occupancy map
+    /// neither runs.
     pub finish_within: Option<usize>,
 }
 
@@ -1772,6 +1778,10 @@ fn polish_chosen(
     tasks: &mut [(usize, ClassTask<'_>)],
     runs: &mut [(usize, ClassRun)],
 ) {
+    if world.grid_is_exact {
+        // Scenes only: a map's classes are optimised while its search goes on.
+        return;
+    }
     let spent: usize = runs.iter().map(|(_, (c, _))| c.evaluations).sum();
     let finish_cap = cfg.finish_within.unwrap_or(0).saturating_sub(spent);
     if cfg.polish == 0 && finish_cap == 0 {

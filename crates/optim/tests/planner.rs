@@ -466,6 +466,84 @@ fn the_finish_within_its_budget_lowers_only_the_chosen_class() {
     );
 }
 
+/// The budget's edge: a plan never spends more evaluations than `finish_within` (with fewer
+/// than `MIN_FINISH_EVALUATIONS` left the finish does not run: each of its stages takes at
+/// least two), and a finish with nothing to hold (the straight seed: no target, floor or
+/// collision check) records no round, so its plan is the one without the finish.
+#[test]
+fn the_finish_keeps_to_its_budget_and_leaves_no_trace_when_it_has_nothing_to_do() {
+    use homospline_optim::growth::MIN_FINISH_EVALUATIONS;
+    // Each class's signature, rounds, evaluations and cost (bit for bit), and whether its
+    // path is the same: every class as it was, but for its time.
+    let timeless = |p: &Plan| -> Vec<(String, usize, usize, u64, usize)> {
+        p.classes
+            .iter()
+            .map(|c| {
+                let path = c.path.iter().map(|q| (q.x.to_bits(), q.y.to_bits()));
+                let digest = path.fold(0usize, |h, (x, y)| {
+                    h.wrapping_mul(31)
+                        .wrapping_add((x ^ y.rotate_left(17)) as usize)
+                });
+                (
+                    c.signature.clone(),
+                    c.rounds.len(),
+                    c.evaluations,
+                    c.cost.total.to_bits(),
+                    digest,
+                )
+            })
+            .collect()
+    };
+    let convex = fixture_scenes()
+        .into_iter()
+        .find(|s| s.name == "convex")
+        .unwrap();
+    let with = |finish_within: Option<usize>| {
+        plan(
+            &convex,
+            &PlanConfig {
+                finish_within,
+                ..PlanConfig::default()
+            },
+        )
+        .unwrap()
+    };
+    let off = with(None);
+    let spent = off.evaluations();
+    for left in [1, MIN_FINISH_EVALUATIONS - 1] {
+        let p = with(Some(spent + left));
+        assert_eq!(timeless(&p), timeless(&off), "{left} left");
+    }
+    for left in [MIN_FINISH_EVALUATIONS, 7, 30, 89, 90, 1000] {
+        let p = with(Some(spent + left));
+        let (a, b) = (p.chosen().unwrap(), off.chosen().unwrap());
+        assert!(p.evaluations() <= spent + left, "{left} left");
+        assert!(p.evaluations() > spent, "{left} left: no finish");
+        assert_eq!(a.rounds.len(), b.rounds.len() + 1, "{left} left");
+        assert!(a.rounds.last().unwrap().polish, "{left} left");
+        assert!(a.cost.total <= b.cost.total, "{left} left");
+    }
+    for scene in fixture_scenes() {
+        let straight = |finish_within: Option<usize>| {
+            plan(
+                &scene,
+                &PlanConfig {
+                    seed: Seed::Straight,
+                    finish_within,
+                    ..PlanConfig::default()
+                },
+            )
+            .unwrap()
+        };
+        assert_eq!(
+            timeless(&straight(Some(1_000_000))),
+            timeless(&straight(None)),
+            "{}",
+            scene.name
+        );
+    }
+}
+
 #[test]
 fn a_scene_kilometres_across_in_small_units_gets_a_bounded_report() {
     // The reported path was sampled every half unit however long the curve: a scene of

@@ -313,6 +313,24 @@ fn weights_of(weights: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, f64)
     Ok(out)
 }
 
+/// An option given as text (`"off"`, checked with the command line's own words) or as a
+/// number (`number` turns it into text); anything else is a `TypeError` of `message`.
+fn off_or_number(
+    value: Option<&Bound<'_, PyAny>>,
+    number: impl Fn(&Bound<'_, PyAny>) -> Option<String>,
+    message: &str,
+) -> PyResult<Option<String>> {
+    let Some(v) = value else {
+        return Ok(None);
+    };
+    if let Ok(text) = v.extract::<String>() {
+        return Ok(Some(text));
+    }
+    number(v)
+        .map(Some)
+        .ok_or_else(|| PyTypeError::new_err(message.to_owned()))
+}
+
 /// Plans a scene: the k best homotopy classes, each optimised and checked (the `plan`
 /// command). `weights` maps names (`safety`, `dm`, ...) to values.
 #[pyfunction]
@@ -336,33 +354,17 @@ fn plan(
     finish_within: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyPlan> {
     // `"off"` or a ratio, as the command line's `--prune`.
-    let prune = match prune {
-        None => None,
-        Some(v) => Some(match v.extract::<String>() {
-            Ok(text) => text,
-            Err(_) => v
-                .extract::<f64>()
-                .map_err(|_| {
-                    PyTypeError::new_err("prune: expected \"off\" or a number".to_owned())
-                })?
-                .to_string(),
-        }),
-    };
+    let prune = off_or_number(
+        prune,
+        |v| v.extract::<f64>().ok().map(|x| x.to_string()),
+        "prune: expected \"off\" or a number",
+    )?;
     // `"off"` or a number of evaluations, as the command line's `--finish-within`.
-    let finish_within = match finish_within {
-        None => None,
-        Some(v) => Some(match v.extract::<String>() {
-            Ok(text) => text,
-            Err(_) => v
-                .extract::<u64>()
-                .map_err(|_| {
-                    PyTypeError::new_err(
-                        "finish_within: expected \"off\" or a number of evaluations".to_owned(),
-                    )
-                })?
-                .to_string(),
-        }),
-    };
+    let finish_within = off_or_number(
+        finish_within,
+        |v| v.extract::<u64>().ok().map(|n| n.to_string()),
+        "finish_within: expected \"off\" or a number of evaluations",
+    )?;
     let options = PlanOptions {
         seed: seed.to_owned(),
         classes,

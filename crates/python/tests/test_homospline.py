@@ -207,3 +207,24 @@ def test_polish_equals_the_cli_flag(tmp_path):
     assert chosen(polished)["cost"]["total"] < chosen(plain)["cost"]["total"]
     with pytest.raises(ValueError, match="--polish 11"):
         homospline.plan(scene, polish=11)
+
+
+def test_finish_within_equals_the_cli_flag(tmp_path):
+    # Convex's classes spend 1,324 evaluations: under the default budget (1,500) its chosen
+    # class gets the interior-point finish; "off" or a budget of 1,000 leave it out.
+    path = ROOT / "fixtures/scenes/convex.yaml"
+    scene = homospline.Scene.from_file(path)
+    default = homospline.plan(scene).to_dict()
+    off = homospline.plan(scene, finish_within="off").to_dict()
+    assert timeless(off) == timeless(cli_json(["plan", str(path), "--finish-within", "off"], tmp_path))
+    small = homospline.plan(scene, finish_within=1000).to_dict()
+    assert timeless(small) == timeless(cli_json(["plan", str(path), "--finish-within", "1000"], tmp_path))
+    def chosen(p):
+        return p["classes"][p["best"] - 1]
+    assert chosen(small)["path"] == chosen(off)["path"]
+    assert chosen(default)["cost"]["total"] < 0.95 * chosen(off)["cost"]["total"]
+    assert chosen(default)["iterations"] == chosen(off)["iterations"] + 1
+    with pytest.raises(ValueError, match="--finish-within never"):
+        homospline.plan(scene, finish_within="never")
+    with pytest.raises(TypeError, match="finish_within"):
+        homospline.plan(scene, finish_within=1.5)
