@@ -8,14 +8,7 @@ use common::*;
 fn plans_on_a_movingai_map_with_json_and_a_picture() {
     let (json, svg) = (tmp("m.json"), tmp("m.svg"));
     let out = homospline()
-        .args([
-            "plan",
-            "fixtures/maps/movingai/random-32-32-10.map",
-            "--start",
-            "1.5,27.5",
-            "--goal",
-            "30.5,2.5",
-        ])
+        .args(MAP_PLAN)
         .args([
             "--json",
             json.to_str().unwrap(),

@@ -410,16 +410,6 @@ fn chosen_class(v: &serde_json::Value) -> serde_json::Value {
     v["classes"][v["best"].as_u64().unwrap() as usize - 1].clone()
 }
 
-/// `plan` on a MovingAI map, for the options that apply to scenes only.
-const MAP_PLAN: [&str; 6] = [
-    "plan",
-    "fixtures/maps/movingai/random-32-32-10.map",
-    "--start",
-    "1.5,27.5",
-    "--goal",
-    "30.5,2.5",
-];
-
 /// `plan SCENE --json FILE` with `extra` options (FILE named `name` in the test's temporary
 /// directory): the plan result, after checking that the command succeeded.
 fn plan_json(scene: &str, extra: &[&str], name: &str) -> serde_json::Value {

@@ -4,6 +4,16 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+/// `plan` on a MovingAI map fixture, from a start to a goal that are free cells' centres.
+pub const MAP_PLAN: [&str; 6] = [
+    "plan",
+    "fixtures/maps/movingai/random-32-32-10.map",
+    "--start",
+    "1.5,27.5",
+    "--goal",
+    "30.5,2.5",
+];
+
 /// The `homospline` binary, run from the repository root (fixture paths are relative).
 pub fn homospline() -> Command {
     let mut c = Command::new(env!("CARGO_BIN_EXE_homospline"));
