@@ -198,9 +198,12 @@ pub fn plan_table(plan: &Plan) -> String {
     match plan.best {
         Some(b) => {
             let c = &plan.classes[b - 1];
+            // Rounds after the ranking (`--polish`, or the finish within `--finish-within`)
+            // are counted in `rounds` beyond `--rounds`: say so.
+            let after = c.rounds.iter().filter(|r| r.polish).count();
             let _ = writeln!(
                 s,
-                "chosen: rank {b}, class {}, length {:.2}, minimum clearance {:.3}{}",
+                "chosen: rank {b}, class {}, length {:.2}, minimum clearance {:.3}{}{}",
                 short(&c.signature, 40),
                 c.length,
                 c.min_clearance,
@@ -208,6 +211,13 @@ pub fn plan_table(plan: &Plan) -> String {
                     ""
                 } else {
                     " (below dm: no collision-free class keeps the required clearance)"
+                },
+                match after {
+                    0 => String::new(),
+                    n => format!(
+                        "; {n} of its {} rounds after the ranking (--polish, or the interior-point finish within --finish-within)",
+                        c.iterations
+                    ),
                 }
             );
         }

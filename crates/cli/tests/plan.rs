@@ -603,6 +603,22 @@ fn the_finish_within_its_budget_lowers_the_chosen_class_and_refuses_bad_budgets_
     let off = plan_json(scene, &["--finish-within", "off"], "finish-off.json");
     let small = plan_json(scene, &["--finish-within", "1000"], "finish-1000.json");
     let (cd, co, cs) = (chosen_class(&d), chosen_class(&off), chosen_class(&small));
+    // The table says which rounds came after the ranking.
+    let table = |extra: &[&str]| {
+        let out = homospline()
+            .args(["plan", scene])
+            .args(extra)
+            .output()
+            .unwrap();
+        assert_ok(&out);
+        String::from_utf8(out.stdout).unwrap()
+    };
+    assert!(
+        table(&[]).contains("; 1 of its 4 rounds after the ranking"),
+        "{}",
+        table(&[])
+    );
+    assert!(!table(&["--finish-within", "off"]).contains("after the ranking"));
     assert_eq!(cd["signature"], co["signature"]);
     assert!(cd["safe"].as_bool().unwrap(), "{cd}");
     let cost = |c: &serde_json::Value| c["cost"]["total"].as_f64().unwrap();
