@@ -113,7 +113,8 @@ def plan(
     (default) or `"every-stretch"` (`--clearance-search`); `polish` is the chosen class's
     polish rounds, 0 to 10 (`--polish`; default 0); `finish_within` is `"off"` or the work
     budget, in cost evaluations, under which the chosen class gets its interior-point
-    finish (`--finish-within`; default 1500)."""
+    finish (`--finish-within`; default 1500; 0 or `"off"`: never; `polish` > 0 replaces
+    it)."""
 
 def plan_map(
     occupancy: npt.NDArray[np.bool_],

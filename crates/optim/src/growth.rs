@@ -859,8 +859,9 @@ impl Growth {
     /// a round's budget, at most `cap` evaluations (a value with its gradient counts one).
     /// A `cap` below [`MIN_FINISH_EVALUATIONS`] runs nothing (each of the finish's stages
     /// takes at least two evaluations, so a smaller one would spend more than `cap`).
-    /// On the 320 scanned scenes this plans as well as a full polish round for 14 to 44 %
-    /// less of its work (README, *Performance*, twenty-first session). Kept or put back as
+    /// At a full round's budget, on the 320 scanned scenes, this planned about as well as a
+    /// full polish round for 16 to 44 % less of its work (README, *Performance*,
+    /// twenty-first session). Kept or put back as
     /// a polish round is; returns whether it was kept.
     pub fn finish(
         &mut self,
