@@ -94,7 +94,7 @@ class Plan:
 
 def plan(
     scene: Scene,
-    classes: int = 5,
+    classes: Optional[int] = None,
     preset: str = "paper-voronoi",
     weights: Optional[dict[str, float]] = None,
     optimizer: Optional[str] = None,
@@ -108,7 +108,8 @@ def plan(
     polish: int = 0,
     finish_within: Optional[Union[str, int]] = None,
 ) -> Plan:
-    """Plans a scene (the `plan` command); `soft_dm` turns the dm rule off; `prune` is
+    """Plans a scene (the `plan` command); `classes` is 1 to 64 (default 5; the straight
+    seed plans one class and refuses any other count); `soft_dm` turns the dm rule off; `prune` is
     `"off"` or a ratio (`--prune`; default 1.5); `clearance_search` is `"worst-node"`
     (default) or `"every-stretch"` (`--clearance-search`); `polish` is the chosen class's
     polish rounds, 0 to 10 (`--polish`; default 0); `finish_within` is `"off"` or the work

@@ -130,7 +130,7 @@ pub fn run_files(
 ) -> Result<(Vec<Row>, BenchInfo), String> {
     let cfg = crate::options::plan_config(
         &crate::options::PlanOptions {
-            classes: job.classes,
+            classes: Some(job.classes),
             weights: job.weights.clone(),
             ..Default::default()
         },

@@ -564,9 +564,9 @@ struct PlanArgs {
     /// How the splines are seeded.
     #[arg(long, value_enum, default_value = "voronoi")]
     seed: SeedArg,
-    /// Homotopy classes to optimise.
-    #[arg(long, default_value_t = 5)]
-    classes: usize,
+    /// Homotopy classes to optimise, 1 to 64 [default: 5] (--seed straight plans one).
+    #[arg(long)]
+    classes: Option<usize>,
     /// Cost preset: paper-voronoi (cost 10) or paper-original (cost 9).
     #[arg(long, default_value = "paper-voronoi")]
     preset: String,

@@ -10,8 +10,9 @@ use homospline_spline::{ClearanceSearch, CostConfig, RoughnessForm};
 pub struct PlanOptions {
     /// `voronoi` or `straight`.
     pub seed: String,
-    /// Classes to optimise, 1 to 64.
-    pub classes: usize,
+    /// Classes to optimise, 1 to 64 (`None`: 5). The straight seed plans one class and
+    /// refuses any other count given.
+    pub classes: Option<usize>,
     /// `paper-voronoi` or `paper-original`.
     pub preset: String,
     /// Weights and parameters by name, in order.
@@ -51,7 +52,7 @@ impl Default for PlanOptions {
     fn default() -> Self {
         Self {
             seed: "voronoi".into(),
-            classes: 5,
+            classes: None,
             preset: "paper-voronoi".into(),
             weights: Vec::new(),
             optimizer: None,
@@ -89,8 +90,10 @@ pub fn plan_config(o: &PlanOptions, scene: Option<&Scene>) -> Result<PlanConfig,
         cost.set(name.trim(), *v)
             .map_err(|e| format!("--weight {name}={v}: {e}"))?;
     }
-    if o.classes == 0 || o.classes > 64 {
-        return Err(format!("--classes {}: must be between 1 and 64", o.classes));
+    if let Some(k) = o.classes
+        && !(1..=64).contains(&k)
+    {
+        return Err(format!("--classes {k}: must be between 1 and 64"));
     }
     if let Some(r) = o.resolution {
         if scene.is_none() {
@@ -186,6 +189,11 @@ pub fn plan_config(o: &PlanOptions, scene: Option<&Scene>) -> Result<PlanConfig,
         "straight" => Seed::Straight,
         other => return Err(format!("--seed {other}: expected voronoi or straight")),
     };
+    if let (Seed::Straight, Some(k @ 2..)) = (seed, o.classes) {
+        return Err(format!(
+            "--classes {k}: --seed straight plans one class, from the straight line S-T"
+        ));
+    }
     let optimizer = match o.optimizer.as_deref() {
         None => base.growth.optimizer,
         Some("nelder-mead") => Optimizer::NelderMead,
@@ -198,7 +206,7 @@ pub fn plan_config(o: &PlanOptions, scene: Option<&Scene>) -> Result<PlanConfig,
     };
     Ok(PlanConfig {
         seed,
-        classes: o.classes,
+        classes: o.classes.unwrap_or(base.classes),
         resolution: o.resolution,
         growth: GrowthConfig {
             cost,

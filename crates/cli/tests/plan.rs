@@ -73,21 +73,24 @@ fn the_built_in_example_plans_with_json_and_a_picture() {
 
 #[test]
 fn the_straight_seed_in_the_cup_finds_no_plan_and_exits_1() {
-    let out = homospline()
-        .args([
-            "plan",
-            "fixtures/scenes/concave-cup.yaml",
-            "--seed",
-            "straight",
-        ])
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(1));
-    assert!(
-        String::from_utf8(out.stdout)
-            .unwrap()
-            .contains("no collision-free class")
-    );
+    // `--classes 1` is the straight seed's one class, so it is accepted (any other count is
+    // refused: see the bad-options table).
+    for extra in [&[][..], &["--classes", "1"][..]] {
+        let out = homospline()
+            .args([
+                "plan",
+                "fixtures/scenes/concave-cup.yaml",
+                "--seed",
+                "straight",
+            ])
+            .args(extra)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(1), "{extra:?}");
+        let stdout = String::from_utf8(out.stdout).unwrap();
+        assert!(stdout.contains("no collision-free class"), "{extra:?}");
+        assert!(stdout.contains("seed straight  1 classes"), "{stdout}");
+    }
 }
 
 #[test]
@@ -231,6 +234,14 @@ fn bad_options_exit_2_with_the_option_named() {
         (
             vec!["plan", "--seed", "straight", "--graph", "g.msgpack"],
             "--seed straight plans one class",
+        ),
+        (
+            vec!["plan", "--seed", "straight", "--classes", "3"],
+            "--classes 3: --seed straight plans one class, from the straight line S-T",
+        ),
+        (
+            vec!["plan", "--seed", "straight", "--classes", "0"],
+            "--classes 0: must be between 1 and 64",
         ),
         (
             vec!["plan", "--weight", "dm=-5"],

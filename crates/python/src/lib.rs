@@ -334,12 +334,12 @@ fn off_or_number(
 /// Plans a scene: the k best homotopy classes, each optimised and checked (the `plan`
 /// command). `weights` maps names (`safety`, `dm`, ...) to values.
 #[pyfunction]
-#[pyo3(signature = (scene, classes=5, preset="paper-voronoi", weights=None, optimizer=None, seed="voronoi", roughness=None, clearance_floor=0.0, graph=None, soft_dm=false, prune=None, clearance_search=None, polish=0, finish_within=None))]
+#[pyo3(signature = (scene, classes=None, preset="paper-voronoi", weights=None, optimizer=None, seed="voronoi", roughness=None, clearance_floor=0.0, graph=None, soft_dm=false, prune=None, clearance_search=None, polish=0, finish_within=None))]
 #[allow(clippy::too_many_arguments)]
 fn plan(
     py: Python<'_>,
     scene: &PyScene,
-    classes: usize,
+    classes: Option<usize>,
     preset: &str,
     weights: Option<&Bound<'_, PyDict>>,
     optimizer: Option<String>,
@@ -454,7 +454,7 @@ fn plan_map(
     };
     let cfg = plan_config(
         &PlanOptions {
-            classes,
+            classes: Some(classes),
             ..PlanOptions::default()
         },
         None,

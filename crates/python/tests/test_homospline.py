@@ -117,6 +117,9 @@ def test_errors_are_exceptions_with_the_cli_messages():
         homospline.Scene.from_file(ROOT / "no-such-scene.yaml")
     with pytest.raises(ValueError, match="--classes 0: must be between 1 and 64"):
         homospline.plan(homospline.Scene.example(), classes=0)
+    with pytest.raises(ValueError, match="--classes 3: --seed straight plans one class"):
+        homospline.plan(homospline.Scene.example(), seed="straight", classes=3)
+    assert len(homospline.plan(homospline.Scene.example(), seed="straight", classes=1).classes) == 1
     with pytest.raises(ValueError, match="unknown weight or parameter 'safty'"):
         homospline.plan(homospline.Scene.example(), weights={"safty": 1.0})
     with pytest.raises(ValueError, match="radius must be > 0"):
