@@ -15,7 +15,7 @@ use std::fmt::Write;
 /// concave obstacles with a narrow pass).
 pub const EXAMPLE_SCENE: &str = include_str!("../../../fixtures/scenes/narrow-pass.yaml");
 
-use homospline_geom::Scene;
+use homospline_geom::{Placement, Scene};
 
 /// A note for the obstacles of `scene` too small for its graph's grid at `resolution` (cells
 /// per unit): every circle's radius, robot radius included, under `sqrt(2) / 2` cells, so
@@ -83,15 +83,37 @@ pub fn summary(scene: &Scene) -> String {
         clear(&scene.goal)
     );
     let _ = writeln!(s, "robot      radius {}", scene.robot_radius);
-    let _ = writeln!(
-        s,
-        "obstacles  {} listed, {} circles, {} topological (holes in free space)",
-        scene.obstacles.len(),
-        circles,
-        topo.len()
-    );
+    // A group meeting the bounds belongs to the outer wall and one beyond them is not in the
+    // free space at all: neither is a hole, though each keeps its ray (a signature stays a
+    // homotopy invariant with a ray from any point outside the free space).
+    let inflated = scene.circles();
+    let places: Vec<Placement> = topo
+        .iter()
+        .map(|t| b.place_discs(t.circles.iter().map(|&i| &inflated[i])))
+        .collect();
+    let count = |p| places.iter().filter(|&&q| q == p).count();
+    let (on_wall, outside) = (count(Placement::OnWall), count(Placement::Outside));
+    let _ = if on_wall + outside == 0 {
+        writeln!(
+            s,
+            "obstacles  {} listed, {} circles, {} topological (holes in free space)",
+            scene.obstacles.len(),
+            circles,
+            topo.len()
+        )
+    } else {
+        writeln!(
+            s,
+            "obstacles  {} listed, {} circles, {} topological: {} holes in free space, {on_wall} \
+             meeting the bounds, {outside} beyond them",
+            scene.obstacles.len(),
+            circles,
+            topo.len(),
+            count(Placement::Inside)
+        )
+    };
     let owners = scene.circle_owners();
-    for (k, t) in topo.iter().enumerate() {
+    for (k, (t, place)) in topo.iter().zip(&places).enumerate() {
         let mut names: Vec<&str> = t
             .circles
             .iter()
@@ -100,11 +122,21 @@ pub fn summary(scene: &Scene) -> String {
         names.dedup();
         let _ = writeln!(
             s,
-            "  hole {k}: {} circles from {}; representative [{:.3}, {:.3}]",
+            "  {} {k}: {} circles from {}; representative [{:.3}, {:.3}]{}",
+            if *place == Placement::Inside {
+                "hole"
+            } else {
+                "group"
+            },
             t.circles.len(),
             names.join(", "),
             t.representative.x,
-            t.representative.y
+            t.representative.y,
+            match place {
+                Placement::Inside => "",
+                Placement::OnWall => "; meets the bounds: part of the outer wall, not a hole",
+                Placement::Outside => "; beyond the bounds: not a hole",
+            }
         );
     }
     if !scene.danger_points.is_empty()

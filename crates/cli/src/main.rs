@@ -531,6 +531,17 @@ fn graph_dir(
             )));
         }
     }
+    // Every input of this shard is read, and dropped, before any graph is built: an
+    // unreadable map found halfway left the first maps' graphs behind. Reading is a small
+    // part of a graph's cost; a graph that cannot be built still stops the run where it is.
+    for (i, f) in files.iter().enumerate() {
+        if shard.takes(i) && matches!(load_input(f)?, Input::Map(_)) && resolution.is_some() {
+            return Err(bad(format!(
+                "{}: --resolution applies to scenes; a map's grid is its cells",
+                f.display()
+            )));
+        }
+    }
     std::fs::create_dir_all(dir)
         .with_context(|| format!("{}: cannot create the directory", dir.display()))?;
     for (i, f) in files.iter().enumerate() {

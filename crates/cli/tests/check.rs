@@ -56,3 +56,50 @@ fn the_cli_definition_is_consistent() {
     assert_eq!(out.status.code(), Some(0));
     assert!(String::from_utf8(out.stdout).unwrap().contains("check"));
 }
+
+#[test]
+fn obstacles_meeting_or_beyond_the_bounds_are_not_counted_as_holes() {
+    // One disc in the middle (a hole), one crossing the lower wall, one apart from the
+    // bounds; with robot_radius 1 a fourth, 0.5 from the right wall, meets it once inflated.
+    let scene = tmp("edge.yaml");
+    std::fs::write(
+        &scene,
+        "version: 1\nname: edge\nbounds: {min: [0, 0], max: [40, 30]}\nstart: [3, 15]\n\
+         goal: [30, 15]\nrobot_radius: 1\nobstacles:\n  - name: middle\n    circles: [[20, 15, 3]]\n\
+         \x20 - name: bump\n    circles: [[20, 0, 4]]\n  - name: far\n    circles: [[60, 60, 2]]\n\
+         \x20 - name: near-wall\n    circles: [[37, 25, 2.5]]\n",
+    )
+    .unwrap();
+    let out = homospline()
+        .args(["check", scene.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        text.contains("4 topological: 1 holes in free space, 2 meeting the bounds, 1 beyond them"),
+        "{text}"
+    );
+    assert!(
+        text.contains("  hole 0: 1 circles from middle; representative [20.000, 15.000]\n"),
+        "{text}"
+    );
+    assert!(
+        text.contains(
+            "  group 1: 1 circles from bump; representative [20.000, 0.000]; meets the bounds"
+        ),
+        "{text}"
+    );
+    assert!(
+        text.contains(
+            "  group 2: 1 circles from far; representative [60.000, 60.000]; beyond the bounds"
+        ),
+        "{text}"
+    );
+    assert!(
+        text.contains(
+            "  group 3: 1 circles from near-wall; representative [37.000, 25.000]; meets the bounds"
+        ),
+        "{text}"
+    );
+}

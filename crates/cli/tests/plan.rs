@@ -710,6 +710,32 @@ fn graph_out_dir_checks_its_inputs_before_writing_anything() {
         "would both be saved as room-32-32-4.msgpack",
     );
     assert!(!out.exists(), "nothing written");
+    // A good map, then one that cannot be read: refused before the first graph was written
+    // (it used to be written); so is --resolution with a map after a scene.
+    let broken = other.join("zz-broken.map");
+    std::fs::write(&broken, "type octile\nheight 2\nwidth x\nmap\n..\n..\n").unwrap();
+    let stderr = refused(&[
+        "graph",
+        "--out-dir",
+        out.to_str().unwrap(),
+        map,
+        broken.to_str().unwrap(),
+    ]);
+    assert!(stderr.contains("zz-broken.map"), "{stderr}");
+    assert!(!out.exists(), "nothing written");
+    assert_refused(
+        &[
+            "graph",
+            "--out-dir",
+            out.to_str().unwrap(),
+            "--resolution",
+            "4",
+            "fixtures/scenes/convex.yaml",
+            map,
+        ],
+        "room-32-32-4.map: --resolution applies to scenes",
+    );
+    assert!(!out.exists(), "nothing written");
     // A directory without maps: refused (it exited 0 having done nothing).
     assert_refused(
         &[

@@ -36,4 +36,4 @@ pub use math::{Point, Real, Vector};
 pub use polygon::{CoverError, Polygon, cover_polygon};
 pub use query::{CircleSet, Clearance, QueryBackend, RayHit};
 pub use scene::{CriticalPoint, DangerPoint, Scene, SceneError};
-pub use shape::{Bounds, Circle, Obstacle, TopoObstacle, topological_obstacles};
+pub use shape::{Bounds, Circle, Obstacle, Placement, TopoObstacle, topological_obstacles};

@@ -82,6 +82,57 @@ impl Bounds {
     pub fn extent(&self) -> Vector {
         self.max - self.min
     }
+
+    /// Where the closed disc `c` lies against the rectangle: strictly inside it, meeting a
+    /// wall, or apart from it (not even touching).
+    pub fn place_disc(&self, c: &Circle) -> Placement {
+        let p = c.center;
+        let r = c.radius;
+        if p.x - r > self.min.x
+            && p.x + r < self.max.x
+            && p.y - r > self.min.y
+            && p.y + r < self.max.y
+        {
+            return Placement::Inside;
+        }
+        let nearest = Point::new(
+            p.x.clamp(self.min.x, self.max.x),
+            p.y.clamp(self.min.y, self.max.y),
+        );
+        if (p - nearest).norm_squared() > r * r {
+            Placement::Outside
+        } else {
+            Placement::OnWall
+        }
+    }
+
+    /// Where a group of discs lies (see [`Bounds::place_disc`]): inside if every disc is,
+    /// outside if every disc is, on the wall otherwise. A connected group that is neither
+    /// inside nor outside meets a wall, so it is no hole in the free space within the
+    /// rectangle: it belongs to the outer boundary.
+    pub fn place_discs<'a>(&self, discs: impl IntoIterator<Item = &'a Circle>) -> Placement {
+        let mut seen: Option<Placement> = None;
+        for c in discs {
+            let here = self.place_disc(c);
+            seen = match seen {
+                None => Some(here),
+                Some(before) if before == here => Some(here),
+                Some(_) => return Placement::OnWall,
+            };
+        }
+        seen.unwrap_or(Placement::Inside)
+    }
+}
+
+/// Where a disc, or a group of discs, lies against a [`Bounds`] rectangle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Placement {
+    /// Strictly inside the rectangle: a group inside is a hole in free space.
+    Inside,
+    /// Meeting a wall (crossing or touching it): part of the outer boundary, not a hole.
+    OnWall,
+    /// Apart from the rectangle: not part of the free space's shape at all.
+    Outside,
 }
 
 /// One hole in free space: a maximal connected group of touching circles, possibly drawn

@@ -4,7 +4,7 @@
 use homospline_geom::math::distance_point_segment;
 use homospline_geom::query::{cast_ray_circle, distance_segment_circle};
 use homospline_geom::{
-    Bounds, Circle, CircleSet, Obstacle, Point, Polygon, QueryBackend, Scene, Vector,
+    Bounds, Circle, CircleSet, Obstacle, Placement, Point, Polygon, QueryBackend, Scene, Vector,
     cover_polygon, topological_obstacles,
 };
 use proptest::prelude::*;
@@ -30,6 +30,43 @@ fn both(cs: &[Circle]) -> [CircleSet; 2] {
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]
+
+    #[test]
+    fn a_disc_is_placed_against_the_bounds_as_dense_sampling_finds_it(c in circle()) {
+        let b = Bounds { min: Point::new(-20.0, -10.0), max: Point::new(25.0, 30.0) };
+        // The disc's boundary sampled densely, and the rectangle's corners and the centre:
+        // inside if every boundary sample is strictly within; apart if no sample of either
+        // shape lies in the other.
+        const N: usize = 3600;
+        let ring: Vec<Point> = (0..N)
+            .map(|k| {
+                let t = k as f64 / N as f64 * std::f64::consts::TAU;
+                c.center + Vector::new(t.cos(), t.sin()) * c.radius
+            })
+            .collect();
+        let corners = [b.min, b.max, Point::new(b.min.x, b.max.y), Point::new(b.max.x, b.min.y)];
+        let within = |p: &Point| b.wall_clearance(p);
+        let least = ring.iter().map(within).fold(f64::INFINITY, f64::min);
+        let most = ring.iter().chain([c.center].iter()).map(within).fold(f64::NEG_INFINITY, f64::max);
+        let corner_in = corners.iter().map(|q| c.signed_distance(q)).fold(f64::INFINITY, f64::min);
+        // Skip draws within sampling error of a tie (a disc grazing a wall).
+        let tie = 1e-3 * (1.0 + c.radius);
+        prop_assume!(least.abs() > tie && most.abs() > tie && corner_in.abs() > tie);
+        let expected = if least > 0.0 {
+            Placement::Inside
+        } else if most < 0.0 && corner_in > 0.0 {
+            Placement::Outside
+        } else {
+            Placement::OnWall
+        };
+        prop_assert_eq!(b.place_disc(&c), expected);
+        // A group of one is placed as its disc, and a group mixing places meets a wall.
+        prop_assert_eq!(b.place_discs([&c]), expected);
+        let inner = Circle::new(0.0, 0.0, 1.0);
+        if expected != Placement::Inside {
+            prop_assert_eq!(b.place_discs([&inner, &c]), Placement::OnWall);
+        }
+    }
 
     #[test]
     fn clearance_is_the_minimum_over_circles(cs in circles(60), p in point()) {
