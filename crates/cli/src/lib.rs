@@ -92,7 +92,11 @@ pub fn summary(scene: &Scene) -> String {
         .map(|t| b.place_discs(t.circles.iter().map(|&i| &inflated[i])))
         .collect();
     let count = |p| places.iter().filter(|&&q| q == p).count();
-    let (on_wall, outside) = (count(Placement::OnWall), count(Placement::Outside));
+    let (holes, on_wall, outside) = (
+        count(Placement::Inside),
+        count(Placement::OnWall),
+        count(Placement::Outside),
+    );
     let _ = if on_wall + outside == 0 {
         writeln!(
             s,
@@ -104,12 +108,12 @@ pub fn summary(scene: &Scene) -> String {
     } else {
         writeln!(
             s,
-            "obstacles  {} listed, {} circles, {} topological: {} holes in free space, {on_wall} \
-             meeting the bounds, {outside} beyond them",
+            "obstacles  {} listed, {} circles, {} topological: {holes} hole{} in free space, \
+             {on_wall} meeting the bounds, {outside} beyond them",
             scene.obstacles.len(),
             circles,
             topo.len(),
-            count(Placement::Inside)
+            if holes == 1 { "" } else { "s" }
         )
     };
     let owners = scene.circle_owners();

@@ -77,7 +77,7 @@ fn obstacles_meeting_or_beyond_the_bounds_are_not_counted_as_holes() {
     assert_eq!(out.status.code(), Some(0));
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(
-        text.contains("4 topological: 1 holes in free space, 2 meeting the bounds, 1 beyond them"),
+        text.contains("4 topological: 1 hole in free space, 2 meeting the bounds, 1 beyond them"),
         "{text}"
     );
     assert!(
