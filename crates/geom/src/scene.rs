@@ -567,8 +567,9 @@ impl Scene {
             .collect()
     }
 
-    /// The holes in free space: connected groups of touching (inflated) circles, across
-    /// listed obstacles. Circle indices refer to [`Scene::circles`].
+    /// The topological obstacles: connected groups of touching (inflated) circles, across
+    /// listed obstacles (holes in free space where they lie strictly within the bounds:
+    /// [`Bounds::place_discs`]). Circle indices refer to [`Scene::circles`].
     pub fn topological_obstacles(&self) -> Vec<TopoObstacle> {
         topological_obstacles(&self.circles())
     }

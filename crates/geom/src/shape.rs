@@ -84,7 +84,8 @@ impl Bounds {
     }
 
     /// Where the closed disc `c` lies against the rectangle: strictly inside it, meeting a
-    /// wall, or apart from it (not even touching).
+    /// wall, or apart from it (not even touching). A disc with a NaN coordinate or radius is
+    /// placed on the wall: never a hole, never dismissed.
     pub fn place_disc(&self, c: &Circle) -> Placement {
         let p = c.center;
         let r = c.radius;
@@ -95,9 +96,10 @@ impl Bounds {
         {
             return Placement::Inside;
         }
+        // max-then-min, not clamp: no panic on bounds whose min exceeds their max.
         let nearest = Point::new(
-            p.x.clamp(self.min.x, self.max.x),
-            p.y.clamp(self.min.y, self.max.y),
+            p.x.max(self.min.x).min(self.max.x),
+            p.y.max(self.min.y).min(self.max.y),
         );
         if (p - nearest).norm_squared() > r * r {
             Placement::Outside
@@ -109,7 +111,7 @@ impl Bounds {
     /// Where a group of discs lies (see [`Bounds::place_disc`]): inside if every disc is,
     /// outside if every disc is, on the wall otherwise. A connected group that is neither
     /// inside nor outside meets a wall, so it is no hole in the free space within the
-    /// rectangle: it belongs to the outer boundary.
+    /// rectangle: it belongs to the outer boundary. An empty group is inside.
     pub fn place_discs<'a>(&self, discs: impl IntoIterator<Item = &'a Circle>) -> Placement {
         let mut seen: Option<Placement> = None;
         for c in discs {
@@ -135,8 +137,9 @@ pub enum Placement {
     Outside,
 }
 
-/// One hole in free space: a maximal connected group of touching circles, possibly drawn
-/// from several listed obstacles.
+/// A topological obstacle: a maximal connected group of touching circles, possibly drawn
+/// from several listed obstacles; a hole in free space when it lies strictly within the
+/// bounds ([`Bounds::place_discs`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct TopoObstacle {
     /// Indices into the circle slice the group was computed from, ascending.
@@ -212,6 +215,45 @@ pub fn topological_obstacles(circles: &[Circle]) -> Vec<TopoObstacle> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn discs_are_placed_at_the_edges_of_the_bounds() {
+        let b = Bounds {
+            min: Point::new(0.0, 0.0),
+            max: Point::new(10.0, 10.0),
+        };
+        let place = |x, y, r| b.place_disc(&Circle::new(x, y, r));
+        // Exact in binary: tangent from inside or outside meets the wall (touching counts,
+        // as in `Circle::touches`).
+        assert_eq!(place(5.0, 5.0, 4.5), Placement::Inside);
+        assert_eq!(place(5.0, 5.0, 5.0), Placement::OnWall);
+        assert_eq!(place(5.0, 12.0, 2.0), Placement::OnWall);
+        assert_eq!(place(5.0, 12.0, 1.75), Placement::Outside);
+        // Near a corner the box around the disc overlaps the rectangle, but the disc does
+        // not reach the corner: (13, 14) is 5 from (10, 10).
+        assert_eq!(place(13.0, 14.0, 4.5), Placement::Outside);
+        assert_eq!(place(13.0, 14.0, 5.0), Placement::OnWall);
+        assert_eq!(place(-3.0, -4.0, 4.75), Placement::Outside);
+        // A disc holding the whole rectangle meets its walls.
+        assert_eq!(place(5.0, 5.0, 100.0), Placement::OnWall);
+        // Bounds whose min exceeds their max give an answer, not a panic.
+        let flipped = Bounds {
+            min: b.max,
+            max: b.min,
+        };
+        assert_ne!(
+            flipped.place_disc(&Circle::new(5.0, 5.0, 1.0)),
+            Placement::Inside
+        );
+        // Groups: all inside, all outside, or (mixed) on the wall; a group of none is
+        // vacuously inside.
+        let inside = Circle::new(5.0, 5.0, 1.0);
+        let outside = Circle::new(20.0, 20.0, 1.0);
+        assert_eq!(b.place_discs([&inside, &inside]), Placement::Inside);
+        assert_eq!(b.place_discs([&outside, &outside]), Placement::Outside);
+        assert_eq!(b.place_discs([&inside, &outside]), Placement::OnWall);
+        assert_eq!(b.place_discs([]), Placement::Inside);
+    }
 
     #[test]
     fn chains_of_touching_circles_form_one_group() {

@@ -120,6 +120,9 @@ def test_errors_are_exceptions_with_the_cli_messages():
     with pytest.raises(ValueError, match="--classes 3: --seed straight plans one class"):
         homospline.plan(homospline.Scene.example(), seed="straight", classes=3)
     assert len(homospline.plan(homospline.Scene.example(), seed="straight", classes=1).classes) == 1
+    example = homospline.Scene.example()
+    with pytest.raises(ValueError, match="--seed straight plans one class from the straight line"):
+        homospline.plan(example, seed="straight", graph=homospline.build_graph(example))
     with pytest.raises(ValueError, match="unknown weight or parameter 'safty'"):
         homospline.plan(homospline.Scene.example(), weights={"safty": 1.0})
     with pytest.raises(ValueError, match="radius must be > 0"):
