@@ -126,13 +126,14 @@ pub fn summary(scene: &Scene) -> String {
         names.dedup();
         let _ = writeln!(
             s,
-            "  {} {k}: {} circles from {}; representative [{:.3}, {:.3}]{}",
+            "  {} {k}: {} circle{} from {}; representative [{:.3}, {:.3}]{}",
             if *place == Placement::Inside {
                 "hole"
             } else {
                 "group"
             },
             t.circles.len(),
+            if t.circles.len() == 1 { "" } else { "s" },
             names.join(", "),
             t.representative.x,
             t.representative.y,

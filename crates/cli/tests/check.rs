@@ -81,24 +81,24 @@ fn obstacles_meeting_or_beyond_the_bounds_are_not_counted_as_holes() {
         "{text}"
     );
     assert!(
-        text.contains("  hole 0: 1 circles from middle; representative [20.000, 15.000]\n"),
+        text.contains("  hole 0: 1 circle from middle; representative [20.000, 15.000]\n"),
         "{text}"
     );
     assert!(
         text.contains(
-            "  group 1: 1 circles from bump; representative [20.000, 0.000]; meets the bounds"
+            "  group 1: 1 circle from bump; representative [20.000, 0.000]; meets the bounds"
         ),
         "{text}"
     );
     assert!(
         text.contains(
-            "  group 2: 1 circles from far; representative [60.000, 60.000]; beyond the bounds"
+            "  group 2: 1 circle from far; representative [60.000, 60.000]; beyond the bounds"
         ),
         "{text}"
     );
     assert!(
         text.contains(
-            "  group 3: 1 circles from near-wall; representative [37.000, 25.000]; meets the bounds"
+            "  group 3: 1 circle from near-wall; representative [37.000, 25.000]; meets the bounds"
         ),
         "{text}"
     );

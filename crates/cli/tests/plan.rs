@@ -295,6 +295,13 @@ fn the_help_gives_the_default_pruning_ratio() {
         .join(" ");
     let said = format!("(default {})", homospline_optim::planner::DEFAULT_PRUNE);
     assert!(help.contains(&said), "plan --help does not say {said}");
+    // --classes has no clap default (so that --seed straight can refuse a given count): its
+    // help states the library's.
+    let said = format!(
+        "[default: {}]",
+        homospline_optim::PlanConfig::default().classes
+    );
+    assert!(help.contains(&said), "plan --help does not say {said}");
 }
 
 #[test]
