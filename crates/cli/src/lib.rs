@@ -118,6 +118,14 @@ pub fn summary(scene: &Scene) -> String {
     };
     let owners = scene.circle_owners();
     for (k, (t, place)) in topo.iter().zip(&places).enumerate() {
+        let (label, why) = match place {
+            Placement::Inside => ("hole", ""),
+            Placement::OnWall => (
+                "group",
+                "; meets the bounds: part of the outer wall, not a hole",
+            ),
+            Placement::Outside => ("group", "; beyond the bounds: not a hole"),
+        };
         let mut names: Vec<&str> = t
             .circles
             .iter()
@@ -126,22 +134,12 @@ pub fn summary(scene: &Scene) -> String {
         names.dedup();
         let _ = writeln!(
             s,
-            "  {} {k}: {} circle{} from {}; representative [{:.3}, {:.3}]{}",
-            if *place == Placement::Inside {
-                "hole"
-            } else {
-                "group"
-            },
+            "  {label} {k}: {} circle{} from {}; representative [{:.3}, {:.3}]{why}",
             t.circles.len(),
             if t.circles.len() == 1 { "" } else { "s" },
             names.join(", "),
             t.representative.x,
             t.representative.y,
-            match place {
-                Placement::Inside => "",
-                Placement::OnWall => "; meets the bounds: part of the outer wall, not a hole",
-                Placement::Outside => "; beyond the bounds: not a hole",
-            }
         );
     }
     if !scene.danger_points.is_empty()

@@ -419,6 +419,19 @@ fn check(path: &Path) -> anyhow::Result<u8> {
     Ok(0)
 }
 
+/// The input of `graph`, read and checked against its options (`--resolution` is a
+/// scene's): what `graph --out-dir` checks of every input before it builds any graph.
+fn graph_input(path: &Path, resolution: Option<f64>) -> anyhow::Result<Input> {
+    let input = load_input(path)?;
+    if matches!(input, Input::Map(_)) && resolution.is_some() {
+        return Err(bad(format!(
+            "{}: --resolution applies to scenes; a map's grid is its cells",
+            path.display()
+        )));
+    }
+    Ok(input)
+}
+
 fn graph(
     path: &Path,
     resolution: Option<f64>,
@@ -426,7 +439,7 @@ fn graph(
     json: Option<PathBuf>,
     svg: Option<PathBuf>,
 ) -> anyhow::Result<u8> {
-    let input = load_input(path)?;
+    let input = graph_input(path, resolution)?;
     let t = std::time::Instant::now();
     let (g, cells, res, name) = match &input {
         Input::Scene(scene) => {
@@ -436,11 +449,6 @@ fn graph(
             (g, (grid.width(), grid.height()), res, scene.name.clone())
         }
         Input::Map(map) => {
-            if resolution.is_some() {
-                return Err(bad(
-                    "--resolution applies to scenes; a map's grid is its cells",
-                ));
-            }
             // The complete graph of the whole map, without start or goal: `plan MAP --graph`
             // attaches each query's start and goal to it.
             let prepared =
@@ -535,11 +543,8 @@ fn graph_dir(
     // unreadable map found halfway left the first maps' graphs behind. Reading is a small
     // part of a graph's cost; a graph that cannot be built still stops the run where it is.
     for (i, f) in files.iter().enumerate() {
-        if shard.takes(i) && matches!(load_input(f)?, Input::Map(_)) && resolution.is_some() {
-            return Err(bad(format!(
-                "{}: --resolution applies to scenes; a map's grid is its cells",
-                f.display()
-            )));
+        if shard.takes(i) {
+            graph_input(f, resolution)?;
         }
     }
     std::fs::create_dir_all(dir)
@@ -781,11 +786,6 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
             Input::Map(map)
         }
     };
-    if matches!(a.seed, SeedArg::Straight) && a.graph.is_some() {
-        return Err(bad(
-            "--graph gives the Voronoi seed's classes; --seed straight plans one class from the straight line",
-        ));
-    }
     let weights = parse_weights(&a.weights)?;
     let options = PlanOptions {
         seed: match a.seed {
@@ -819,6 +819,7 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
         prune: a.prune.clone(),
         polish: a.polish,
         finish_within: a.finish_within.clone(),
+        graph: a.graph.is_some(),
     };
     let scene_of = match &input {
         Input::Scene(s) => Some(s),

@@ -46,6 +46,8 @@ pub struct PlanOptions {
     pub polish: usize,
     /// The chosen class's finish: `off` or a work budget in evaluations (scenes only).
     pub finish_within: Option<String>,
+    /// Whether a saved graph is given (the Voronoi seed's; the straight seed refuses it).
+    pub graph: bool,
 }
 
 impl Default for PlanOptions {
@@ -69,6 +71,7 @@ impl Default for PlanOptions {
             prune: None,
             polish: 0,
             finish_within: None,
+            graph: false,
         }
     }
 }
@@ -193,6 +196,13 @@ pub fn plan_config(o: &PlanOptions, scene: Option<&Scene>) -> Result<PlanConfig,
         return Err(format!(
             "--classes {k}: --seed straight plans one class, from the straight line S-T"
         ));
+    }
+    if seed == Seed::Straight && o.graph {
+        return Err(
+            "--graph gives the Voronoi seed's classes; --seed straight plans one class \
+                    from the straight line"
+                .into(),
+        );
     }
     let optimizer = match o.optimizer.as_deref() {
         None => base.growth.optimizer,

@@ -378,15 +378,10 @@ fn plan(
         clearance_search,
         polish,
         finish_within,
+        graph: graph.is_some(),
         ..PlanOptions::default()
     };
     let cfg = plan_config(&options, Some(&scene.inner)).map_err(bad)?;
-    if cfg.seed == homospline_optim::Seed::Straight && graph.is_some() {
-        // As the command line: a saved graph was silently ignored by the straight seed.
-        return Err(bad(
-            "--graph gives the Voronoi seed's classes; --seed straight plans one class from the straight line",
-        ));
-    }
     let s = &scene.inner;
     let saved = graph.map(|g| g.inner.clone());
     py.detach(|| homospline_optim::plan_with_graph(s, saved, &cfg))
