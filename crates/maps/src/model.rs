@@ -11,27 +11,52 @@
 use homospline_geom::{Point, Real, Vector};
 use homospline_spline::field::{ClearanceModel, FieldSample, exp_fast};
 use homospline_voronoi::{DistanceField, Grid};
-use std::sync::OnceLock;
+use rustc_hash::FxHashMap;
+use std::sync::{PoisonError, RwLock};
 
 /// Rings of depth inside obstacles that the smooth clearance tells apart.
 pub const DEPTH_RINGS: u8 = 6;
 
+/// Shards of [`GridModel`]'s cache of candidates (cell `k` in shard `k % CACHE_SHARDS`).
+const CACHE_SHARDS: usize = 64;
+
 /// Clearance model of an occupancy grid.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct GridModel {
     w: usize,
     h: usize,
     origin: Point,
     cell: Real,
-    occ: Vec<bool>,
     /// Signed clearance at cell centres, map units.
     d: Vec<Real>,
-    /// Squared brushfire distance at each cell, cells.
-    d2: Vec<i64>,
-    /// Per free cell, filled on first use: the occupied cells that can be nearest to some
-    /// point of the cell (the annulus of [`GridModel::exact`]), as row-major indices. The
-    /// verification queries of one map meet the same cells again and again.
-    candidates: Vec<OnceLock<Box<[u32]>>>,
+    /// Squared brushfire distance at each cell, cells (0 exactly on occupied cells; clamped
+    /// to `u32::MAX`, far beyond any grid's `w^2 + h^2`).
+    d2: Vec<u32>,
+    /// Per free cell met by a query, filled on first use: the occupied cells that can be
+    /// nearest to some point of the cell (the annulus of [`GridModel::exact`]), as row-major
+    /// indices. The verification queries of one map meet the same cells again and again,
+    /// but only a few of a large map's cells: hash maps behind sharded locks hold just
+    /// those (a lazily filled slot per cell took 24 bytes of every cell). The lists are pure
+    /// functions of the grid, so the cache never changes an answer.
+    candidates: Vec<RwLock<FxHashMap<u32, Box<[u32]>>>>,
+}
+
+impl Clone for GridModel {
+    fn clone(&self) -> Self {
+        Self {
+            w: self.w,
+            h: self.h,
+            origin: self.origin,
+            cell: self.cell,
+            d: self.d.clone(),
+            d2: self.d2.clone(),
+            candidates: self
+                .candidates
+                .iter()
+                .map(|s| RwLock::new(s.read().unwrap_or_else(PoisonError::into_inner).clone()))
+                .collect(),
+        }
+    }
 }
 
 impl GridModel {
@@ -43,14 +68,18 @@ impl GridModel {
         let cell = grid.cell();
         let occ = grid.occupancy();
         let mut d = vec![0.0; w * h];
-        let mut d2 = vec![0; w * h];
+        let mut d2 = vec![0u32; w * h];
         let mut ring = vec![0u8; w * h];
         let mut frontier = Vec::new();
+        let mut row = vec![0i64; w];
         for j in 0..h {
             let r = j * w..(j + 1) * w;
-            field.d2_row(j, &mut d2[r.clone()]);
+            field.d2_row(j, &mut row);
+            for (o, &q) in d2[r.clone()].iter_mut().zip(&row) {
+                *o = q.clamp(0, u32::MAX as i64) as u32;
+            }
             // The field's clearance, `sqrt(d2) - 1/2` cells on free cells, row at a time.
-            for ((dk, &q), &o) in d[r.clone()].iter_mut().zip(&d2[r.clone()]).zip(&occ[r]) {
+            for ((dk, &q), &o) in d[r.clone()].iter_mut().zip(&row).zip(&occ[r]) {
                 let c = if q == 0 {
                     0.0
                 } else {
@@ -103,11 +132,18 @@ impl GridModel {
             h,
             origin: grid.origin(),
             cell,
-            occ: occ.to_vec(),
             d,
             d2,
-            candidates: (0..w * h).map(|_| OnceLock::new()).collect(),
+            candidates: (0..CACHE_SHARDS)
+                .map(|_| RwLock::new(FxHashMap::default()))
+                .collect(),
         }
+    }
+
+    /// Whether cell `k` (row-major) is occupied: its squared distance is 0.
+    #[inline]
+    fn occupied(&self, k: usize) -> bool {
+        self.d2[k] == 0
     }
 
     /// Smooth clearance and gradient (bilinear over cell centres).
@@ -149,12 +185,12 @@ impl GridModel {
             return 0.0;
         };
         let h = self.cell;
-        if self.occ[cj * self.w + ci] {
+        if self.occupied(cj * self.w + ci) {
             let x0 = self.origin.x + ci as Real * h;
             let y0 = self.origin.y + cj as Real * h;
             return -(p.x - x0).min(x0 + h - p.x).min(p.y - y0).min(y0 + h - p.y);
         }
-        let d2 = self.d2[cj * self.w + ci];
+        let d2 = self.d2[cj * self.w + ci] as i64;
         if d2 > (self.w * self.w + self.h * self.h) as i64 {
             // No occupied cell at all.
             return self.exact_by_rings(p, ci, cj, Real::INFINITY);
@@ -162,13 +198,29 @@ impl GridModel {
         // Only the cells of the annulus (see `annulus`) can be nearest; the first query in a
         // cell lists them.
         let dc = (d2 as Real).sqrt();
-        let mut best = (dc + std::f64::consts::FRAC_1_SQRT_2 - 0.5) * h;
+        let bound = (dc + std::f64::consts::FRAC_1_SQRT_2 - 0.5) * h;
         let k = cj * self.w + ci;
-        let candidates = self.candidates[k].get_or_init(|| self.annulus(ci, cj, d2));
-        for &o in candidates.iter() {
-            let o = o as usize;
-            best = best.min(self.square_distance(p, o % self.w, o / self.w));
+        let nearest = |candidates: &[u32]| {
+            candidates.iter().fold(bound, |b, &o| {
+                let o = o as usize;
+                b.min(self.square_distance(p, o % self.w, o / self.w))
+            })
+        };
+        let shard = &self.candidates[k % CACHE_SHARDS];
+        if let Some(c) = shard
+            .read()
+            .unwrap_or_else(PoisonError::into_inner)
+            .get(&(k as u32))
+        {
+            return nearest(c);
         }
+        let c = self.annulus(ci, cj, d2);
+        let best = nearest(&c);
+        shard
+            .write()
+            .unwrap_or_else(PoisonError::into_inner)
+            .entry(k as u32)
+            .or_insert(c);
         best
     }
 
@@ -210,7 +262,7 @@ impl GridModel {
                 for i in [ci as i64 + dx, ci as i64 - dx] {
                     if i >= 0 && (i as usize) < self.w {
                         let k = j as usize * self.w + i as usize;
-                        if self.occ[k] {
+                        if self.occupied(k) {
                             out.push(k as u32);
                         }
                     }
@@ -250,7 +302,9 @@ impl GridModel {
                 let on_edge = j == j0 || j == j1;
                 let mut i = i0;
                 while i <= i1 {
-                    if i >= 0 && (i as usize) < self.w && self.occ[j as usize * self.w + i as usize]
+                    if i >= 0
+                        && (i as usize) < self.w
+                        && self.occupied(j as usize * self.w + i as usize)
                     {
                         best = best.min(self.square_distance(p, i as usize, j as usize));
                     }
@@ -290,7 +344,7 @@ impl ClearanceModel for GridModel {
         (0..=n).all(|k| {
             let p = a + (b - a) * (k as Real / n as Real);
             self.cell_of(&p)
-                .is_some_and(|(i, j)| !self.occ[j * self.w + i])
+                .is_some_and(|(i, j)| !self.occupied(j * self.w + i))
         })
     }
 
@@ -350,7 +404,7 @@ mod tests {
                     origin.y + next() * h as Real * cell,
                 );
                 let (ci, cj) = model.cell_of(&p).unwrap();
-                let rings = if model.occ[cj * w + ci] {
+                let rings = if model.occupied(cj * w + ci) {
                     model.exact(&p)
                 } else {
                     model.exact_by_rings(&p, ci, cj, Real::INFINITY)

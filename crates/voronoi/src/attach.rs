@@ -46,7 +46,38 @@ enum Anchor {
 pub struct MapGraph {
     /// The complete graph, without start or goal.
     pub graph: VoronoiGraph,
-    index: FxHashMap<usize, Anchor>,
+    /// Per grid cell: [`NOT_ON_GRAPH`], a node (`ON_NODE | id`) or the first edge whose
+    /// polyline, sampled every quarter cell, lands in the cell (its anchor is that edge's
+    /// first sample there, found again when asked: [`MapGraph::anchor_at`]). Four bytes a
+    /// cell, where a hash map of anchors took about sixty per indexed cell.
+    index: Vec<u32>,
+}
+
+/// In [`MapGraph`]'s index: no polyline passes through the cell.
+const NOT_ON_GRAPH: u32 = u32::MAX;
+
+/// In [`MapGraph`]'s index: the bit that marks a node's id.
+const ON_NODE: u32 = 1 << 31;
+
+/// The samples of edge `e`'s polyline every quarter cell (at most), each end of every
+/// segment included, that land in a free cell: `(segment, t, point, cell index)` in order.
+fn samples<'a>(
+    grid: &'a Grid,
+    e: &'a Edge,
+) -> impl Iterator<Item = (usize, Real, Point, usize)> + 'a {
+    let step = 0.25 * grid.cell();
+    e.polyline.windows(2).enumerate().flat_map(move |(seg, s)| {
+        let (a, b) = (Point::new(s[0][0], s[0][1]), Point::new(s[1][0], s[1][1]));
+        let n = ((b - a).norm() / step).ceil().max(1.0) as usize;
+        (0..=n).filter_map(move |k| {
+            let t = k as Real / n as Real;
+            let at = a + (b - a) * t;
+            match grid.cell_of(&at) {
+                Some((i, j)) if !grid.occupied(i, j) => Some((seg, t, at, grid.index(i, j))),
+                _ => None,
+            }
+        })
+    })
 }
 
 /// The complete generalized Voronoi graph of `grid` (see [`crate::skeleton`]), without start
@@ -76,34 +107,37 @@ impl MapGraph {
 
     /// Indexes a complete graph built before (for example read back from MessagePack).
     pub fn from_graph(grid: &Grid, graph: VoronoiGraph) -> Self {
-        let mut index = FxHashMap::default();
-        let step = 0.25 * grid.cell();
+        let mut index = vec![NOT_ON_GRAPH; grid.width() * grid.height()];
+        // The first edge to reach a cell keeps it.
         for (ei, e) in graph.edges.iter().enumerate() {
-            for (seg, s) in e.polyline.windows(2).enumerate() {
-                let (a, b) = (Point::new(s[0][0], s[0][1]), Point::new(s[1][0], s[1][1]));
-                let n = ((b - a).norm() / step).ceil().max(1.0) as usize;
-                for k in 0..=n {
-                    let t = k as Real / n as Real;
-                    let at = a + (b - a) * t;
-                    if let Some((i, j)) = grid.cell_of(&at)
-                        && !grid.occupied(i, j)
-                    {
-                        index.entry(grid.index(i, j)).or_insert(Anchor::Edge {
-                            edge: ei,
-                            seg,
-                            t,
-                            at,
-                        });
-                    }
+            for (_, _, _, c) in samples(grid, e) {
+                if index[c] == NOT_ON_GRAPH {
+                    index[c] = ei as u32;
                 }
             }
         }
         for n in &graph.nodes {
             if let Some((i, j)) = grid.cell_of(&Point::new(n.at[0], n.at[1])) {
-                index.insert(grid.index(i, j), Anchor::Node(n.id));
+                index[grid.index(i, j)] = ON_NODE | n.id as u32;
             }
         }
         Self { graph, index }
+    }
+
+    /// Where cell `c` lies on the graph, if a polyline passes through it.
+    fn anchor_at(&self, grid: &Grid, c: usize) -> Option<Anchor> {
+        match self.index[c] {
+            NOT_ON_GRAPH => None,
+            a if a & ON_NODE != 0 => Some(Anchor::Node((a & !ON_NODE) as usize)),
+            ei => samples(grid, &self.graph.edges[ei as usize])
+                .find(|s| s.3 == c)
+                .map(|(seg, t, at, _)| Anchor::Edge {
+                    edge: ei as usize,
+                    seg,
+                    t,
+                    at,
+                }),
+        }
     }
 
     /// The graph for one query: start and goal joined to the ridge along maximum-clearance
@@ -185,7 +219,7 @@ impl MapGraph {
             if best.get(&c).is_some_and(|&(b, _)| b < d) {
                 continue;
             }
-            if let Some(&a) = self.index.get(&c) {
+            if let Some(a) = self.anchor_at(grid, c) {
                 let mut path = vec![c];
                 let mut cur = c;
                 while best[&cur].1 != cur {

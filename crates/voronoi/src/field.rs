@@ -416,6 +416,12 @@ impl DistanceField {
         self.val[j * self.width + i] >> KEY_BITS
     }
 
+    /// [`DistanceField::d2`] of the cell with raster index `k = j * width + i`.
+    #[inline]
+    pub fn d2_at(&self, k: usize) -> i64 {
+        self.val[k] >> KEY_BITS
+    }
+
     /// Key of the nearest obstacle (its own key on an occupied cell).
     #[inline]
     pub fn nearest(&self, i: usize, j: usize) -> u32 {
