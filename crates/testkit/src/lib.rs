@@ -47,6 +47,15 @@ impl SplitMix {
     }
 }
 
+/// A random `n x n` occupancy grid, row-major (`true` = occupied): every cell occupied with
+/// probability `density`, seeded (like MovingAI's random512-20-0 at `density = 0.2`: the
+/// map with the most cycles of its size). The maps of the preparation bench and of
+/// `cargo xtask map-memory`.
+pub fn random_occupancy(n: usize, density: f64, seed: u64) -> Vec<bool> {
+    let mut rng = SplitMix(seed);
+    (0..n * n).map(|_| rng.next_unit() < density).collect()
+}
+
 /// A scene in the square `[0, size]^2` with these obstacles, no robot radius and no danger
 /// points, critical points or hazards.
 pub fn square_scene(

@@ -12,7 +12,9 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use homospline_geom::{Point, Real};
+use rayon::prelude::*;
 use rustc_hash::FxHashMap;
+use std::sync::atomic::{AtomicU32, Ordering};
 
 use crate::crack::CrackGraph;
 use crate::field::DistanceField;
@@ -107,15 +109,17 @@ impl MapGraph {
 
     /// Indexes a complete graph built before (for example read back from MessagePack).
     pub fn from_graph(grid: &Grid, graph: VoronoiGraph) -> Self {
-        let mut index = vec![NOT_ON_GRAPH; grid.width() * grid.height()];
-        // The first edge to reach a cell keeps it.
-        for (ei, e) in graph.edges.iter().enumerate() {
+        // The first edge to reach a cell keeps it: the least index of those that reach it,
+        // whatever the order the threads sample them in.
+        let first: Vec<AtomicU32> = (0..grid.width() * grid.height())
+            .map(|_| AtomicU32::new(NOT_ON_GRAPH))
+            .collect();
+        graph.edges.par_iter().enumerate().for_each(|(ei, e)| {
             for (_, _, _, c) in samples(grid, e) {
-                if index[c] == NOT_ON_GRAPH {
-                    index[c] = ei as u32;
-                }
+                first[c].fetch_min(ei as u32, Ordering::Relaxed);
             }
-        }
+        });
+        let mut index: Vec<u32> = first.into_iter().map(AtomicU32::into_inner).collect();
         for n in &graph.nodes {
             if let Some((i, j)) = grid.cell_of(&Point::new(n.at[0], n.at[1])) {
                 index[grid.index(i, j)] = ON_NODE | n.id as u32;

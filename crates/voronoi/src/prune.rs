@@ -49,7 +49,7 @@ impl VoronoiGraph {
             keep[n] = true;
         }
         let mut map = vec![usize::MAX; self.nodes.len()];
-        let mut nodes = Vec::new();
+        let mut nodes = Vec::with_capacity(keep.iter().filter(|&&k| k).count());
         for (i, n) in self.nodes.iter().enumerate() {
             if keep[i] {
                 map[i] = nodes.len();
@@ -119,6 +119,7 @@ impl VoronoiGraph {
             k += 1;
             alive[k - 1]
         });
+        self.edges.shrink_to_fit();
         self.keep_nodes(keep_node);
     }
 }

@@ -27,6 +27,7 @@
 //! [`crate::graph::POLYLINE_TOLERANCE`] cell: every polyline point lies in a free cell.
 
 use homospline_geom::{Point, Real};
+use rayon::prelude::*;
 
 use crate::field::DistanceField;
 use crate::graph::{GridObstacle, Node, NodeKind, VoronoiGraph};
@@ -353,7 +354,8 @@ impl Lattice for Skeleton<'_> {
 pub fn trace(grid: &Grid, field: &DistanceField, keep: &[bool]) -> VoronoiGraph {
     let w = grid.width();
     let skeleton = Skeleton::new(keep, w);
-    let net = chains::trace(&skeleton);
+    let (net, node_of) = chains::trace_flat(&skeleton);
+    drop(node_of);
     let cell = grid.cell();
     let centre = |c: usize| grid.center(c % w, c / w);
     let clear = |c: usize| field.clearance_cells(c % w, c / w) * cell;
@@ -375,14 +377,23 @@ pub fn trace(grid: &Grid, field: &DistanceField, keep: &[bool]) -> VoronoiGraph 
             }
         })
         .collect();
-    let edges = net
-        .chains
-        .iter()
-        .map(|ch| {
-            let pts: Vec<Point> = ch.sites.iter().map(|&c| centre(c)).collect();
-            let cl: Vec<Real> = ch.sites.iter().map(|&c| clear(c)).collect();
-            edge_along(ch.from, ch.to, &simplify(&pts, cell), &cl)
-        })
+    drop(skeleton);
+    // Each chain's edge alone, in parallel (the order of `collect` is the chains' for any
+    // number of threads), with each thread's scratch for the points and clearances.
+    let edges = (0..net.chains.len())
+        .into_par_iter()
+        .map_init(
+            || (Vec::new(), Vec::new()),
+            |(pts, cl): &mut (Vec<Point>, Vec<Real>), k| {
+                let sites = net.chain_sites(k);
+                pts.clear();
+                pts.extend(sites.iter().map(|&c| centre(c as usize)));
+                cl.clear();
+                cl.extend(sites.iter().map(|&c| clear(c as usize)));
+                let (from, to, _, _) = net.chains[k];
+                edge_along(from, to, &simplify(pts, cell), cl)
+            },
+        )
         .collect();
     VoronoiGraph {
         resolution: grid.resolution(),

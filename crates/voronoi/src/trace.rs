@@ -56,8 +56,56 @@ impl Traced {
     }
 }
 
+/// A network traced into nodes and chains held flat: every chain's sites and steps are
+/// ranges of two shared arrays (the complete graph of a large map has millions of chains,
+/// and a pair of vectors each left the allocator's heap in pieces).
+pub(crate) struct FlatTraced {
+    /// The site of every node, by node index.
+    pub(crate) node_sites: Vec<usize>,
+    /// `(from, to, first site, end of sites)` of every chain: its sites are
+    /// `sites[first..end]` and its steps `steps[first - k..end - k - 1]` for the chain's
+    /// index `k` (one step fewer than sites).
+    pub(crate) chains: Vec<(usize, usize, usize, usize)>,
+    /// The sites of all chains, chain after chain.
+    pub(crate) sites: Vec<u32>,
+    /// The steps of all chains, chain after chain.
+    pub(crate) steps: Vec<u32>,
+}
+
+impl FlatTraced {
+    /// The sites of chain `k`.
+    pub(crate) fn chain_sites(&self, k: usize) -> &[u32] {
+        let (_, _, a, b) = self.chains[k];
+        &self.sites[a..b]
+    }
+}
+
 /// Traces the network of `lattice` into nodes and chains (see the module docs).
 pub(crate) fn trace<L: Lattice>(lattice: &L) -> Traced {
+    let (flat, node_of) = trace_flat(lattice);
+    let chains = flat
+        .chains
+        .iter()
+        .enumerate()
+        .map(|(k, &(from, to, a, b))| Chain {
+            from,
+            to,
+            sites: flat.sites[a..b].iter().map(|&s| s as usize).collect(),
+            steps: flat.steps[a - k..b - k - 1]
+                .iter()
+                .map(|&s| s as usize)
+                .collect(),
+        })
+        .collect();
+    Traced {
+        node_sites: flat.node_sites,
+        node_of,
+        chains,
+    }
+}
+
+/// [`trace`], flat; with the node at every site.
+pub(crate) fn trace_flat<L: Lattice>(lattice: &L) -> (FlatTraced, Vec<u32>) {
     let n_sites = lattice.sites();
     let mut node_of = vec![NO_NODE; n_sites];
     let mut node_sites = Vec::new();
@@ -69,29 +117,34 @@ pub(crate) fn trace<L: Lattice>(lattice: &L) -> Traced {
                 *node = node_sites.len() as u32;
                 node_sites.push(s);
             } else {
-                links.push(s);
+                links.push(s as u32);
             }
         }
     }
     let mut used = vec![false; 2 * n_sites];
-    let mut chains = Vec::new();
+    let mut out = FlatTraced {
+        node_sites,
+        chains: Vec::new(),
+        sites: Vec::new(),
+        steps: Vec::new(),
+    };
     let mut nb = Vec::with_capacity(4);
     let mut starts = Vec::with_capacity(4);
     let mut k = 0;
-    while k < node_sites.len() {
-        let s = node_sites[k];
+    while k < out.node_sites.len() {
+        let s = out.node_sites[k];
         lattice.neighbours(s, &mut starts);
         for &first in &starts {
             if !used[first.1] {
-                chains.push(walk(
+                walk(
                     lattice,
                     s,
                     first,
                     &mut used,
                     &mut node_of,
-                    &mut node_sites,
+                    &mut out,
                     &mut nb,
-                ));
+                );
             }
         }
         k += 1;
@@ -99,6 +152,7 @@ pub(crate) fn trace<L: Lattice>(lattice: &L) -> Traced {
     // Cycles that meet no node: every step of a node is used by now, and a site of degree 2
     // has both its steps used or neither.
     for s in links {
+        let s = s as usize;
         if node_of[s] != NO_NODE {
             continue;
         }
@@ -107,42 +161,40 @@ pub(crate) fn trace<L: Lattice>(lattice: &L) -> Traced {
         if used[first.1] {
             continue;
         }
-        node_of[s] = node_sites.len() as u32;
-        node_sites.push(s);
-        chains.push(walk(
+        node_of[s] = out.node_sites.len() as u32;
+        out.node_sites.push(s);
+        walk(
             lattice,
             s,
             first,
             &mut used,
             &mut node_of,
-            &mut node_sites,
+            &mut out,
             &mut nb,
-        ));
+        );
     }
-    Traced {
-        node_sites,
-        node_of,
-        chains,
-    }
+    (out, node_of)
 }
 
-/// Walks the chain leaving node site `s0` by step `first` (unused) to the next node.
+/// Walks the chain leaving node site `s0` by step `first` (unused) to the next node, and
+/// appends it to `out`.
 fn walk<L: Lattice>(
     lattice: &L,
     s0: usize,
     first: (usize, usize),
     used: &mut [bool],
     node_of: &mut [u32],
-    node_sites: &mut Vec<usize>,
+    out: &mut FlatTraced,
     nb: &mut Vec<(usize, usize)>,
-) -> Chain {
+) {
     let from = node_of[s0] as usize;
-    let mut sites = vec![s0];
-    let mut steps = vec![first.1];
+    let begin = out.sites.len();
+    out.sites.push(s0 as u32);
+    out.steps.push(first.1 as u32);
     used[first.1] = true;
     let mut cur = first.0;
     loop {
-        sites.push(cur);
+        out.sites.push(cur as u32);
         if node_of[cur] != NO_NODE {
             break;
         }
@@ -151,18 +203,14 @@ fn walk<L: Lattice>(
         let Some(&(next, step)) = nb.iter().find(|(_, k)| !used[*k]) else {
             // A chain cannot run into itself before it meets a node (a walk starts at a
             // node and a cycle without nodes gets one first); ends at a new node if it did.
-            node_of[cur] = node_sites.len() as u32;
-            node_sites.push(cur);
+            node_of[cur] = out.node_sites.len() as u32;
+            out.node_sites.push(cur);
             break;
         };
         used[step] = true;
-        steps.push(step);
+        out.steps.push(step as u32);
         cur = next;
     }
-    Chain {
-        from,
-        to: node_of[cur] as usize,
-        sites,
-        steps,
-    }
+    out.chains
+        .push((from, node_of[cur] as usize, begin, out.sites.len()));
 }

@@ -1,0 +1,122 @@
+//! `map-memory N`: prepares a random N x N map (20 % of its cells occupied, seeded; default
+//! N = 4096) once, as `homospline plan MAP` does (`PreparedMap::new`: grid, brushfire,
+//! complete Voronoi graph and its index, clearance model, rays), and prints the time, the
+//! peak resident memory of the process (`VmHWM` of `/proc/self/status`, Linux) and both per
+//! cell. `--stages` first times the stages one by one. Run by `cargo xtask map-memory`.
+
+use std::time::Instant;
+
+use homospline_geom::Point;
+use homospline_maps::{OccupancyMap, PreparedMap};
+
+/// Peak and current resident memory of this process, bytes (`None` off Linux).
+fn memory() -> Option<(u64, u64)> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let field = |name: &str| -> Option<u64> {
+        let line = status.lines().find(|l| l.starts_with(name))?;
+        let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+        Some(kb * 1024)
+    };
+    Some((field("VmHWM:")?, field("VmRSS:")?))
+}
+
+fn mb(b: u64) -> f64 {
+    b as f64 / 1e6
+}
+
+fn main() -> std::process::ExitCode {
+    let mut n = 4096usize;
+    let mut stages = false;
+    for a in std::env::args().skip(1) {
+        match a.as_str() {
+            "--stages" => stages = true,
+            s => match s.parse() {
+                Ok(v) if v >= 2 => n = v,
+                _ => {
+                    eprintln!("usage: map-memory [N] [--stages]");
+                    return std::process::ExitCode::from(2);
+                }
+            },
+        }
+    }
+    let map = OccupancyMap {
+        name: format!("random{n}-20"),
+        width: n,
+        height: n,
+        cell: 1.0,
+        origin: Point::origin(),
+        occupied: homospline_testkit::random_occupancy(n, 0.2, 43),
+        y_down: true,
+    };
+    let cells = (n * n) as f64;
+    let before = memory().map_or(0, |m| m.1);
+    if stages {
+        let t = Instant::now();
+        let grid = map.to_grid().expect("a grid");
+        let field = homospline_voronoi::DistanceField::build(&grid);
+        let t_field = t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let keep = homospline_voronoi::skeleton::skeleton_cells(&grid, &field);
+        let t_skel = t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let traced = homospline_voronoi::skeleton::trace(&grid, &field, &keep);
+        let t_trace = t.elapsed().as_secs_f64();
+        drop((keep, traced));
+        let t = Instant::now();
+        let g = homospline_voronoi::complete_graph(&grid, &field);
+        let t_graph = t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let mg = homospline_voronoi::MapGraph::from_graph(&grid, g);
+        let t_index = t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let model = homospline_maps::GridModel::new(&grid, &field);
+        let t_model = t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let rays = homospline_maps::rays_of(&mg);
+        let t_rays = t.elapsed().as_secs_f64();
+        drop((model, rays, mg));
+        println!(
+            "stages: grid+field {t_field:.2} s, skeleton {t_skel:.2} s, trace {t_trace:.2} s, \
+             complete graph (skeleton+trace+prune) {t_graph:.2} s, index {t_index:.2} s, \
+             model {t_model:.2} s, rays {t_rays:.2} s"
+        );
+    }
+    let t = Instant::now();
+    let prepared = match PreparedMap::new(&map) {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("{}: {e}", map.name);
+            return std::process::ExitCode::FAILURE;
+        }
+    };
+    let secs = t.elapsed().as_secs_f64();
+    let g = &prepared.graph.graph;
+    println!(
+        "{}: {} x {} cells, graph {} nodes {} edges; prepared in {:.2} s ({:.0} ns per cell)",
+        map.name,
+        n,
+        n,
+        g.nodes.len(),
+        g.edges.len(),
+        secs,
+        secs * 1e9 / cells
+    );
+    match memory() {
+        Some((peak, now)) => println!(
+            "peak RSS {:.0} MB ({:.1} bytes per cell; the map itself {:.0} MB of it); \
+             resident after {:.0} MB ({:.1} bytes per cell held by the prepared map){}",
+            mb(peak),
+            peak as f64 / cells,
+            mb(before),
+            mb(now),
+            now.saturating_sub(before) as f64 / cells,
+            if stages {
+                " [--stages: the peak may be the stages']"
+            } else {
+                ""
+            }
+        ),
+        None => println!("peak RSS: not available (no /proc/self/status)"),
+    }
+    std::process::ExitCode::SUCCESS
+}
