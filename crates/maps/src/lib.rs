@@ -130,6 +130,43 @@ pub enum MapError {
     /// A saved graph that does not fit the map.
     #[error("{0}")]
     Graph(String),
+    /// More cells than a map may have ([`MAX_MAP_CELLS`]).
+    #[error(
+        "map {name} is {width} x {height} cells ({:.1} M); at most {:.1} M cells (4096 x 4096) fit in the {MAP_MEMORY} a map may take: crop or downsample the map",
+        *width as f64 * *height as f64 / 1e6,
+        MAX_MAP_CELLS as f64 / 1e6
+    )]
+    TooLarge {
+        /// The map.
+        name: String,
+        /// Cells across.
+        width: usize,
+        /// Cells up.
+        height: usize,
+    },
+}
+
+/// Most cells a map may have: 4096 x 4096. Preparing a map (grid, brushfire, complete
+/// Voronoi graph and its index, clearance model) peaks at about 80 bytes per cell on the
+/// hardest maps (20 % random one-cell obstacles, a cycle every 14 cells; `cargo xtask
+/// map-memory`), so the largest map fits in [`MAP_MEMORY`]. Larger maps are refused before
+/// anything of their size is allocated, with [`MapError::TooLarge`].
+pub const MAX_MAP_CELLS: usize = 4096 * 4096;
+
+/// The memory a map's preparation may take, as the refusal of a larger map says.
+pub const MAP_MEMORY: &str = "1.5 GB";
+
+/// Refuses a map of `width x height` cells beyond [`MAX_MAP_CELLS`] (from its header,
+/// before its cells are read).
+pub fn check_map_size(name: &str, width: usize, height: usize) -> Result<(), MapError> {
+    if width.saturating_mul(height) > MAX_MAP_CELLS {
+        return Err(MapError::TooLarge {
+            name: name.to_owned(),
+            width,
+            height,
+        });
+    }
+    Ok(())
 }
 
 impl OccupancyMap {
@@ -214,8 +251,10 @@ impl OccupancyMap {
         count
     }
 
-    /// The grid: the map plus a one-cell wall ring around it.
-    pub fn to_grid(&self) -> Result<Grid, GridError> {
+    /// The grid: the map plus a one-cell wall ring around it. A map of more than
+    /// [`MAX_MAP_CELLS`] cells is refused before the grid is allocated.
+    pub fn to_grid(&self) -> Result<Grid, MapError> {
+        check_map_size(&self.name, self.width, self.height)?;
         let (w, h) = (self.width + 2, self.height + 2);
         let mut occ = vec![true; w * h];
         for j in 0..self.height {
@@ -230,6 +269,7 @@ impl OccupancyMap {
             self.cell,
             occ,
         )
+        .map_err(MapError::from)
     }
 
     fn check_endpoint(&self, what: &'static str, p: &Point) -> Result<(), MapError> {

@@ -149,6 +149,7 @@ pub fn read_map(text: &str, source: &str) -> Result<OccupancyMap, MapError> {
             })
     };
     let (h, w) = (dim(1)?, dim(2)?);
+    crate::check_map_size(&stem(source), w, h)?;
     // The rows with their 1-based lines (blank lines are skipped).
     let rows: Vec<(usize, &str)> = lines
         .iter()

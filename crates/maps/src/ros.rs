@@ -114,7 +114,8 @@ pub fn read_map(
         .map_err(|e| err(image_source, None, format!("cannot decode the image: {e}")))?;
     let gray = img.to_luma8();
     let (w, h) = (gray.width() as usize, gray.height() as usize);
-    if w == 0 || h == 0 || w * h > 1 << 24 {
+    crate::check_map_size(&stem(yaml_source), w, h)?;
+    if w == 0 || h == 0 {
         return Err(err(
             image_source,
             None,

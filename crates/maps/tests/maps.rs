@@ -514,3 +514,34 @@ fn every_class_on_a_ros_map_ends_at_the_goal_to_the_bit() {
         }
     }
 }
+
+/// A map beyond 4096 x 4096 cells is refused up front, with what fits and what to do (not a
+/// scene's "lower the resolution"): from a MovingAI header before its rows are read, and by
+/// the preparation before the grid is allocated (a map whose cells were never allocated is
+/// refused, not indexed).
+#[test]
+fn maps_beyond_4096_squared_are_refused_before_allocation() {
+    let expected = "map big is 5790 x 5790 cells (33.5 M); at most 16.8 M cells (4096 x 4096) fit in the 1.5 GB a map may take: crop or downsample the map";
+    // Header only: the refusal comes before the missing rows are noticed.
+    let e = movingai::read_map("type octile\nheight 5790\nwidth 5790\nmap\n", "big.map")
+        .unwrap_err()
+        .to_string();
+    assert_eq!(e, expected);
+    let huge = OccupancyMap {
+        name: "big".into(),
+        width: 5790,
+        height: 5790,
+        cell: 1.0,
+        origin: Point::origin(),
+        occupied: Vec::new(),
+        y_down: true,
+    };
+    assert_eq!(huge.to_grid().unwrap_err().to_string(), expected);
+    let e = homospline_maps::PreparedMap::new(&huge).err().unwrap().to_string();
+    assert_eq!(e, expected);
+    assert!(!e.contains("resolution"));
+    // The largest map that fits passes the check; one more row does not.
+    assert!(homospline_maps::check_map_size("m", 4096, 4096).is_ok());
+    assert!(homospline_maps::check_map_size("m", 4096, 4097).is_err());
+    assert!(homospline_maps::check_map_size("m", usize::MAX, 2).is_err());
+}
