@@ -7,6 +7,9 @@
 //! - `cargo xtask missions [--worlds N]` runs every scout policy on N generated worlds
 //!   (default 50) and prints the mission figures, and the share of single blockages that
 //!   leave another class open with and without `--diverse`.
+//! - `cargo xtask map-memory [N]` prepares a seeded random N x N map (20 % occupied, default
+//!   4096) in a release build of the benches' `map-memory` binary and prints the time and
+//!   the peak resident memory (`VmHWM`), in all and per cell: issue 43's 1.5 GB and 5 s.
 //! - `cargo xtask bench-against REV [--runs N] [FILTER]` runs the plan bench of revision REV
 //!   and of this checkout in turns (N rounds, default 3; criterion filter, default
 //!   `nelder-mead$`) and prints each bench's milliseconds and their ratio: how to read a time
@@ -100,6 +103,23 @@ fn main() -> ExitCode {
             };
             bench_against::run(&root(), rev, runs, filter).map(|_| true)
         }
+        Some("map-memory") => {
+            let n = match &args[1..] {
+                [] => 4096,
+                [n] => match n.parse::<usize>() {
+                    Ok(n) if n >= 2 => n,
+                    _ => {
+                        eprintln!("usage: cargo xtask map-memory [N]  (N >= 2, got {n:?})");
+                        return ExitCode::from(2);
+                    }
+                },
+                other => {
+                    eprintln!("usage: cargo xtask map-memory [N]  (unexpected {other:?})");
+                    return ExitCode::from(2);
+                }
+            };
+            map_memory(n)
+        }
         Some("regress") => {
             let bless = match &args[1..] {
                 [] => false,
@@ -113,7 +133,7 @@ fn main() -> ExitCode {
         }
         _ => {
             eprintln!(
-                "usage: cargo xtask regress [--bless] | gen-scenes | gen-worlds | missions [--worlds N] | bench-against REV [--runs N] [FILTER]"
+                "usage: cargo xtask regress [--bless] | gen-scenes | gen-worlds | missions [--worlds N] | bench-against REV [--runs N] [FILTER] | map-memory [N]"
             );
             return ExitCode::from(2);
         }
@@ -180,6 +200,28 @@ fn compare(name: &str, golden: &Path, actual: &str, bless: bool) -> Result<bool>
         }
     }
     Ok(false)
+}
+
+/// `map-memory N`: builds and runs the benches' `map-memory` binary in release mode (in its
+/// own process, so that its peak resident memory is the preparation's alone).
+fn map_memory(n: usize) -> Result<bool> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned());
+    let status = std::process::Command::new(cargo)
+        .current_dir(root())
+        .args([
+            "run",
+            "--release",
+            "--quiet",
+            "-p",
+            "homospline-benches",
+            "--bin",
+            "map-memory",
+            "--",
+            &n.to_string(),
+        ])
+        .status()
+        .context("running the map-memory binary")?;
+    Ok(status.success())
 }
 
 fn regress(bless: bool) -> Result<bool> {

@@ -454,8 +454,9 @@ fn graph(
             let prepared =
                 homospline_maps::PreparedMap::new(map).map_err(|e| bad(e.to_string()))?;
             let res = prepared.grid.resolution();
+            // Moved out, not cloned: a 4096 x 4096 map's graph is half a gigabyte.
             (
-                prepared.graph.graph.clone(),
+                prepared.graph.graph,
                 (map.width, map.height),
                 res,
                 map.name.clone(),

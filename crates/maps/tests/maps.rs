@@ -537,7 +537,10 @@ fn maps_beyond_4096_squared_are_refused_before_allocation() {
         y_down: true,
     };
     assert_eq!(huge.to_grid().unwrap_err().to_string(), expected);
-    let e = homospline_maps::PreparedMap::new(&huge).err().unwrap().to_string();
+    let e = homospline_maps::PreparedMap::new(&huge)
+        .err()
+        .unwrap()
+        .to_string();
     assert_eq!(e, expected);
     assert!(!e.contains("resolution"));
     // The largest map that fits passes the check; one more row does not.
