@@ -68,14 +68,14 @@ pub struct MissionConfig {
     /// less than this, relatively (`GrowthConfig::lbfgs_value_tolerance`; the offline plan
     /// runs to its budget). 1e-5 cut the p99 re-plan latency in the missions from 12.2 to
     /// 8.75 ms with the distances over the optimum within 0.007 of the full budget's
-    /// (README, *Missions*).
+    /// (docs/decisions/0018-coarse-replans.md).
     pub replan_value_tolerance: Real,
     /// On scene worlds, a re-plan's Voronoi graph is this many times coarser than the
     /// offline plan's (its resolution divided by it; 1: the same graph). Half the cells
     /// across (the default, 2) cut the graph's time about sevenfold and the seeds' via-points
     /// with it; a re-plan whose coarse graph offers no collision-free class is planned again
     /// on the full one, so a passage narrower than a coarse cell is still found when it is
-    /// the way left (README, *Missions*). Maps keep their own grid.
+    /// the way left (docs/decisions/0018-coarse-replans.md). Maps keep their own grid.
     pub replan_coarsening: Real,
 }
 
@@ -137,8 +137,8 @@ impl Default for MissionConfig {
                     // the hindsight optimum (`none` / `ahead` / `alternatives`) against
                     // 1.093 / 1.013 / 1.020: the classes L-BFGS leaves short of dm are
                     // shorter. On narrow-pass-blocked the other way round: the offline plan
-                    // drives class `e` (139 long) where climbing makes `-1-2` (96) safe.
-                    // README, *Performance*, twentieth session.
+                    // drives class `e` (139 long) where climbing makes `-1-2` (96) safe
+                    // (docs/decisions/0004-lbfgs-climbs-by-simplex.md).
                     climb_by_simplex: false,
                     ..GrowthConfig::default()
                 },
