@@ -7,6 +7,9 @@
 //! - `cargo xtask missions [--worlds N]` runs every scout policy on N generated worlds
 //!   (default 50) and prints the mission figures, and the share of single blockages that
 //!   leave another class open with and without `--diverse`.
+//! - `cargo xtask map-clearance [--sample N] [--robot-radius R] [--least-only] SCEN...` plans
+//!   scenarios sampled over every bucket and prints the success rate at the robot radius and
+//!   the chosen paths' clearance away from their ends ([`map_clearance`]).
 //! - `cargo xtask bench-against REV [--runs N] [FILTER]` runs the plan bench of revision REV
 //!   and of this checkout in turns (N rounds, default 3; criterion filter, default
 //!   `nelder-mead$`) and prints each bench's milliseconds and their ratio: how to read a time
@@ -33,6 +36,7 @@
 //! with `git diff fixtures/` before committing).
 
 mod bench_against;
+mod map_clearance;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -100,6 +104,9 @@ fn main() -> ExitCode {
             };
             bench_against::run(&root(), rev, runs, filter).map(|_| true)
         }
+        Some("map-clearance") => map_clearance::parse(&args[1..])
+            .and_then(|o| map_clearance::run(&o))
+            .map(|_| true),
         Some("regress") => {
             let bless = match &args[1..] {
                 [] => false,
@@ -113,7 +120,7 @@ fn main() -> ExitCode {
         }
         _ => {
             eprintln!(
-                "usage: cargo xtask regress [--bless] | gen-scenes | gen-worlds | missions [--worlds N] | bench-against REV [--runs N] [FILTER]"
+                "usage: cargo xtask regress [--bless] | gen-scenes | gen-worlds | missions [--worlds N] | bench-against REV [--runs N] [FILTER] | map-clearance [--sample N] [--robot-radius R] [--least-only] SCEN..."
             );
             return ExitCode::from(2);
         }

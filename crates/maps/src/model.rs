@@ -1,20 +1,23 @@
 //! The grid clearance model: obstacles of an occupancy map as the cost and the checks see them.
 //!
-//! Two distances, for two purposes:
-//! - for the cost, a smooth one: the clearance at cell centres (`(sqrt(d2) - 1/2) h` from
-//!   the exact brushfire, `-h/2` inside obstacles) interpolated bilinearly, with its gradient;
-//! - for verification, the exact Euclidean distance from a point to the nearest occupied
-//!   cell (a closed square), found by a ring search bounded by the brushfire. It is
-//!   1-Lipschitz, so `(d(a) + d(b) - |ab|) / 2` is a rigorous lower bound of the clearance
-//!   along a segment: that is what certification and the reported `min_clearance` use.
+//! One distance serves the cost and the checks: the exact Euclidean distance from a point to
+//! the nearest occupied cell (a closed square), found by a search over the cells that can be
+//! nearest (bounded by the brushfire), with its gradient (the unit vector from the nearest
+//! point of that cell). It is 1-Lipschitz, so `(d(a) + d(b) - |ab|) / 2` is a rigorous lower
+//! bound of the clearance along a segment: that is what certification and the reported
+//! `min_clearance` use. Distance to a square is convex with a Hessian of at most `1 / d`, as
+//! a disc of radius 0 has, so the cost's search for the least clearance between its nodes
+//! has the circles' bound ([`ClearanceModel::bend_radius`] 0).
+//!
+//! The cost once read a smooth stand-in, the brushfire's clearance at cell centres
+//! interpolated bilinearly: it reads about a quarter cell at the corner of an occupied cell
+//! (three free centres at +1/2, one occupied at -1/2) where the true clearance is 0, and map
+//! paths passed door frames and corners at 1e-4 cells.
 
 use homospline_geom::{Point, Real, Vector};
 use homospline_spline::field::{ClearanceModel, FieldSample, exp_fast};
 use homospline_voronoi::{DistanceField, Grid};
 use std::sync::OnceLock;
-
-/// Rings of depth inside obstacles that the smooth clearance tells apart.
-pub const DEPTH_RINGS: u8 = 6;
 
 /// Clearance model of an occupancy grid.
 #[derive(Clone, Debug)]
@@ -24,8 +27,6 @@ pub struct GridModel {
     origin: Point,
     cell: Real,
     occ: Vec<bool>,
-    /// Signed clearance at cell centres, map units.
-    d: Vec<Real>,
     /// Squared brushfire distance at each cell, cells.
     d2: Vec<i64>,
     /// Per free cell, filled on first use: the occupied cells that can be nearest to some
@@ -35,101 +36,22 @@ pub struct GridModel {
 }
 
 impl GridModel {
-    /// The model of `grid`, whose brushfire is `field`. Inside obstacles the clearance is
-    /// minus the depth in cells, by rings from the free space (4-connected, up to
-    /// [`DEPTH_RINGS`]), so that its gradient points out.
+    /// The model of `grid`, whose brushfire is `field`.
     pub fn new(grid: &Grid, field: &DistanceField) -> Self {
         let (w, h) = (grid.width(), grid.height());
-        let cell = grid.cell();
-        let occ = grid.occupancy();
-        let mut d = vec![0.0; w * h];
         let mut d2 = vec![0; w * h];
-        let mut ring = vec![0u8; w * h];
-        let mut frontier = Vec::new();
         for j in 0..h {
-            let r = j * w..(j + 1) * w;
-            field.d2_row(j, &mut d2[r.clone()]);
-            // The field's clearance, `sqrt(d2) - 1/2` cells on free cells, row at a time.
-            for ((dk, &q), &o) in d[r.clone()].iter_mut().zip(&d2[r.clone()]).zip(&occ[r]) {
-                let c = if q == 0 {
-                    0.0
-                } else {
-                    (q as Real).sqrt() - 0.5
-                };
-                *dk = if o { 0.0 } else { c * cell };
-            }
-            for i in 0..w {
-                let k = j * w + i;
-                if occ[k]
-                    && ((i > 0 && !occ[k - 1])
-                        || (i + 1 < w && !occ[k + 1])
-                        || (j > 0 && !occ[k - w])
-                        || (j + 1 < h && !occ[k + w]))
-                {
-                    ring[k] = 1;
-                    frontier.push(k);
-                }
-            }
-        }
-        let mut r = 1u8;
-        while !frontier.is_empty() && r < DEPTH_RINGS {
-            let mut next = Vec::new();
-            for &k in &frontier {
-                let (i, j) = (k % w, k / w);
-                let around = [
-                    (i > 0).then(|| k - 1),
-                    (i + 1 < w).then(|| k + 1),
-                    (j > 0).then(|| k - w),
-                    (j + 1 < h).then(|| k + w),
-                ];
-                for n in around.into_iter().flatten() {
-                    if occ[n] && ring[n] == 0 {
-                        ring[n] = r + 1;
-                        next.push(n);
-                    }
-                }
-            }
-            frontier = next;
-            r += 1;
-        }
-        for k in 0..w * h {
-            if occ[k] {
-                let depth = if ring[k] == 0 { DEPTH_RINGS } else { ring[k] };
-                d[k] = -(depth as Real - 0.5) * cell;
-            }
+            field.d2_row(j, &mut d2[j * w..(j + 1) * w]);
         }
         Self {
             w,
             h,
             origin: grid.origin(),
-            cell,
-            occ: occ.to_vec(),
-            d,
+            cell: grid.cell(),
+            occ: grid.occupancy().to_vec(),
             d2,
             candidates: (0..w * h).map(|_| OnceLock::new()).collect(),
         }
-    }
-
-    /// Smooth clearance and gradient (bilinear over cell centres).
-    pub fn smooth(&self, p: &Point) -> (Real, Vector) {
-        let fx = (p.x - self.origin.x) / self.cell - 0.5;
-        let fy = (p.y - self.origin.y) / self.cell - 0.5;
-        let i0 = (fx.max(0.0) as usize).min(self.w - 2);
-        let j0 = (fy.max(0.0) as usize).min(self.h - 2);
-        let tx = (fx - i0 as Real).clamp(0.0, 1.0);
-        let ty = (fy - j0 as Real).clamp(0.0, 1.0);
-        let at = |i: usize, j: usize| self.d[j * self.w + i];
-        let (a, b, c, e) = (
-            at(i0, j0),
-            at(i0 + 1, j0),
-            at(i0, j0 + 1),
-            at(i0 + 1, j0 + 1),
-        );
-        let v =
-            a * (1.0 - tx) * (1.0 - ty) + b * tx * (1.0 - ty) + c * (1.0 - tx) * ty + e * tx * ty;
-        let gx = ((b - a) * (1.0 - ty) + (e - c) * ty) / self.cell;
-        let gy = ((c - a) * (1.0 - tx) + (e - b) * tx) / self.cell;
-        (v, Vector::new(gx, gy))
     }
 
     fn cell_of(&self, p: &Point) -> Option<(usize, usize)> {
@@ -140,6 +62,60 @@ impl GridModel {
         }
         let (i, j) = (fx as usize, fy as usize);
         (i < self.w && j < self.h).then_some((i, j))
+    }
+
+    /// [`GridModel::exact`] and its gradient: the unit vector from the nearest point of the
+    /// nearest occupied cell to `p` (inside one, the outward normal of its nearest side); zero
+    /// where the distance has none (outside the grid, on an obstacle's boundary).
+    pub fn exact_with_gradient(&self, p: &Point) -> (Real, Vector) {
+        let Some((ci, cj)) = self.cell_of(p) else {
+            return (0.0, Vector::zeros());
+        };
+        let h = self.cell;
+        let k = cj * self.w + ci;
+        if self.occ[k] {
+            let x0 = self.origin.x + ci as Real * h;
+            let y0 = self.origin.y + cj as Real * h;
+            let sides = [
+                (p.x - x0, Vector::new(-1.0, 0.0)),
+                (x0 + h - p.x, Vector::new(1.0, 0.0)),
+                (p.y - y0, Vector::new(0.0, -1.0)),
+                (y0 + h - p.y, Vector::new(0.0, 1.0)),
+            ];
+            let (d, n) = sides
+                .into_iter()
+                .fold((Real::INFINITY, Vector::zeros()), |b, s| {
+                    if s.0 < b.0 { s } else { b }
+                });
+            return (-d, n);
+        }
+        let d2 = self.d2[k];
+        if d2 > (self.w * self.w + self.h * self.h) as i64 {
+            return (
+                self.exact_by_rings(p, ci, cj, Real::INFINITY),
+                Vector::zeros(),
+            );
+        }
+        let candidates = self.candidates[k].get_or_init(|| self.annulus(ci, cj, d2));
+        let (mut best, mut towards) = (Real::INFINITY, Vector::zeros());
+        for &o in candidates.iter() {
+            let o = o as usize;
+            let (i, j) = (o % self.w, o / self.w);
+            let x0 = self.origin.x + i as Real * h;
+            let y0 = self.origin.y + j as Real * h;
+            let v = Vector::new(p.x - p.x.clamp(x0, x0 + h), p.y - p.y.clamp(y0, y0 + h));
+            let n = v.norm();
+            if n < best {
+                best = n;
+                towards = v;
+            }
+        }
+        let g = if best > 0.0 {
+            towards / best
+        } else {
+            Vector::zeros()
+        };
+        (best, g)
     }
 
     /// Exact distance from `p` to the nearest occupied cell (negative inside one: minus the
@@ -268,12 +244,12 @@ impl GridModel {
 
 impl ClearanceModel for GridModel {
     fn clearance(&self, p: &Point) -> (Real, Vector) {
-        self.smooth(p)
+        self.exact_with_gradient(p)
     }
 
     fn field_batch(&self, pts: &[Point], alpha: Real, _allowance: Real, out: &mut [FieldSample]) {
         for (p, o) in pts.iter().zip(out.iter_mut()) {
-            let (d, g) = self.smooth(p);
+            let (d, g) = self.exact_with_gradient(p);
             // U = 1 + tanh(-alpha d) = 2 / (1 + exp(2 alpha d)); dU/dd = -alpha U (2 - U).
             let u = 2.0 / (1.0 + exp_fast(2.0 * alpha * d));
             *o = FieldSample {
@@ -315,6 +291,10 @@ impl ClearanceModel for GridModel {
 
     fn exact_clearance(&self, p: &Point) -> Real {
         self.exact(p)
+    }
+
+    fn bend_radius(&self) -> Option<Real> {
+        Some(0.0)
     }
 }
 

@@ -90,6 +90,14 @@ pub struct CostConfig {
     pub hazards: Vec<Point>,
     /// Where `m(C)` is searched between the quadrature nodes.
     pub clearance_search: ClearanceSearch,
+    /// The safety term as the mean along the curve of the pointwise safety,
+    /// `D = (1 / L) integral omega^(dm - d(q)) dl`, instead of (7)'s `omega^(dm - m(C))` at
+    /// the least clearance only (maps). It is (7) wherever the clearance is the same along
+    /// the curve, sees every stretch that comes near an obstacle (each pulls with its own
+    /// share), and a start or goal next to a wall weighs only over the stretch near it: with
+    /// (7) the least clearance of a map path is usually its start's or a one-cell door's, `D`
+    /// is then the same for every curve, and the rest of the path grazed corners.
+    pub safety_along: bool,
 }
 
 /// Where the cost looks for `m(C)` between its quadrature nodes, which can be several units
@@ -351,6 +359,7 @@ impl CostConfig {
             critical_points: Vec::new(),
             hazards: Vec::new(),
             clearance_search: ClearanceSearch::WorstNode,
+            safety_along: false,
         }
     }
 
@@ -1397,6 +1406,8 @@ fn run_in(
         );
     }
     let least_knot = knots.iter().map(|k| k.1).fold(Real::INFINITY, Real::min);
+    // The stops below bound `D` by `m(C)`, which holds for (7) only.
+    let enough = enough.filter(|_| !cfg.safety_along);
     // First stop: roughness, length and the knots' clearances (`m(C)` is at most theirs).
     if let Some(enough) = enough
         && let Some(low) = bounding_terms(&t, least_knot, cfg)
@@ -1435,18 +1446,22 @@ fn run_in(
             cfg.clearance_search,
         );
         t.min_clearance = m;
-        t.safety = cfg.omega.powf(cfg.dm - m);
-        if let Some(g) = grad {
-            let (seg, s) = spline.locate(tm);
-            let (_, dd) = model.clearance(&spline.eval_segment(seg, s).0);
-            let coef = -cfg.w_safety * t.safety * cfg.omega.ln();
-            g.push(NodePartial {
-                seg,
-                s,
-                gq: dd * coef,
-                gv: Vector::zeros(),
-                ga: Vector::zeros(),
-            });
+        if cfg.safety_along {
+            safety_along(samples, field, cfg, &mut t, grad);
+        } else {
+            t.safety = cfg.omega.powf(cfg.dm - m);
+            if let Some(g) = grad {
+                let (seg, s) = spline.locate(tm);
+                let (_, dd) = model.clearance(&spline.eval_segment(seg, s).0);
+                let coef = -cfg.w_safety * t.safety * cfg.omega.ln();
+                g.push(NodePartial {
+                    seg,
+                    s,
+                    gq: dd * coef,
+                    gv: Vector::zeros(),
+                    ga: Vector::zeros(),
+                });
+            }
         }
     }
     if needs.line_of_sight {
@@ -1454,6 +1469,47 @@ fn run_in(
     }
     t.total = cfg.total(&t);
     Ok(t)
+}
+
+/// [`CostConfig::safety_along`]: `D = I / L`, `I = integral omega^(dm - d(q)) dl` over the
+/// quadrature nodes, into `t.safety`, and with `grad` each node's partials:
+/// `dD/dq = -ln(omega) e |q'| dt grad d / L` and `dD/dq' = (e - D) dt q' / (|q'| L)`, where
+/// `e = omega^(dm - d)` (the length's own dependence on `q'` gives the `- D`).
+fn safety_along(
+    samples: &Samples,
+    field: &[FieldSample],
+    cfg: &CostConfig,
+    t: &mut CostTerms,
+    grad: Option<&mut Vec<NodePartial>>,
+) {
+    let length = samples.length;
+    let e = |d: Real| cfg.omega.powf(cfg.dm - d);
+    let integral: Real = samples
+        .nodes
+        .iter()
+        .zip(field)
+        .map(|(n, f)| e(f.clearance) * n.speed * n.dt)
+        .sum();
+    if !(length > 0.0) {
+        // A curve of no length: the pointwise safety at its one point.
+        t.safety = field.first().map_or(1.0, |f| e(f.clearance));
+        return;
+    }
+    t.safety = integral / length;
+    let Some(g) = grad else { return };
+    let ln_omega = cfg.omega.ln();
+    for (n, f) in samples.nodes.iter().zip(field) {
+        let ei = e(f.clearance);
+        let vhat = unit(&n.v);
+        let w = cfg.w_safety * n.dt / length;
+        g.push(NodePartial {
+            seg: n.seg,
+            s: n.s,
+            gq: f.clearance_grad * (-ln_omega * ei * n.speed * w),
+            gv: vhat * ((ei - t.safety) * w),
+            ga: Vector::zeros(),
+        });
+    }
 }
 
 /// Terms bounding those of the finished evaluation from the terms `t` computed so far and
