@@ -477,7 +477,7 @@ fn missions(count: usize) -> Result<()> {
         let mut times = Vec::new();
         for w in &worlds {
             let r = simulate(w, &cfg)?;
-            if r.hindsight_length.is_some() {
+            if r.truth_plan_length.is_some() {
                 solvable += 1;
                 reached += usize::from(r.reached);
             }

@@ -1,7 +1,8 @@
 //! `cargo xtask map-clearance`: how far the chosen map paths keep from walls, and how often a
 //! robot of a given radius gets a plan, per MovingAI scenario file, sampled over every bucket.
 //!
-//! For each `.scen` file (its map beside it): `--sample N` scenarios spread evenly over the
+//! For each `.scen` file (its map beside it), or ROS map YAML (`--sample` seeded pairs of
+//! free cell centres that keep the radius, the straight line as the optimum): `--sample N` scenarios spread evenly over the
 //! file (default 40), planned at the map defaults ([`homospline_maps::map_config`]) on the map
 //! prepared for `--robot-radius R` (default 0). Printed per file:
 //! - `keep`: scenarios whose start and goal keep `R` from every occupied cell (the others are
@@ -133,6 +134,64 @@ fn median(mut v: Vec<Real>) -> Real {
     }
 }
 
+/// The map of `f` and its cases `(start, goal, optimum)` in order of length: a `.scen`
+/// file's scenarios sampled over every bucket (the octile optimum), or for a ROS map YAML,
+/// `sample` seeded pairs of free cell centres that keep the radius (the straight-line
+/// distance as the optimum).
+fn cases_of(
+    f: &std::path::Path,
+    o: &Options,
+) -> Result<(homospline_maps::OccupancyMap, Vec<(Point, Point, Real)>)> {
+    let name = f.display().to_string();
+    if f.extension().is_some_and(|e| e == "yaml" || e == "yml") {
+        let homospline_maps::input::Input::Map(map) =
+            homospline_maps::input::load(f, |p| std::fs::read(p)).map_err(anyhow::Error::msg)?
+        else {
+            bail!("{name}: not a map");
+        };
+        let mut rng = homospline_testkit::SplitMix(7);
+        let mut free_point = |map: &homospline_maps::OccupancyMap| {
+            for _ in 0..100_000 {
+                let i = (rng.next_unit() * map.width as f64) as usize;
+                let j = (rng.next_unit() * map.height as f64) as usize;
+                let p = Point::new(
+                    map.origin.x + (i as Real + 0.5) * map.cell,
+                    map.origin.y + (j as Real + 0.5) * map.cell,
+                );
+                if map.clearance_within(&p, o.radius + map.cell) >= o.radius.max(1e-9) {
+                    return Some(p);
+                }
+            }
+            None
+        };
+        let mut cases = Vec::new();
+        for _ in 0..o.sample {
+            let (Some(s), Some(g)) = (free_point(&map), free_point(&map)) else {
+                bail!("{name}: no free cell keeps the radius");
+            };
+            cases.push((s, g, (g - s).norm()));
+        }
+        cases.sort_by(|a, b| a.2.total_cmp(&b.2));
+        return Ok((map, cases));
+    }
+    let text = std::fs::read_to_string(f).with_context(|| format!("{name}: cannot read"))?;
+    let scen = movingai::read_scen(&text, &name)?;
+    let first = scen.first().context("no scenario")?;
+    let map_path = f.with_file_name(
+        std::path::Path::new(&first.map)
+            .file_name()
+            .context("no map name")?,
+    );
+    let map_text = std::fs::read_to_string(&map_path)
+        .with_context(|| format!("{}: cannot read", map_path.display()))?;
+    let map = movingai::read_map(&map_text, &map_path.display().to_string())?;
+    let cases = sample_indices(scen.len(), o.sample)
+        .into_iter()
+        .map(|i| (scen[i].start, scen[i].goal, scen[i].optimal_length))
+        .collect();
+    Ok((map, cases))
+}
+
 /// Runs the command.
 pub fn run(o: &Options) -> Result<()> {
     println!(
@@ -155,28 +214,16 @@ pub fn run(o: &Options) -> Result<()> {
     }
     let skip = cfg.growth.cost.dm;
     for f in &o.files {
-        let name = f.display().to_string();
-        let text = std::fs::read_to_string(f).with_context(|| format!("{name}: cannot read"))?;
-        let scen = movingai::read_scen(&text, &name)?;
-        let Some(first) = scen.first() else { continue };
-        let map_path = f.with_file_name(
-            std::path::Path::new(&first.map)
-                .file_name()
-                .context("no map name")?,
-        );
-        let map_text = std::fs::read_to_string(&map_path)
-            .with_context(|| format!("{}: cannot read", map_path.display()))?;
-        let map = movingai::read_map(&map_text, &map_path.display().to_string())?;
+        let (map, cases) = cases_of(f, o)?;
         let prepared = PreparedMap::for_robot(&map, o.radius)?;
-        let picked = sample_indices(scen.len(), o.sample);
+        let picked = cases.len();
         let (mut keep, mut apart) = (0, 0);
-        // Per tenth of the file: (planned, attempted).
+        // Per tenth of the cases (sorted by length): (planned, attempted).
         let mut tenths = [(0usize, 0usize); 10];
         let (mut ratios, mut clears, mut inners) = (Vec::new(), Vec::new(), Vec::new());
-        for &i in &picked {
-            let s = &scen[i];
-            let tenth = (10 * i / scen.len()).min(9);
-            match prepared.plan(s.start, s.goal, &cfg) {
+        for (i, &(start, goal, optimal)) in cases.iter().enumerate() {
+            let tenth = (10 * i / cases.len()).min(9);
+            match prepared.plan(start, goal, &cfg) {
                 Err(MapError::Endpoint { problem, .. }) if problem.contains("robot radius") => {}
                 Err(e) if e.to_string().contains("different free regions") => {
                     keep += 1;
@@ -185,7 +232,7 @@ pub fn run(o: &Options) -> Result<()> {
                 Err(e) => {
                     keep += 1;
                     tenths[tenth].1 += 1;
-                    eprintln!("{name} scenario {i}: {e}");
+                    eprintln!("{} case {i}: {e}", f.display());
                 }
                 Ok(plan) => {
                     keep += 1;
@@ -193,7 +240,7 @@ pub fn run(o: &Options) -> Result<()> {
                     let Some(b) = plan.best else { continue };
                     let c = &plan.classes[b - 1];
                     tenths[tenth].0 += 1;
-                    ratios.push(c.length / s.optimal_length);
+                    ratios.push(c.length / optimal);
                     clears.push(c.min_clearance);
                     if let Some(m) =
                         inner_clearance(&c.path, &prepared.model, skip, 0.05 * map.cell)
@@ -213,7 +260,7 @@ pub fn run(o: &Options) -> Result<()> {
         println!(
             "{:<28} {:>6} {:>6} {:>5} {:>9} {:>9.0}% {:>9.4} {:>9.4} {:>9.4}",
             map.name,
-            picked.len(),
+            picked,
             keep,
             apart,
             format!("{planned}/{tried}"),

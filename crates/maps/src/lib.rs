@@ -221,12 +221,13 @@ impl OccupancyMap {
         count
     }
 
-    /// The map as a disc robot of radius `radius` (map units) sees it: a cell stays free when
-    /// every point of its closed square keeps at least `radius` from every occupied cell and
-    /// from the map's edge (the cell's exact Euclidean clearance, square to square), so a
-    /// point of a free cell of the result is at least `radius` from the obstacles and a
-    /// clearance `c` on the result is a clearance of at least `radius + c` on `self`.
-    /// `radius` 0 gives the map itself.
+    /// The map as a disc robot of radius `radius` (map units) sees it, conservatively: a cell
+    /// stays free when every point of its closed square keeps at least `radius` from every
+    /// occupied cell and from the map's edge (square to square), so a point of a free cell
+    /// of the result is at least `radius` from the obstacles and a clearance `c` on the
+    /// result is a clearance of at least `radius + c` on `self`. `radius` 0 gives the map
+    /// itself. (Missions plan on maps inflated so; [`PreparedMap::for_robot`] frees the cells
+    /// whose centre keeps the radius and measures clearances exactly.)
     ///
     /// The squared distance in cells between the squares of cells `a` and `b` is
     /// `sum over axes of max(0, |a - b| - 1)^2`: the squared distance between `a`'s centre
@@ -239,6 +240,19 @@ impl OccupancyMap {
         if radius == 0.0 {
             return Ok(self.clone());
         }
+        let d2 = self.square_distances()?;
+        let reach = radius / self.cell;
+        let mut out = self.clone();
+        for (o, &q) in out.occupied.iter_mut().zip(&d2) {
+            *o |= (q as Real).sqrt() < reach;
+        }
+        Ok(out)
+    }
+
+    /// Per cell (row-major, as `occupied`), the squared distance in cells from its closed
+    /// square to the nearest occupied cell's or to the map's edge (see
+    /// [`OccupancyMap::inflated`]).
+    fn square_distances(&self) -> Result<Vec<i64>, MapError> {
         let grid = self.to_grid()?;
         let (w, h) = (grid.width(), grid.height());
         let occ = grid.occupancy();
@@ -262,15 +276,37 @@ impl OccupancyMap {
         drop(grid);
         let field = DistanceField::build(&dilated);
         drop(dilated);
-        let reach = radius / self.cell;
-        let mut out = self.clone();
+        let mut out = vec![0i64; self.width * self.height];
         let mut row = vec![0i64; w];
         for j in 0..self.height {
             field.d2_row(j + 1, &mut row);
+            out[j * self.width..(j + 1) * self.width].copy_from_slice(&row[1..=self.width]);
+        }
+        Ok(out)
+    }
+
+    /// The cells where a disc robot of radius `radius` can stand: those whose centre keeps
+    /// `radius` from every occupied cell and from the map's edge (exact, by `truth`, the
+    /// model of this map). Found from [`OccupancyMap::inflated`], which blocks every cell
+    /// whose square comes closer: a centre is at most half a diagonal farther than its
+    /// square, so only the blocked cells within that of `radius` are measured.
+    fn free_for_robot(&self, radius: Real, truth: &GridModel) -> Result<OccupancyMap, MapError> {
+        let d2 = self.square_distances()?;
+        let reach = radius / self.cell;
+        let mut out = self.clone();
+        for j in 0..self.height {
             for i in 0..self.width {
-                if (row[i + 1] as Real).sqrt() < reach {
-                    out.occupied[j * self.width + i] = true;
+                let k = j * self.width + i;
+                let square = (d2[k] as Real).sqrt();
+                if self.occupied[k] || square >= reach {
+                    continue;
                 }
+                let centre = Point::new(
+                    self.origin.x + (i as Real + 0.5) * self.cell,
+                    self.origin.y + (j as Real + 0.5) * self.cell,
+                );
+                let near_enough = square + std::f64::consts::FRAC_1_SQRT_2 >= reach;
+                out.occupied[k] = !(near_enough && truth.exact(&centre) >= radius);
             }
         }
         Ok(out)
@@ -385,8 +421,8 @@ pub struct PreparedMap {
     pub model: GridModel,
     /// One ray per obstacle inside the wall.
     pub rays: Rays,
-    /// The robot's radius: the grid, graph and model are those of the map inflated by it
-    /// ([`OccupancyMap::inflated`]), so clearances are the robot body's.
+    /// The robot's radius: the grid and graph are those of the cells where the robot can
+    /// stand, and the model's clearances are the robot body's ([`PreparedMap::for_robot`]).
     pub robot_radius: Real,
     /// The map as given, when the radius is positive (its endpoints' clearances).
     truth: Option<OccupancyMap>,
@@ -400,23 +436,41 @@ impl PreparedMap {
         Self::for_robot(map, 0.0)
     }
 
-    /// The same for a disc robot of radius `radius` (map units): everything is built on the
-    /// map inflated by it, and a start or goal closer than `radius` to an obstacle is refused.
+    /// The same for a disc robot of radius `radius` (map units). The free space is the cells
+    /// whose centre keeps `radius` from every occupied cell and the map's edge: the grid, the
+    /// brushfire and the graph are those of that map; the clearance model is the exact one
+    /// of `map`, less `radius` ([`GridModel::for_radius`]), so costs, certificates and
+    /// reported clearances are the robot body's, and a plan certified collision-free keeps
+    /// `radius` from every occupied cell. A start or goal closer than `radius` to an obstacle
+    /// is refused with the clearance it has.
     pub fn for_robot(map: &OccupancyMap, radius: Real) -> Result<Self, MapError> {
-        let (truth, map) = Self::footprint(map, radius)?;
-        let grid = map.to_grid()?;
+        let (free, model, truth) = Self::footprint(map, radius)?;
+        let grid = free.to_grid()?;
         let field = DistanceField::build(&grid);
         let graph = MapGraph::build(&grid, &field);
-        Ok(Self::assemble(&map, grid, field, graph, radius, truth))
+        Ok(Self::assemble(
+            &free, grid, field, graph, model, radius, truth,
+        ))
     }
 
-    /// The inflated map, and the map as given when `radius` is positive.
+    /// The map of the cells a robot of `radius` can stand in, the model (of `map` itself,
+    /// for the radius), and the map as given when `radius` is positive.
+    #[allow(clippy::type_complexity)]
     fn footprint(
         map: &OccupancyMap,
         radius: Real,
-    ) -> Result<(Option<OccupancyMap>, OccupancyMap), MapError> {
-        let inflated = map.inflated(radius)?;
-        Ok(((radius > 0.0).then(|| map.clone()), inflated))
+    ) -> Result<(OccupancyMap, Option<GridModel>, Option<OccupancyMap>), MapError> {
+        if !(radius.is_finite() && radius >= 0.0) {
+            return Err(MapError::Radius(radius));
+        }
+        if radius == 0.0 {
+            return Ok((map.clone(), None, None));
+        }
+        let grid = map.to_grid()?;
+        let model = GridModel::new(&grid, &DistanceField::build(&grid));
+        drop(grid);
+        let free = map.free_for_robot(radius, &model)?;
+        Ok((free, Some(model.for_radius(radius)), Some(map.clone())))
     }
 
     /// The same with a complete graph built before (`homospline graph MAP --out`, with the
@@ -427,8 +481,8 @@ impl PreparedMap {
         graph: VoronoiGraph,
         radius: Real,
     ) -> Result<Self, MapError> {
-        let (truth, map) = Self::footprint(map, radius)?;
-        let map = &map;
+        let (free, model, truth) = Self::footprint(map, radius)?;
+        let map = &free;
         let grid = map.to_grid()?;
         let field = DistanceField::build(&grid);
         let fresh_obstacles: Vec<u32> = field
@@ -452,18 +506,22 @@ impl PreparedMap {
             )));
         }
         let graph = MapGraph::from_graph(&grid, graph);
-        Ok(Self::assemble(map, grid, field, graph, radius, truth))
+        Ok(Self::assemble(
+            map, grid, field, graph, model, radius, truth,
+        ))
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn assemble(
         map: &OccupancyMap,
         grid: Grid,
         field: DistanceField,
         graph: MapGraph,
+        model: Option<GridModel>,
         robot_radius: Real,
         truth: Option<OccupancyMap>,
     ) -> Self {
-        let model = GridModel::new(&grid, &field);
+        let model = model.unwrap_or_else(|| GridModel::new(&grid, &field));
         let rays = rays_of(&graph);
         Self {
             name: map.name.clone(),
@@ -479,7 +537,8 @@ impl PreparedMap {
         }
     }
 
-    /// The map it was built from: inflated by the robot radius when that is positive.
+    /// The map it was built from; with a positive robot radius, the cells where the robot
+    /// can stand (its centre keeps the radius).
     pub fn map(&self) -> &OccupancyMap {
         &self.map
     }

@@ -33,6 +33,9 @@ pub struct GridModel {
     /// point of the cell (the annulus of [`GridModel::exact`]), as row-major indices. The
     /// verification queries of one map meet the same cells again and again.
     candidates: Vec<OnceLock<Box<[u32]>>>,
+    /// Subtracted from every clearance the model reports as a [`ClearanceModel`]: the
+    /// robot's radius, so that clearances are the robot body's (0 for a point).
+    offset: Real,
 }
 
 impl GridModel {
@@ -51,7 +54,16 @@ impl GridModel {
             occ: grid.occupancy().to_vec(),
             d2,
             candidates: (0..w * h).map(|_| OnceLock::new()).collect(),
+            offset: 0.0,
         }
+    }
+
+    /// The same model for a disc robot of radius `radius`: as a [`ClearanceModel`] every
+    /// clearance is less by `radius` (the distance from the robot's body); [`GridModel::exact`]
+    /// stays the distance from the point.
+    pub fn for_radius(mut self, radius: Real) -> Self {
+        self.offset = radius;
+        self
     }
 
     fn cell_of(&self, p: &Point) -> Option<(usize, usize)> {
@@ -244,12 +256,14 @@ impl GridModel {
 
 impl ClearanceModel for GridModel {
     fn clearance(&self, p: &Point) -> (Real, Vector) {
-        self.exact_with_gradient(p)
+        let (d, g) = self.exact_with_gradient(p);
+        (d - self.offset, g)
     }
 
     fn field_batch(&self, pts: &[Point], alpha: Real, _allowance: Real, out: &mut [FieldSample]) {
         for (p, o) in pts.iter().zip(out.iter_mut()) {
             let (d, g) = self.exact_with_gradient(p);
+            let d = d - self.offset;
             // U = 1 + tanh(-alpha d) = 2 / (1 + exp(2 alpha d)); dU/dd = -alpha U (2 - U).
             let u = 2.0 / (1.0 + exp_fast(2.0 * alpha * d));
             *o = FieldSample {
@@ -265,18 +279,19 @@ impl ClearanceModel for GridModel {
         let n = (((b - a).norm() / (0.25 * self.cell)).ceil() as usize).max(1);
         (0..=n).all(|k| {
             let p = a + (b - a) * (k as Real / n as Real);
-            self.cell_of(&p)
-                .is_some_and(|(i, j)| !self.occ[j * self.w + i])
+            self.cell_of(&p).is_some_and(|(i, j)| {
+                !self.occ[j * self.w + i] && (self.offset == 0.0 || self.exact(&p) >= self.offset)
+            })
         })
     }
 
     fn segment_clearance(&self, a: &Point, b: &Point) -> Real {
-        self.segment_clearance_between(a, b, self.exact(a), self.exact(b))
+        self.segment_clearance_between(a, b, self.exact_clearance(a), self.exact_clearance(b))
     }
 
     fn polyline_clearance(&self, pts: &[Point]) -> Real {
         // The same bound segment by segment, with each point's exact distance found once.
-        let at: Vec<Real> = pts.iter().map(|p| self.exact(p)).collect();
+        let at: Vec<Real> = pts.iter().map(|p| self.exact_clearance(p)).collect();
         (1..pts.len())
             .map(|i| self.segment_clearance_between(&pts[i - 1], &pts[i], at[i - 1], at[i]))
             .fold(Real::INFINITY, Real::min)
@@ -290,7 +305,7 @@ impl ClearanceModel for GridModel {
     }
 
     fn exact_clearance(&self, p: &Point) -> Real {
-        self.exact(p)
+        self.exact(p) - self.offset
     }
 
     fn bend_radius(&self) -> Option<Real> {

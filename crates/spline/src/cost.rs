@@ -90,13 +90,15 @@ pub struct CostConfig {
     pub hazards: Vec<Point>,
     /// Where `m(C)` is searched between the quadrature nodes.
     pub clearance_search: ClearanceSearch,
-    /// The safety term as the mean along the curve of the pointwise safety,
-    /// `D = (1 / L) integral omega^(dm - d(q)) dl`, instead of (7)'s `omega^(dm - m(C))` at
-    /// the least clearance only (maps). It is (7) wherever the clearance is the same along
-    /// the curve, sees every stretch that comes near an obstacle (each pulls with its own
-    /// share), and a start or goal next to a wall weighs only over the stretch near it: with
-    /// (7) the least clearance of a map path is usually its start's or a one-cell door's, `D`
-    /// is then the same for every curve, and the rest of the path grazed corners.
+    /// The safety term integrated along the curve, `D = (1 / |S T|) integral omega^(dm - d(q))
+    /// dl`, instead of (7)'s `omega^(dm - m(C))` at the least clearance only (maps). On a
+    /// straight path of constant clearance it is (7); it sees every stretch that comes near
+    /// an obstacle (each pulls with its own share), and a start or goal next to a wall
+    /// weighs only over the stretch near it: with (7) the least clearance of a map path is
+    /// usually its start's or a one-cell door's, `D` is then the same for every curve, and
+    /// the rest of the path grazed corners. The scale is the fixed `|S T|` (1 when `S = T`),
+    /// not the curve's length: divided by its own length, `D` paid a detour through open
+    /// space (it lowered the mean), and paths on small cluttered maps came out twice as long.
     pub safety_along: bool,
 }
 
@@ -1447,7 +1449,9 @@ fn run_in(
         );
         t.min_clearance = m;
         if cfg.safety_along {
-            safety_along(samples, field, cfg, &mut t, grad);
+            let span = (spline.position(1.0) - spline.position(0.0)).norm();
+            let scale = if span > 0.0 { span } else { 1.0 };
+            safety_along(samples, field, cfg, scale, &mut t, grad);
         } else {
             t.safety = cfg.omega.powf(cfg.dm - m);
             if let Some(g) = grad {
@@ -1471,18 +1475,18 @@ fn run_in(
     Ok(t)
 }
 
-/// [`CostConfig::safety_along`]: `D = I / L`, `I = integral omega^(dm - d(q)) dl` over the
-/// quadrature nodes, into `t.safety`, and with `grad` each node's partials:
-/// `dD/dq = -ln(omega) e |q'| dt grad d / L` and `dD/dq' = (e - D) dt q' / (|q'| L)`, where
-/// `e = omega^(dm - d)` (the length's own dependence on `q'` gives the `- D`).
+/// [`CostConfig::safety_along`]: `D = I / scale`, `I = integral omega^(dm - d(q)) dl` over
+/// the quadrature nodes, into `t.safety`, and with `grad` each node's partials:
+/// `dD/dq = -ln(omega) e |q'| dt grad d / scale` and `dD/dq' = e dt q' / (|q'| scale)`, where
+/// `e = omega^(dm - d)`.
 fn safety_along(
     samples: &Samples,
     field: &[FieldSample],
     cfg: &CostConfig,
+    scale: Real,
     t: &mut CostTerms,
     grad: Option<&mut Vec<NodePartial>>,
 ) {
-    let length = samples.length;
     let e = |d: Real| cfg.omega.powf(cfg.dm - d);
     let integral: Real = samples
         .nodes
@@ -1490,23 +1494,17 @@ fn safety_along(
         .zip(field)
         .map(|(n, f)| e(f.clearance) * n.speed * n.dt)
         .sum();
-    if !(length > 0.0) {
-        // A curve of no length: the pointwise safety at its one point.
-        t.safety = field.first().map_or(1.0, |f| e(f.clearance));
-        return;
-    }
-    t.safety = integral / length;
+    t.safety = integral / scale;
     let Some(g) = grad else { return };
     let ln_omega = cfg.omega.ln();
     for (n, f) in samples.nodes.iter().zip(field) {
         let ei = e(f.clearance);
-        let vhat = unit(&n.v);
-        let w = cfg.w_safety * n.dt / length;
+        let w = cfg.w_safety * n.dt * ei / scale;
         g.push(NodePartial {
             seg: n.seg,
             s: n.s,
-            gq: f.clearance_grad * (-ln_omega * ei * n.speed * w),
-            gv: vhat * ((ei - t.safety) * w),
+            gq: f.clearance_grad * (-ln_omega * n.speed * w),
+            gv: unit(&n.v) * w,
             ga: Vector::zeros(),
         });
     }
