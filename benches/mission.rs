@@ -96,7 +96,7 @@ fn bench(c: &mut Criterion) {
                     ..MissionConfig::default()
                 };
                 let r = simulate(w, &c).expect("a mission");
-                if r.hindsight_length.is_some() {
+                if r.truth_plan_length.is_some() {
                     solvable.extend(r.replan_ms.iter().copied());
                 }
                 in_missions.extend(r.replan_ms);

@@ -125,9 +125,11 @@ def plan_map(
     origin: tuple[float, float] = (0.0, 0.0),
     y_down: bool = False,
     classes: int = 5,
+    robot_radius: float = 0.0,
 ) -> Plan:
     """Plans on a 2-D bool occupancy array (True = occupied; rows are y, columns x; y up
-    from `origin` as in ROS, or rows down the page with `y_down=True`)."""
+    from `origin` as in ROS, or rows down the page with `y_down=True`). `robot_radius`
+    (map units) is kept from every occupied cell and the array's edge."""
 
 def build_graph(scene: Scene, resolution: Optional[float] = None) -> Graph:
     """The Voronoi graph of a scene, start and goal attached."""
@@ -143,8 +145,10 @@ def bench_scen(
     shard: tuple[int, int] = (1, 1),
     classes: int = 5,
     time_limit: Optional[float] = None,
+    robot_radius: float = 0.0,
 ) -> str:
-    """Plans MovingAI scenarios (`homospline bench-scen`); returns the CSV text."""
+    """Plans MovingAI scenarios (`homospline bench-scen`, `robot_radius` as its
+    `--robot-radius`); returns the CSV text."""
 
 def bench_summary(csvs: Sequence[str]) -> str:
     """The summary of the rows of one or more bench_scen CSVs (`homospline bench-merge`)."""

@@ -3,8 +3,8 @@
 //!
 //! A time target set on one machine cannot be read off another by the milliseconds alone:
 //! the same binary here reads 5 ms in one run and 6.3 ms in the next. What the code did is
-//! the ratio to a reference run beside it (the twentieth session checked issue 13's 5 ms
-//! against the code of the issue's day, b4711fd, this way). REV is checked out in a worktree
+//! the ratio to a reference run beside it (docs/performance.md reads the 5 ms plan target
+//! against revision b4711fd this way). REV is checked out in a worktree
 //! under `target/bench-against/` (registered with git, and kept for the next run) with its own
 //! target directory. The checkout's side is its working tree, uncommitted changes included;
 //! criterion's saved baselines of both are overwritten as by any bench run.

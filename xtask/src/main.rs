@@ -10,6 +10,9 @@
 //! - `cargo xtask map-memory [N]` prepares a seeded random N x N map (20 % occupied, default
 //!   4096) in a release build of the benches' `map-memory` binary and prints the time and
 //!   the peak resident memory (`VmHWM`), in all and per cell: issue 43's 1.5 GB and 5 s.
+//! - `cargo xtask map-clearance [--sample N] [--robot-radius R] [--least-only] SCEN...` plans
+//!   scenarios sampled over every bucket and prints the success rate at the robot radius and
+//!   the chosen paths' clearance away from their ends ([`map_clearance`]).
 //! - `cargo xtask bench-against REV [--runs N] [FILTER]` runs the plan bench of revision REV
 //!   and of this checkout in turns (N rounds, default 3; criterion filter, default
 //!   `nelder-mead$`) and prints each bench's milliseconds and their ratio: how to read a time
@@ -36,6 +39,7 @@
 //! with `git diff fixtures/` before committing).
 
 mod bench_against;
+mod map_clearance;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -120,6 +124,9 @@ fn main() -> ExitCode {
             };
             map_memory(n)
         }
+        Some("map-clearance") => map_clearance::parse(&args[1..])
+            .and_then(|o| map_clearance::run(&o))
+            .map(|_| true),
         Some("regress") => {
             let bless = match &args[1..] {
                 [] => false,
@@ -133,7 +140,7 @@ fn main() -> ExitCode {
         }
         _ => {
             eprintln!(
-                "usage: cargo xtask regress [--bless] | gen-scenes | gen-worlds | missions [--worlds N] | bench-against REV [--runs N] [FILTER] | map-memory [N]"
+                "usage: cargo xtask regress [--bless] | gen-scenes | gen-worlds | missions [--worlds N] | bench-against REV [--runs N] [FILTER] | map-memory [N] | map-clearance [--sample N] [--robot-radius R] [--least-only] SCEN..."
             );
             return ExitCode::from(2);
         }
@@ -512,7 +519,7 @@ fn missions(count: usize) -> Result<()> {
         let mut times = Vec::new();
         for w in &worlds {
             let r = simulate(w, &cfg)?;
-            if r.hindsight_length.is_some() {
+            if r.truth_plan_length.is_some() {
                 solvable += 1;
                 reached += usize::from(r.reached);
             }

@@ -27,6 +27,8 @@ pub struct BenchJob {
     /// Weights and parameters of the cost by name (`--weight NAME=VALUE`), over the map
     /// defaults.
     pub weights: Vec<(String, f64)>,
+    /// The robot's radius, map units (0: a point).
+    pub robot_radius: f64,
 }
 
 /// What a run did besides its rows.
@@ -136,6 +138,12 @@ pub fn run_files(
         },
         None,
     )?;
+    if !(job.robot_radius.is_finite() && job.robot_radius >= 0.0) {
+        return Err(format!(
+            "--robot-radius {}: must be a finite number >= 0 (map units)",
+            job.robot_radius
+        ));
+    }
     if job.limit.is_some() && job.sample.is_some() {
         return Err("--limit and --sample exclude each other".into());
     }
@@ -219,7 +227,7 @@ pub fn run_files(
             ));
         }
         let t = std::time::Instant::now();
-        let prepared = PreparedMap::new(&map).map_err(|e| e.to_string())?;
+        let prepared = PreparedMap::for_robot(&map, job.robot_radius).map_err(|e| e.to_string())?;
         prepare_ms += t.elapsed().as_secs_f64() * 1e3;
         maps.insert(map_path, prepared);
     }

@@ -106,6 +106,10 @@ enum Command {
         /// Grid cells per map unit (default: 256 cells along the longer side).
         #[arg(long)]
         resolution: Option<f64>,
+        /// The robot's radius in map units (metres on a ROS map): the graph of the free space
+        /// it can occupy. On a scene it replaces the file's `robot_radius`.
+        #[arg(long, value_name = "R")]
+        robot_radius: Option<f64>,
         /// Save the graph as MessagePack, to reuse with `plan --graph`.
         #[arg(long, value_name = "FILE.msgpack")]
         out: Option<PathBuf>,
@@ -216,6 +220,10 @@ struct BenchArgs {
     /// (repeatable).
     #[arg(long = "weight", value_name = "NAME=VALUE")]
     weights: Vec<String>,
+    /// The robot's radius in map units: plans keep it from every obstacle; a scenario whose
+    /// start or goal is closer to one is an error row that names its clearance.
+    #[arg(long, value_name = "R")]
+    robot_radius: Option<f64>,
     /// Write one line per scenario here.
     #[arg(long, value_name = "FILE")]
     csv: Option<PathBuf>,
@@ -276,15 +284,22 @@ fn main() -> ExitCode {
         Command::Graph {
             scene,
             resolution,
+            robot_radius,
             out,
             out_dir,
             shard,
             json,
             svg,
         } => match out_dir {
-            Some(dir) => graph_dir(&scene, resolution, &dir, shard.as_deref(), (out, json, svg)),
+            Some(dir) => graph_dir(
+                &scene,
+                (resolution, robot_radius),
+                &dir,
+                shard.as_deref(),
+                (out, json, svg),
+            ),
             None if scene.len() == 1 && shard.is_none() => {
-                graph(&scene[0], resolution, out, json, svg)
+                graph(&scene[0], (resolution, robot_radius), out, json, svg)
             }
             None => Err(bad(
                 "several inputs (or --shard) need --out-dir: each graph is saved as DIR/STEM.msgpack",
@@ -421,25 +436,42 @@ fn check(path: &Path) -> anyhow::Result<u8> {
 
 /// The input of `graph`, read and checked against its options (`--resolution` is a
 /// scene's): what `graph --out-dir` checks of every input before it builds any graph.
-fn graph_input(path: &Path, resolution: Option<f64>) -> anyhow::Result<Input> {
-    let input = load_input(path)?;
-    if matches!(input, Input::Map(_)) && resolution.is_some() {
+fn graph_input(
+    path: &Path,
+    (resolution, robot_radius): (Option<f64>, Option<f64>),
+) -> anyhow::Result<Input> {
+    if let Some(r) = robot_radius
+        && !(r.is_finite() && r >= 0.0)
+    {
         return Err(bad(format!(
-            "{}: --resolution applies to scenes; a map's grid is its cells",
-            path.display()
+            "--robot-radius {r}: must be a finite number >= 0"
         )));
     }
-    Ok(input)
+    let input = load_input(path)?;
+    match input {
+        Input::Map(_) if resolution.is_some() => Err(bad(format!(
+            "{}: --resolution applies to scenes; a map's grid is its cells",
+            path.display()
+        ))),
+        Input::Scene(mut scene) if robot_radius.is_some() => {
+            scene.robot_radius = robot_radius.unwrap_or(0.0);
+            scene
+                .validate(&path.display().to_string())
+                .map_err(|e| bad(format!("--robot-radius: {e}")))?;
+            Ok(Input::Scene(scene))
+        }
+        input => Ok(input),
+    }
 }
 
 fn graph(
     path: &Path,
-    resolution: Option<f64>,
+    (resolution, robot_radius): (Option<f64>, Option<f64>),
     out: Option<PathBuf>,
     json: Option<PathBuf>,
     svg: Option<PathBuf>,
 ) -> anyhow::Result<u8> {
-    let input = graph_input(path, resolution)?;
+    let input = graph_input(path, (resolution, robot_radius))?;
     let t = std::time::Instant::now();
     let (g, cells, res, name) = match &input {
         Input::Scene(scene) => {
@@ -452,7 +484,8 @@ fn graph(
             // The complete graph of the whole map, without start or goal: `plan MAP --graph`
             // attaches each query's start and goal to it.
             let prepared =
-                homospline_maps::PreparedMap::new(map).map_err(|e| bad(e.to_string()))?;
+                homospline_maps::PreparedMap::for_robot(map, robot_radius.unwrap_or(0.0))
+                    .map_err(|e| bad(format!("{}: {e}", path.display())))?;
             let res = prepared.grid.resolution();
             // Moved out, not cloned: a 4096 x 4096 map's graph is half a gigabyte.
             (
@@ -494,7 +527,7 @@ fn graph(
 /// `DIR/STEM.msgpack`.
 fn graph_dir(
     inputs: &[PathBuf],
-    resolution: Option<f64>,
+    grid: (Option<f64>, Option<f64>),
     dir: &Path,
     shard: Option<&str>,
     single: (Option<PathBuf>, Option<PathBuf>, Option<PathBuf>),
@@ -545,7 +578,7 @@ fn graph_dir(
     // part of a graph's cost; a graph that cannot be built still stops the run where it is.
     for (i, f) in files.iter().enumerate() {
         if shard.takes(i) {
-            graph_input(f, resolution)?;
+            graph_input(f, grid)?;
         }
     }
     std::fs::create_dir_all(dir)
@@ -557,7 +590,7 @@ fn graph_dir(
         let stem = f.file_stem().and_then(|s| s.to_str()).unwrap_or("graph");
         graph(
             f,
-            resolution,
+            grid,
             Some(dir.join(format!("{stem}.msgpack"))),
             None,
             None,
@@ -596,6 +629,10 @@ struct PlanArgs {
     /// Reuse a graph saved by `homospline graph --out`.
     #[arg(long, value_name = "FILE.msgpack")]
     graph: Option<PathBuf>,
+    /// The robot's radius in map units (metres on a ROS map): plans keep it from every
+    /// obstacle. On a scene it replaces the file's `robot_radius`.
+    #[arg(long, value_name = "R")]
+    robot_radius: Option<f64>,
     /// Local optimiser (default nelder-mead for scenes, as in the paper; lbfgs for maps,
     /// whose paths need up to 64 dimensions).
     #[arg(long, value_enum)]
@@ -753,6 +790,9 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
     }
     let input = match input {
         Input::Scene(mut scene) => {
+            if let Some(r) = a.robot_radius {
+                scene.robot_radius = r;
+            }
             if let Some(s) = start {
                 scene.start = s;
             }
@@ -767,7 +807,7 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
             }
             scene
                 .validate(&scene.name.clone())
-                .map_err(|e| bad(format!("--start/--goal/--block: {e}")))?;
+                .map_err(|e| bad(format!("--start/--goal/--block/--robot-radius: {e}")))?;
             Input::Scene(scene)
         }
         Input::Map(mut map) => {
@@ -866,16 +906,18 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
                     )));
                 }
             };
+            let radius = a.robot_radius.unwrap_or(0.0);
             let prepared = match &a.graph {
                 Some(p) => {
                     let bytes = std::fs::read(p)
                         .map_err(|e| bad(format!("{}: cannot read: {e}", p.display())))?;
                     let g = VoronoiGraph::from_msgpack(&bytes)
                         .map_err(|e| bad(format!("{}: {e}", p.display())))?;
-                    homospline_maps::PreparedMap::with_graph(map, g)
+                    homospline_maps::PreparedMap::with_graph(map, g, radius)
                         .map_err(|e| bad(format!("{}: {e}", p.display())))?
                 }
-                None => homospline_maps::PreparedMap::new(map).map_err(|e| bad(e.to_string()))?,
+                None => homospline_maps::PreparedMap::for_robot(map, radius)
+                    .map_err(|e| bad(e.to_string()))?,
             };
             let result = prepared.plan(s, g, &cfg).map_err(|e| bad(e.to_string()))?;
             let pic = a
@@ -945,6 +987,7 @@ fn bench_scen(a: BenchArgs) -> anyhow::Result<u8> {
         classes: a.classes,
         time_limit: a.time_limit,
         weights: parse_weights(&a.weights)?,
+        robot_radius: a.robot_radius.unwrap_or(0.0),
     };
     let bar = indicatif::ProgressBar::new(0);
     bar.set_style(

@@ -149,11 +149,11 @@ fn text_with(head: &str, ugv_speed: Real, r: &MissionResult) -> String {
     let ms = &r.replan_ms;
     let _ = writeln!(
         s,
-        "reached {}  time {:.2} s  UGV distance {:.2}  hindsight optimum {}  distance / optimum {}  time / optimum {}",
+        "reached {}  time {:.2} s  UGV distance {:.2}  truth plan (best-cost plan on the true map; not a lower bound) {}  distance / truth plan {}  time / truth plan {}",
         if r.reached { "yes" } else { "NO" },
         r.time,
         r.ugv_distance,
-        fmt_opt(r.hindsight_length),
+        fmt_opt(r.truth_plan_length),
         fmt_opt(r.distance_ratio()),
         fmt_opt(r.time_ratio(ugv_speed)),
     );
@@ -235,7 +235,7 @@ fn json_with(ugv_speed: Real, r: &MissionResult) -> String {
         "time": r.time,
         "dt": r.dt,
         "ugv_distance": r.ugv_distance,
-        "hindsight_length": r.hindsight_length,
+        "truth_plan_length": r.truth_plan_length,
         "distance_ratio": r.distance_ratio(),
         "time_ratio": r.time_ratio(ugv_speed),
         "replans": r.replans,
@@ -542,14 +542,14 @@ fn svg_with(
     s.push_str("</g>\n");
     let _ = writeln!(
         s,
-        r##"<text x="6" y="{:.1}" font-size="13" font-family="sans-serif">{} · policy {} · {} scouts · {} · UGV {:.1} (optimum {}) · re-plans {} · switches {}  (grey: map; red: not on the map; blue: UGV; orange: scouts; dashed: plans; x: re-plans)</text>"##,
+        r##"<text x="6" y="{:.1}" font-size="13" font-family="sans-serif">{} · policy {} · {} scouts · {} · UGV {:.1} (truth plan {}) · re-plans {} · switches {}  (grey: map; red: not on the map; blue: UGV; orange: scouts; dashed: plans; x: re-plans)</text>"##,
         ph + 25.0,
         xml_escape(&r.world),
         r.policy.name(),
         r.scouts,
         if r.reached { "reached" } else { "NOT reached" },
         r.ugv_distance,
-        fmt_opt(r.hindsight_length),
+        fmt_opt(r.truth_plan_length),
         r.replans,
         r.switches
     );

@@ -118,6 +118,8 @@ pub fn plan_config(o: &PlanOptions, scene: Option<&Scene>) -> Result<PlanConfig,
         Some(_) => PlanConfig::default(),
         None => homospline_maps::map_config(),
     };
+    // The form of the safety term is the world's (maps: along the path), whatever the preset.
+    cost.safety_along = base.growth.cost.safety_along;
     if let Some(form) = &o.roughness {
         cost.roughness = RoughnessForm::from_name(form)
             .ok_or_else(|| format!("--roughness {form}: expected paper, energy or authors"))?;

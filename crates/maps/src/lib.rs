@@ -62,6 +62,10 @@ pub fn map_config() -> PlanConfig {
     // A map's doors and corners are a cell or two wide: `dm` stays a penalty there, and a
     // hard margin is the user's `--clearance-floor`.
     cfg.dm_rule = false;
+    // The safety term sees every stretch of the path, not only its least clear point (a
+    // start next to a wall or a one-cell door), so the whole path keeps away from walls
+    // where the corridor allows (docs/method.md, 5.5).
+    cfg.growth.cost.safety_along = true;
     // Like `--polish`, the chosen class's finish is for scenes: a map's classes are
     // optimised while the search goes on.
     cfg.finish_within = None;
@@ -130,6 +134,9 @@ pub enum MapError {
     /// A saved graph that does not fit the map.
     #[error("{0}")]
     Graph(String),
+    /// A robot radius that is not a finite number `>= 0`.
+    #[error("robot radius {0}: must be a finite number >= 0 (map units; metres on a ROS map)")]
+    Radius(Real),
     /// More cells than a map may have ([`MAX_MAP_CELLS`]).
     #[error(
         "map {name} is {width} x {height} cells ({:.1} M); at most {:.1} M cells (4096 x 4096) fit in the {MAP_MEMORY} a map may take: crop or downsample the map",
@@ -251,6 +258,131 @@ impl OccupancyMap {
         count
     }
 
+    /// The map as a disc robot of radius `radius` (map units) sees it, conservatively: a cell
+    /// stays free when every point of its closed square keeps at least `radius` from every
+    /// occupied cell and from the map's edge (square to square), so a point of a free cell
+    /// of the result is at least `radius` from the obstacles and a clearance `c` on the
+    /// result is a clearance of at least `radius + c` on `self`. `radius` 0 gives the map
+    /// itself. (Missions plan on maps inflated so; [`PreparedMap::for_robot`] frees the cells
+    /// whose centre keeps the radius and measures clearances exactly.)
+    ///
+    /// The squared distance in cells between the squares of cells `a` and `b` is
+    /// `sum over axes of max(0, |a - b| - 1)^2`: the squared distance between `a`'s centre
+    /// and the nearest centre of `b`'s 3 x 3 block. So it is the exact brushfire of the
+    /// occupied cells dilated by their 8 neighbours (the wall ring included).
+    pub fn inflated(&self, radius: Real) -> Result<OccupancyMap, MapError> {
+        if !(radius.is_finite() && radius >= 0.0) {
+            return Err(MapError::Radius(radius));
+        }
+        if radius == 0.0 {
+            return Ok(self.clone());
+        }
+        let d2 = self.square_distances()?;
+        let reach = radius / self.cell;
+        let mut out = self.clone();
+        for (o, &q) in out.occupied.iter_mut().zip(&d2) {
+            *o |= (q as Real).sqrt() < reach;
+        }
+        Ok(out)
+    }
+
+    /// Per cell (row-major, as `occupied`), the squared distance in cells from its closed
+    /// square to the nearest occupied cell's or to the map's edge (see
+    /// [`OccupancyMap::inflated`]).
+    fn square_distances(&self) -> Result<Vec<i64>, MapError> {
+        let grid = self.to_grid()?;
+        let (w, h) = (grid.width(), grid.height());
+        let occ = grid.occupancy();
+        // Dilation by the 3 x 3 block: along rows, then along columns.
+        let mut rows = vec![false; w * h];
+        for j in 0..h {
+            for i in 0..w {
+                let k = j * w + i;
+                rows[k] = occ[k] || (i > 0 && occ[k - 1]) || (i + 1 < w && occ[k + 1]);
+            }
+        }
+        let mut block = vec![false; w * h];
+        for j in 0..h {
+            for i in 0..w {
+                let k = j * w + i;
+                block[k] = rows[k] || (j > 0 && rows[k - w]) || (j + 1 < h && rows[k + w]);
+            }
+        }
+        drop(rows);
+        let dilated = Grid::from_occupancy(w, h, grid.origin(), grid.cell(), block)?;
+        drop(grid);
+        let field = DistanceField::build(&dilated);
+        drop(dilated);
+        let mut out = vec![0i64; self.width * self.height];
+        let mut row = vec![0i64; w];
+        for j in 0..self.height {
+            field.d2_row(j + 1, &mut row);
+            out[j * self.width..(j + 1) * self.width].copy_from_slice(&row[1..=self.width]);
+        }
+        Ok(out)
+    }
+
+    /// The cells where a disc robot of radius `radius` can stand: those whose centre keeps
+    /// `radius` from every occupied cell and from the map's edge (exact, by `truth`, the
+    /// model of this map). Found from [`OccupancyMap::inflated`], which blocks every cell
+    /// whose square comes closer: a centre is at most half a diagonal farther than its
+    /// square, so only the blocked cells within that of `radius` are measured.
+    fn free_for_robot(&self, radius: Real, truth: &GridModel) -> Result<OccupancyMap, MapError> {
+        let d2 = self.square_distances()?;
+        let reach = radius / self.cell;
+        let mut out = self.clone();
+        for j in 0..self.height {
+            for i in 0..self.width {
+                let k = j * self.width + i;
+                let square = (d2[k] as Real).sqrt();
+                if self.occupied[k] || square >= reach {
+                    continue;
+                }
+                let centre = Point::new(
+                    self.origin.x + (i as Real + 0.5) * self.cell,
+                    self.origin.y + (j as Real + 0.5) * self.cell,
+                );
+                let near_enough = square + std::f64::consts::FRAC_1_SQRT_2 >= reach;
+                out.occupied[k] = !(near_enough && truth.exact(&centre) >= radius);
+            }
+        }
+        Ok(out)
+    }
+
+    /// The exact clearance of `p`: its distance to the nearest occupied cell (a closed
+    /// square) or to the map's edge, searched up to `reach` map units (a farther clearance
+    /// reads as `reach`). 0 outside the map or in an occupied cell.
+    pub fn clearance_within(&self, p: &Point, reach: Real) -> Real {
+        let b = self.bounds();
+        let edge = (p.x - b.min.x)
+            .min(b.max.x - p.x)
+            .min(p.y - b.min.y)
+            .min(b.max.y - p.y);
+        if self.free_at(p) != Some(true) {
+            return 0.0;
+        }
+        let mut best = edge.min(reach);
+        let fx = (p.x - self.origin.x) / self.cell;
+        let fy = (p.y - self.origin.y) / self.cell;
+        let span = (best / self.cell).ceil() + 1.0;
+        let (i0, i1) = (
+            (fx - span).max(0.0) as usize,
+            ((fx + span) as usize).min(self.width - 1),
+        );
+        let (j0, j1) = (
+            (fy - span).max(0.0) as usize,
+            ((fy + span) as usize).min(self.height - 1),
+        );
+        for j in j0..=j1 {
+            for i in i0..=i1 {
+                if self.occupied[j * self.width + i] {
+                    best = best.min(self.distance_to_cell(p, (i, j)));
+                }
+            }
+        }
+        best
+    }
+
     /// The grid: the map plus a one-cell wall ring around it. A map of more than
     /// [`MAX_MAP_CELLS`] cells is refused before the grid is allocated.
     pub fn to_grid(&self) -> Result<Grid, MapError> {
@@ -270,6 +402,27 @@ impl OccupancyMap {
             occ,
         )
         .map_err(MapError::from)
+    }
+
+    /// [`OccupancyMap::check_endpoint`], and that `p` keeps `radius` from every obstacle;
+    /// returns its clearance (searched up to `radius` plus two cells).
+    fn check_endpoint_for(
+        &self,
+        what: &'static str,
+        p: &Point,
+        radius: Real,
+    ) -> Result<Real, MapError> {
+        self.check_endpoint(what, p)?;
+        let c = self.clearance_within(p, radius + 2.0 * self.cell);
+        if c < radius {
+            return Err(MapError::Endpoint {
+                what,
+                x: p.x,
+                y: p.y,
+                problem: format!("has clearance {c:.4}, less than the robot radius {radius}"),
+            });
+        }
+        Ok(c)
     }
 
     fn check_endpoint(&self, what: &'static str, p: &Point) -> Result<(), MapError> {
@@ -308,21 +461,68 @@ pub struct PreparedMap {
     pub model: GridModel,
     /// One ray per obstacle inside the wall.
     pub rays: Rays,
+    /// The robot's radius: the grid and graph are those of the cells where the robot can
+    /// stand, and the model's clearances are the robot body's ([`PreparedMap::for_robot`]).
+    pub robot_radius: Real,
+    /// The map as given, when the radius is positive (its endpoints' clearances).
+    truth: Option<OccupancyMap>,
     map: OccupancyMap,
 }
 
 impl PreparedMap {
-    /// Builds the grid, brushfire, complete graph and clearance model of `map`.
+    /// Builds the grid, brushfire, complete graph and clearance model of `map`, for a point
+    /// robot.
     pub fn new(map: &OccupancyMap) -> Result<Self, MapError> {
-        let grid = map.to_grid()?;
-        let field = DistanceField::build(&grid);
-        let graph = MapGraph::build(&grid, &field);
-        Ok(Self::assemble(map, grid, field, graph))
+        Self::for_robot(map, 0.0)
     }
 
-    /// The same with a complete graph built before (`homospline graph MAP --out`); refused
-    /// when it is not a graph of this map (resolution, obstacles or start/goal attached).
-    pub fn with_graph(map: &OccupancyMap, graph: VoronoiGraph) -> Result<Self, MapError> {
+    /// The same for a disc robot of radius `radius` (map units). The free space is the cells
+    /// whose centre keeps `radius` from every occupied cell and the map's edge: the grid, the
+    /// brushfire and the graph are those of that map; the clearance model is the exact one
+    /// of `map`, less `radius` ([`GridModel::for_radius`]), so costs, certificates and
+    /// reported clearances are the robot body's, and a plan certified collision-free keeps
+    /// `radius` from every occupied cell. A start or goal closer than `radius` to an obstacle
+    /// is refused with the clearance it has.
+    pub fn for_robot(map: &OccupancyMap, radius: Real) -> Result<Self, MapError> {
+        let (free, model, truth) = Self::footprint(map, radius)?;
+        let grid = free.to_grid()?;
+        let field = DistanceField::build(&grid);
+        let graph = MapGraph::build(&grid, &field);
+        Ok(Self::assemble(
+            &free, grid, field, graph, model, radius, truth,
+        ))
+    }
+
+    /// The map of the cells a robot of `radius` can stand in, the model (of `map` itself,
+    /// for the radius), and the map as given when `radius` is positive.
+    #[allow(clippy::type_complexity)]
+    fn footprint(
+        map: &OccupancyMap,
+        radius: Real,
+    ) -> Result<(OccupancyMap, Option<GridModel>, Option<OccupancyMap>), MapError> {
+        if !(radius.is_finite() && radius >= 0.0) {
+            return Err(MapError::Radius(radius));
+        }
+        if radius == 0.0 {
+            return Ok((map.clone(), None, None));
+        }
+        let grid = map.to_grid()?;
+        let model = GridModel::new(&grid, &DistanceField::build(&grid));
+        drop(grid);
+        let free = map.free_for_robot(radius, &model)?;
+        Ok((free, Some(model.for_radius(radius)), Some(map.clone())))
+    }
+
+    /// The same with a complete graph built before (`homospline graph MAP --out`, with the
+    /// same robot radius); refused when it is not a graph of this map at this radius
+    /// (resolution, obstacles or start/goal attached).
+    pub fn with_graph(
+        map: &OccupancyMap,
+        graph: VoronoiGraph,
+        radius: Real,
+    ) -> Result<Self, MapError> {
+        let (free, model, truth) = Self::footprint(map, radius)?;
+        let map = &free;
         let grid = map.to_grid()?;
         let field = DistanceField::build(&grid);
         let fresh_obstacles: Vec<u32> = field
@@ -340,16 +540,28 @@ impl PreparedMap {
             || fresh_obstacles != saved
         {
             return Err(MapError::Graph(format!(
-                "the graph was not built for map {} (resolution or obstacles differ)",
+                "the graph was not built for map {} at robot radius {radius} (resolution, \
+                 obstacles or robot radius differ)",
                 map.name
             )));
         }
         let graph = MapGraph::from_graph(&grid, graph);
-        Ok(Self::assemble(map, grid, field, graph))
+        Ok(Self::assemble(
+            map, grid, field, graph, model, radius, truth,
+        ))
     }
 
-    fn assemble(map: &OccupancyMap, grid: Grid, field: DistanceField, graph: MapGraph) -> Self {
-        let model = GridModel::new(&grid, &field);
+    #[allow(clippy::too_many_arguments)]
+    fn assemble(
+        map: &OccupancyMap,
+        grid: Grid,
+        field: DistanceField,
+        graph: MapGraph,
+        model: Option<GridModel>,
+        robot_radius: Real,
+        truth: Option<OccupancyMap>,
+    ) -> Self {
+        let model = model.unwrap_or_else(|| GridModel::new(&grid, &field));
         let rays = rays_of(&graph);
         Self {
             name: map.name.clone(),
@@ -359,20 +571,44 @@ impl PreparedMap {
             graph,
             model,
             rays,
+            robot_radius,
+            truth,
             map: map.clone(),
         }
     }
 
-    /// The map it was built from.
+    /// The map it was built from; with a positive robot radius, the cells where the robot
+    /// can stand (its centre keeps the radius).
     pub fn map(&self) -> &OccupancyMap {
         &self.map
+    }
+
+    /// Refuses an endpoint outside the map, in or on an occupied cell, closer than the robot
+    /// radius to an obstacle (naming the clearance it has), or in a cell that the radius
+    /// blocks.
+    fn check_endpoint(&self, what: &'static str, p: &Point) -> Result<(), MapError> {
+        let Some(truth) = &self.truth else {
+            return self.map.check_endpoint(what, p);
+        };
+        let r = self.robot_radius;
+        let c = truth.check_endpoint_for(what, p, r)?;
+        self.map.check_endpoint(what, p).map_err(|_| MapError::Endpoint {
+            what,
+            x: p.x,
+            y: p.y,
+            problem: format!(
+                "has clearance {c:.4} >= the robot radius {r}, but its cell comes closer than {r} \
+                 to an obstacle (free space is the cells all of whose points keep the radius): \
+                 move it up to one cell away from the wall"
+            ),
+        })
     }
 
     /// The graph of one query: start and goal joined to the complete graph along
     /// maximum-clearance routes, dead ends to neither pruned.
     pub fn query_graph(&self, start: Point, goal: Point) -> Result<VoronoiGraph, MapError> {
-        self.map.check_endpoint("start", &start)?;
-        self.map.check_endpoint("goal", &goal)?;
+        self.check_endpoint("start", &start)?;
+        self.check_endpoint("goal", &goal)?;
         Ok(self
             .graph
             .with_endpoints(&self.grid, &self.field, start, goal)
@@ -381,8 +617,8 @@ impl PreparedMap {
 
     /// Plans from `start` to `goal` (map coordinates) with the same result as on a scene.
     pub fn plan(&self, start: Point, goal: Point, cfg: &PlanConfig) -> Result<Plan, MapError> {
-        self.map.check_endpoint("start", &start)?;
-        self.map.check_endpoint("goal", &goal)?;
+        self.check_endpoint("start", &start)?;
+        self.check_endpoint("goal", &goal)?;
         let world = World {
             name: self.name.clone(),
             bounds: self.bounds,
@@ -428,9 +664,20 @@ pub fn plan_map(
     goal: Point,
     cfg: &PlanConfig,
 ) -> Result<(Plan, PreparedMap), MapError> {
-    map.check_endpoint("start", &start)?;
-    map.check_endpoint("goal", &goal)?;
-    let prepared = PreparedMap::new(map)?;
+    plan_map_for_robot(map, 0.0, start, goal, cfg)
+}
+
+/// [`plan_map`] for a disc robot of radius `radius` (map units; [`PreparedMap::for_robot`]).
+pub fn plan_map_for_robot(
+    map: &OccupancyMap,
+    radius: Real,
+    start: Point,
+    goal: Point,
+    cfg: &PlanConfig,
+) -> Result<(Plan, PreparedMap), MapError> {
+    map.check_endpoint_for("start", &start, radius)?;
+    map.check_endpoint_for("goal", &goal, radius)?;
+    let prepared = PreparedMap::for_robot(map, radius)?;
     let plan = prepared.plan(start, goal, cfg)?;
     Ok((plan, prepared))
 }

@@ -1,21 +1,24 @@
 //! The grid clearance model: obstacles of an occupancy map as the cost and the checks see them.
 //!
-//! Two distances, for two purposes:
-//! - for the cost, a smooth one: the clearance at cell centres (`(sqrt(d2) - 1/2) h` from
-//!   the exact brushfire, `-h/2` inside obstacles) interpolated bilinearly, with its gradient;
-//! - for verification, the exact Euclidean distance from a point to the nearest occupied
-//!   cell (a closed square), found by a ring search bounded by the brushfire. It is
-//!   1-Lipschitz, so `(d(a) + d(b) - |ab|) / 2` is a rigorous lower bound of the clearance
-//!   along a segment: that is what certification and the reported `min_clearance` use.
+//! One distance serves the cost and the checks: the exact Euclidean distance from a point to
+//! the nearest occupied cell (a closed square), found by a search over the cells that can be
+//! nearest (bounded by the brushfire), with its gradient (the unit vector from the nearest
+//! point of that cell). It is 1-Lipschitz, so `(d(a) + d(b) - |ab|) / 2` is a rigorous lower
+//! bound of the clearance along a segment: that is what certification and the reported
+//! `min_clearance` use. Distance to a square is convex with a Hessian of at most `1 / d`, as
+//! a disc of radius 0 has, so the cost's search for the least clearance between its nodes
+//! has the circles' bound ([`ClearanceModel::bend_radius`] 0).
+//!
+//! The cost once read a smooth stand-in, the brushfire's clearance at cell centres
+//! interpolated bilinearly: it reads about a quarter cell at the corner of an occupied cell
+//! (three free centres at +1/2, one occupied at -1/2) where the true clearance is 0, and map
+//! paths passed door frames and corners at 1e-4 cells.
 
 use homospline_geom::{Point, Real, Vector};
 use homospline_spline::field::{ClearanceModel, FieldSample, exp_fast};
 use homospline_voronoi::{DistanceField, Grid};
 use rustc_hash::FxHashMap;
 use std::sync::{PoisonError, RwLock};
-
-/// Rings of depth inside obstacles that the smooth clearance tells apart.
-pub const DEPTH_RINGS: u8 = 6;
 
 /// Shards of [`GridModel`]'s cache of candidates (cell `k` in shard `k % CACHE_SHARDS`).
 const CACHE_SHARDS: usize = 64;
@@ -27,8 +30,6 @@ pub struct GridModel {
     h: usize,
     origin: Point,
     cell: Real,
-    /// Signed clearance at cell centres, map units.
-    d: Vec<Real>,
     /// Squared brushfire distance at each cell, cells (0 exactly on occupied cells; clamped
     /// to `u32::MAX`, far beyond any grid's `w^2 + h^2`).
     d2: Vec<u32>,
@@ -39,6 +40,9 @@ pub struct GridModel {
     /// those (a lazily filled slot per cell took 24 bytes of every cell). The lists are pure
     /// functions of the grid, so the cache never changes an answer.
     candidates: Vec<RwLock<FxHashMap<u32, Box<[u32]>>>>,
+    /// Subtracted from every clearance the model reports as a [`ClearanceModel`]: the
+    /// robot's radius, so that clearances are the robot body's (0 for a point).
+    offset: Real,
 }
 
 impl Clone for GridModel {
@@ -48,124 +52,54 @@ impl Clone for GridModel {
             h: self.h,
             origin: self.origin,
             cell: self.cell,
-            d: self.d.clone(),
             d2: self.d2.clone(),
             candidates: self
                 .candidates
                 .iter()
                 .map(|s| RwLock::new(s.read().unwrap_or_else(PoisonError::into_inner).clone()))
                 .collect(),
+            offset: self.offset,
         }
     }
 }
 
 impl GridModel {
-    /// The model of `grid`, whose brushfire is `field`. Inside obstacles the clearance is
-    /// minus the depth in cells, by rings from the free space (4-connected, up to
-    /// [`DEPTH_RINGS`]), so that its gradient points out.
+    /// The model of `grid`, whose brushfire is `field`.
     pub fn new(grid: &Grid, field: &DistanceField) -> Self {
         let (w, h) = (grid.width(), grid.height());
-        let cell = grid.cell();
-        let occ = grid.occupancy();
-        let mut d = vec![0.0; w * h];
         let mut d2 = vec![0u32; w * h];
-        let mut ring = vec![0u8; w * h];
-        let mut frontier = Vec::new();
         let mut row = vec![0i64; w];
         for j in 0..h {
-            let r = j * w..(j + 1) * w;
             field.d2_row(j, &mut row);
-            for (o, &q) in d2[r.clone()].iter_mut().zip(&row) {
+            for (o, &q) in d2[j * w..(j + 1) * w].iter_mut().zip(&row) {
                 *o = q.clamp(0, u32::MAX as i64) as u32;
-            }
-            // The field's clearance, `sqrt(d2) - 1/2` cells on free cells, row at a time.
-            for ((dk, &q), &o) in d[r.clone()].iter_mut().zip(&row).zip(&occ[r]) {
-                let c = if q == 0 {
-                    0.0
-                } else {
-                    (q as Real).sqrt() - 0.5
-                };
-                *dk = if o { 0.0 } else { c * cell };
-            }
-            for i in 0..w {
-                let k = j * w + i;
-                if occ[k]
-                    && ((i > 0 && !occ[k - 1])
-                        || (i + 1 < w && !occ[k + 1])
-                        || (j > 0 && !occ[k - w])
-                        || (j + 1 < h && !occ[k + w]))
-                {
-                    ring[k] = 1;
-                    frontier.push(k);
-                }
-            }
-        }
-        let mut r = 1u8;
-        while !frontier.is_empty() && r < DEPTH_RINGS {
-            let mut next = Vec::new();
-            for &k in &frontier {
-                let (i, j) = (k % w, k / w);
-                let around = [
-                    (i > 0).then(|| k - 1),
-                    (i + 1 < w).then(|| k + 1),
-                    (j > 0).then(|| k - w),
-                    (j + 1 < h).then(|| k + w),
-                ];
-                for n in around.into_iter().flatten() {
-                    if occ[n] && ring[n] == 0 {
-                        ring[n] = r + 1;
-                        next.push(n);
-                    }
-                }
-            }
-            frontier = next;
-            r += 1;
-        }
-        for k in 0..w * h {
-            if occ[k] {
-                let depth = if ring[k] == 0 { DEPTH_RINGS } else { ring[k] };
-                d[k] = -(depth as Real - 0.5) * cell;
             }
         }
         Self {
             w,
             h,
             origin: grid.origin(),
-            cell,
-            d,
+            cell: grid.cell(),
             d2,
             candidates: (0..CACHE_SHARDS)
                 .map(|_| RwLock::new(FxHashMap::default()))
                 .collect(),
+            offset: 0.0,
         }
+    }
+
+    /// The same model for a disc robot of radius `radius`: as a [`ClearanceModel`] every
+    /// clearance is less by `radius` (the distance from the robot's body); [`GridModel::exact`]
+    /// stays the distance from the point.
+    pub fn for_radius(mut self, radius: Real) -> Self {
+        self.offset = radius;
+        self
     }
 
     /// Whether cell `k` (row-major) is occupied: its squared distance is 0.
     #[inline]
     fn occupied(&self, k: usize) -> bool {
         self.d2[k] == 0
-    }
-
-    /// Smooth clearance and gradient (bilinear over cell centres).
-    pub fn smooth(&self, p: &Point) -> (Real, Vector) {
-        let fx = (p.x - self.origin.x) / self.cell - 0.5;
-        let fy = (p.y - self.origin.y) / self.cell - 0.5;
-        let i0 = (fx.max(0.0) as usize).min(self.w - 2);
-        let j0 = (fy.max(0.0) as usize).min(self.h - 2);
-        let tx = (fx - i0 as Real).clamp(0.0, 1.0);
-        let ty = (fy - j0 as Real).clamp(0.0, 1.0);
-        let at = |i: usize, j: usize| self.d[j * self.w + i];
-        let (a, b, c, e) = (
-            at(i0, j0),
-            at(i0 + 1, j0),
-            at(i0, j0 + 1),
-            at(i0 + 1, j0 + 1),
-        );
-        let v =
-            a * (1.0 - tx) * (1.0 - ty) + b * tx * (1.0 - ty) + c * (1.0 - tx) * ty + e * tx * ty;
-        let gx = ((b - a) * (1.0 - ty) + (e - c) * ty) / self.cell;
-        let gy = ((c - a) * (1.0 - tx) + (e - b) * tx) / self.cell;
-        (v, Vector::new(gx, gy))
     }
 
     fn cell_of(&self, p: &Point) -> Option<(usize, usize)> {
@@ -199,29 +133,80 @@ impl GridModel {
         // cell lists them.
         let dc = (d2 as Real).sqrt();
         let bound = (dc + std::f64::consts::FRAC_1_SQRT_2 - 0.5) * h;
-        let k = cj * self.w + ci;
-        let nearest = |candidates: &[u32]| {
+        self.with_candidates(ci, cj, d2, |candidates| {
             candidates.iter().fold(bound, |b, &o| {
                 let o = o as usize;
                 b.min(self.square_distance(p, o % self.w, o / self.w))
             })
-        };
+        })
+    }
+
+    /// `f` of the candidates of free cell `(ci, cj)` (squared distance `d2`): from the
+    /// cache, or listed and cached.
+    fn with_candidates<R>(&self, ci: usize, cj: usize, d2: i64, f: impl Fn(&[u32]) -> R) -> R {
+        let k = cj * self.w + ci;
         let shard = &self.candidates[k % CACHE_SHARDS];
         if let Some(c) = shard
             .read()
             .unwrap_or_else(PoisonError::into_inner)
             .get(&(k as u32))
         {
-            return nearest(c);
+            return f(c);
         }
         let c = self.annulus(ci, cj, d2);
-        let best = nearest(&c);
+        let out = f(&c);
         shard
             .write()
             .unwrap_or_else(PoisonError::into_inner)
             .entry(k as u32)
             .or_insert(c);
-        best
+        out
+    }
+
+    /// [`GridModel::exact`] and its gradient: the unit vector from the nearest point of the
+    /// nearest occupied cell to `p` (inside one, the outward normal of its nearest side); zero
+    /// where the distance has none (outside the grid, on an obstacle's boundary).
+    pub fn exact_with_gradient(&self, p: &Point) -> (Real, Vector) {
+        let Some((ci, cj)) = self.cell_of(p) else {
+            return (0.0, Vector::zeros());
+        };
+        let h = self.cell;
+        let k = cj * self.w + ci;
+        if self.occupied(k) {
+            let x0 = self.origin.x + ci as Real * h;
+            let y0 = self.origin.y + cj as Real * h;
+            let sides = [
+                (p.x - x0, Vector::new(-1.0, 0.0)),
+                (x0 + h - p.x, Vector::new(1.0, 0.0)),
+                (p.y - y0, Vector::new(0.0, -1.0)),
+                (y0 + h - p.y, Vector::new(0.0, 1.0)),
+            ];
+            let (d, n) = sides
+                .into_iter()
+                .fold((Real::INFINITY, Vector::zeros()), |b, s| if s.0 < b.0 { s } else { b });
+            return (-d, n);
+        }
+        let d2 = self.d2[k] as i64;
+        if d2 > (self.w * self.w + self.h * self.h) as i64 {
+            return (self.exact_by_rings(p, ci, cj, Real::INFINITY), Vector::zeros());
+        }
+        self.with_candidates(ci, cj, d2, |candidates| {
+            let (mut best, mut towards) = (Real::INFINITY, Vector::zeros());
+            for &o in candidates {
+                let o = o as usize;
+                let (i, j) = (o % self.w, o / self.w);
+                let x0 = self.origin.x + i as Real * h;
+                let y0 = self.origin.y + j as Real * h;
+                let v = Vector::new(p.x - p.x.clamp(x0, x0 + h), p.y - p.y.clamp(y0, y0 + h));
+                let n = v.norm();
+                if n < best {
+                    best = n;
+                    towards = v;
+                }
+            }
+            let g = if best > 0.0 { towards / best } else { Vector::zeros() };
+            (best, g)
+        })
     }
 
     /// The occupied cells that can be nearest to a point of free cell `(ci, cj)`, whose
@@ -322,12 +307,14 @@ impl GridModel {
 
 impl ClearanceModel for GridModel {
     fn clearance(&self, p: &Point) -> (Real, Vector) {
-        self.smooth(p)
+        let (d, g) = self.exact_with_gradient(p);
+        (d - self.offset, g)
     }
 
     fn field_batch(&self, pts: &[Point], alpha: Real, _allowance: Real, out: &mut [FieldSample]) {
         for (p, o) in pts.iter().zip(out.iter_mut()) {
-            let (d, g) = self.smooth(p);
+            let (d, g) = self.exact_with_gradient(p);
+            let d = d - self.offset;
             // U = 1 + tanh(-alpha d) = 2 / (1 + exp(2 alpha d)); dU/dd = -alpha U (2 - U).
             let u = 2.0 / (1.0 + exp_fast(2.0 * alpha * d));
             *o = FieldSample {
@@ -343,18 +330,19 @@ impl ClearanceModel for GridModel {
         let n = (((b - a).norm() / (0.25 * self.cell)).ceil() as usize).max(1);
         (0..=n).all(|k| {
             let p = a + (b - a) * (k as Real / n as Real);
-            self.cell_of(&p)
-                .is_some_and(|(i, j)| !self.occupied(j * self.w + i))
+            self.cell_of(&p).is_some_and(|(i, j)| {
+                !self.occupied(j * self.w + i) && (self.offset == 0.0 || self.exact(&p) >= self.offset)
+            })
         })
     }
 
     fn segment_clearance(&self, a: &Point, b: &Point) -> Real {
-        self.segment_clearance_between(a, b, self.exact(a), self.exact(b))
+        self.segment_clearance_between(a, b, self.exact_clearance(a), self.exact_clearance(b))
     }
 
     fn polyline_clearance(&self, pts: &[Point]) -> Real {
         // The same bound segment by segment, with each point's exact distance found once.
-        let at: Vec<Real> = pts.iter().map(|p| self.exact(p)).collect();
+        let at: Vec<Real> = pts.iter().map(|p| self.exact_clearance(p)).collect();
         (1..pts.len())
             .map(|i| self.segment_clearance_between(&pts[i - 1], &pts[i], at[i - 1], at[i]))
             .fold(Real::INFINITY, Real::min)
@@ -368,7 +356,11 @@ impl ClearanceModel for GridModel {
     }
 
     fn exact_clearance(&self, p: &Point) -> Real {
-        self.exact(p)
+        self.exact(p) - self.offset
+    }
+
+    fn bend_radius(&self) -> Option<Real> {
+        Some(0.0)
     }
 }
 

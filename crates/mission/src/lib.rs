@@ -8,7 +8,7 @@
 //! - [`world`]: the world file ([`WorldFile`]) and the world ([`MissionWorld`]): the prior
 //!   scene, the truth, the team.
 //! - [`sim`]: [`simulate`] with a [`MissionConfig`] (scout [`Policy`], hysteresis, time
-//!   step) into a [`MissionResult`] (events, tracks, figures against the hindsight optimum).
+//!   step) into a [`MissionResult`] (events, tracks, figures against the truth plan).
 //!
 //! Classes are named by their signature on the rays of the prior map's obstacles that are
 //! still known to be there: an obstacle found (not on the map) does not rename classes, so

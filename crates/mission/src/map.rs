@@ -108,8 +108,8 @@ impl WorldFile {
     /// Joins the file with its prior and truth maps and checks them together.
     pub fn with_maps(
         self,
-        prior: OccupancyMap,
-        truth: OccupancyMap,
+        mut prior: OccupancyMap,
+        mut truth: OccupancyMap,
         spec: &MapSpec,
     ) -> Result<MapWorld, SceneError> {
         let err = |field: &str, problem: String| SceneError {
@@ -175,6 +175,43 @@ impl WorldFile {
                                 format!("({}, {}) {why} of the {which}", p.x, p.y),
                             ));
                         }
+                    }
+                }
+            }
+        }
+        // The robot's radius: both maps as its centre sees them; start and goal must keep it.
+        let r = self.team.ugv.radius;
+        if r > 0.0 {
+            for (field, p) in [("start", spec.start), ("goal", spec.goal)] {
+                for (which, m) in [("prior map", &prior), ("truth map", &truth)] {
+                    let c = m.clearance_within(&p, r + 2.0 * m.cell);
+                    if c < r {
+                        return Err(err(
+                            field,
+                            format!(
+                                "({}, {}) has clearance {c:.4} on the {which}, less than team.ugv.radius {r}",
+                                p.x, p.y
+                            ),
+                        ));
+                    }
+                }
+            }
+            let inflate = |m: &OccupancyMap| {
+                m.inflated(r)
+                    .map_err(|e| err("team.ugv.radius", format!("{r}: {e}")))
+            };
+            prior = inflate(&prior)?;
+            truth = inflate(&truth)?;
+            for (field, p) in [("start", spec.start), ("goal", spec.goal)] {
+                for (which, m) in [("prior map", &prior), ("truth map", &truth)] {
+                    if m.free_at(&p) != Some(true) || m.touches_obstacle(&p).is_some() {
+                        return Err(err(
+                            field,
+                            format!(
+                                "({}, {}) keeps team.ugv.radius {r} on the {which}, but its cell does not (free space is the cells all of whose points keep the radius): move it up to one cell away from the wall",
+                                p.x, p.y
+                            ),
+                        ));
                     }
                 }
             }

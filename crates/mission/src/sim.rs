@@ -68,14 +68,14 @@ pub struct MissionConfig {
     /// less than this, relatively (`GrowthConfig::lbfgs_value_tolerance`; the offline plan
     /// runs to its budget). 1e-5 cut the p99 re-plan latency in the missions from 12.2 to
     /// 8.75 ms with the distances over the optimum within 0.007 of the full budget's
-    /// (README, *Missions*).
+    /// (docs/decisions/0018-coarse-replans.md).
     pub replan_value_tolerance: Real,
     /// On scene worlds, a re-plan's Voronoi graph is this many times coarser than the
     /// offline plan's (its resolution divided by it; 1: the same graph). Half the cells
     /// across (the default, 2) cut the graph's time about sevenfold and the seeds' via-points
     /// with it; a re-plan whose coarse graph offers no collision-free class is planned again
     /// on the full one, so a passage narrower than a coarse cell is still found when it is
-    /// the way left (README, *Missions*). Maps keep their own grid.
+    /// the way left (docs/decisions/0018-coarse-replans.md). Maps keep their own grid.
     pub replan_coarsening: Real,
 }
 
@@ -134,11 +134,11 @@ impl Default for MissionConfig {
                     // planner's default (a round short of the dm rule's target climbs by
                     // Nelder-Mead), the 200 generated worlds of `cargo xtask missions
                     // --worlds 200`, generated as before, drove 1.112 / 1.038 / 1.042 times
-                    // the hindsight optimum (`none` / `ahead` / `alternatives`) against
+                    // the truth plan (`none` / `ahead` / `alternatives`) against
                     // 1.093 / 1.013 / 1.020: the classes L-BFGS leaves short of dm are
                     // shorter. On narrow-pass-blocked the other way round: the offline plan
-                    // drives class `e` (139 long) where climbing makes `-1-2` (96) safe.
-                    // README, *Performance*, twentieth session.
+                    // drives class `e` (139 long) where climbing makes `-1-2` (96) safe
+                    // (docs/decisions/0004-lbfgs-climbs-by-simplex.md).
                     climb_by_simplex: false,
                     ..GrowthConfig::default()
                 },
@@ -296,7 +296,7 @@ pub struct MissionResult {
     /// Distance the UGV drove.
     pub ugv_distance: Real,
     /// Length of the best plan on the true world from the start (`None` if it has none).
-    pub hindsight_length: Option<Real>,
+    pub truth_plan_length: Option<Real>,
     /// Re-plans after the offline plan.
     pub replans: usize,
     /// Class changes.
@@ -343,16 +343,16 @@ impl MissionResult {
         }
     }
 
-    /// UGV distance over the hindsight optimum's length.
+    /// UGV distance over the truth plan's length.
     pub fn distance_ratio(&self) -> Option<Real> {
-        self.hindsight_length
+        self.truth_plan_length
             .filter(|&l| l > 0.0 && self.reached)
             .map(|l| self.ugv_distance / l)
     }
 
-    /// Mission time over the hindsight optimum's driving time.
+    /// Mission time over the truth plan's driving time.
     pub fn time_ratio(&self, ugv_speed: Real) -> Option<Real> {
-        self.hindsight_length
+        self.truth_plan_length
             .filter(|&l| l > 0.0 && self.reached)
             .map(|l| self.time / (l / ugv_speed))
     }
@@ -730,8 +730,8 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
         plan: plan_cfg,
         ..cfg.clone()
     };
-    // Hindsight: the best plan on the true world.
-    let hindsight_length = plan(&world.truth, &cfg.plan)
+    // The truth plan: the best-cost plan on the true world.
+    let truth_plan_length = plan(&world.truth, &cfg.plan)
         .ok()
         .and_then(|p| p.chosen().map(|c| c.length));
     let known = SceneKnown {
@@ -743,7 +743,14 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
         replan_resolution: cfg.replan_resolution(&world.prior),
     };
     let rays = Rays::for_scene(&world.prior);
-    let (result, _) = run_mission(known, rays, &world.name, &world.team, hindsight_length, cfg)?;
+    let (result, _) = run_mission(
+        known,
+        rays,
+        &world.name,
+        &world.team,
+        truth_plan_length,
+        cfg,
+    )?;
     Ok(result)
 }
 
@@ -762,20 +769,27 @@ pub fn simulate_map(world: &MapWorld, cfg: &MissionConfig) -> Result<MissionResu
     plan_cfg.growth.min_evaluations_per_round = defaults.growth.min_evaluations_per_round;
     plan_cfg.search.one_path_per_state = defaults.search.one_path_per_state;
     plan_cfg.search.max_expansions = defaults.search.max_expansions;
+    plan_cfg.growth.cost.safety_along = defaults.growth.cost.safety_along;
     let cfg = &MissionConfig {
         plan: plan_cfg,
         ..cfg.clone()
     };
-    // Hindsight: the best plan on the true map.
-    let hindsight_length = homospline_maps::PreparedMap::new(&world.truth)
+    // The truth plan: the best-cost plan on the true map.
+    let truth_plan_length = homospline_maps::PreparedMap::new(&world.truth)
         .ok()
         .and_then(|m| m.plan(world.start, world.goal, &cfg.plan).ok())
         .and_then(|p| p.chosen().map(|c| c.length));
     let known =
         MapKnown::new(world).map_err(|e| MissionError::Config(format!("{}: {e}", world.name)))?;
     let rays = known.naming_rays();
-    let (mut result, known) =
-        run_mission(known, rays, &world.name, &world.team, hindsight_length, cfg)?;
+    let (mut result, known) = run_mission(
+        known,
+        rays,
+        &world.name,
+        &world.team,
+        truth_plan_length,
+        cfg,
+    )?;
     result.map_updates = known.updates;
     Ok(result)
 }
@@ -832,7 +846,7 @@ fn run_mission<K: Known>(
     rays: Rays,
     name: &str,
     team: &Team,
-    hindsight_length: Option<Real>,
+    truth_plan_length: Option<Real>,
     cfg: &MissionConfig,
 ) -> Result<(MissionResult, K), MissionError> {
     let (start, goal) = (known.start(), known.goal());
@@ -898,10 +912,10 @@ fn run_mission<K: Known>(
     let mut last_switch = Real::NEG_INFINITY;
     // Start and goal at one point: the best path is to stay (a plan's curve through them has
     // a length of rounding, and time over it read 166463).
-    let hindsight_length = if start == goal {
+    let truth_plan_length = if start == goal {
         Some(0.0)
     } else {
-        hindsight_length
+        truth_plan_length
     };
     // Offline: the classes on the prior map.
     let offline = run.routes_from(start, None, false, &ugv_track.samples);
@@ -922,7 +936,7 @@ fn run_mission<K: Known>(
             time: t,
             dt,
             ugv_distance: driven,
-            hindsight_length,
+            truth_plan_length,
             replans,
             switches,
             abandoned_distance: abandoned,
@@ -1005,6 +1019,15 @@ fn run_mission<K: Known>(
             let step = ugv.speed * dt;
             let left = route.line.length() - s;
             let moved = step.min(left);
+            // The track follows the route's polyline, the certified path: every vertex
+            // passed in the step is a sample (at the time the UGV passes it), so that no
+            // segment of the track cuts a corner of the route.
+            let t0 = t - dt;
+            for (&c, &p) in route.line.cum.iter().zip(&route.line.pts) {
+                if c > s && c < s + moved {
+                    ugv_track.samples.push((t0 + dt * (c - s) / moved, p));
+                }
+            }
             s += moved;
             driven += moved;
             let (pos, _) = route.line.at(s);

@@ -15,6 +15,11 @@ pub struct Ugv {
     pub speed: Real,
     /// Obstacles (and their absence) within this distance are discovered, map units.
     pub sensor_range: Real,
+    /// The robot's radius, map units (`team.ugv.radius`, default 0): its plans and its track
+    /// keep it from every obstacle. On a scene world it replaces the scene's `robot_radius`
+    /// when positive; on a map world both maps are inflated by it
+    /// (`OccupancyMap::inflated`).
+    pub radius: Real,
 }
 
 /// One aerial scout. It flies over obstacles; it sees what is within its sensor range.
@@ -43,6 +48,7 @@ impl Default for Team {
             ugv: Ugv {
                 speed: 1.0,
                 sensor_range: 6.0,
+                radius: 0.0,
             },
             uavs: Vec::new(),
         }
@@ -155,6 +161,8 @@ struct RawTeam {
 struct RawUgv {
     speed: Real,
     sensor_range: Real,
+    #[serde(default)]
+    radius: Real,
 }
 
 #[derive(Deserialize)]
@@ -430,6 +438,15 @@ impl WorldFile {
                         ));
                     }
                 }
+                let r = u.value.radius;
+                if !(r.is_finite() && (0.0..=MAX_MAGNITUDE).contains(&r)) {
+                    return Err(error(
+                        source,
+                        Some(line_of(u)),
+                        Some("team.ugv.radius"),
+                        format!("{r} must be a finite number >= 0"),
+                    ));
+                }
                 let mut uavs = Vec::new();
                 for (i, a) in t.value.uavs.iter().enumerate() {
                     let field = format!("team.uavs[{i}]");
@@ -466,6 +483,7 @@ impl WorldFile {
                     ugv: Ugv {
                         speed: u.value.speed,
                         sensor_range: u.value.sensor_range,
+                        radius: u.value.radius,
                     },
                     uavs,
                 }
@@ -498,10 +516,20 @@ impl WorldFile {
     /// Joins the file with its prior scene and checks them together: cleared obstacles exist
     /// on the map, hidden ones have names of their own, the start and the goal are free in
     /// the truth, the scouts start inside the bounds.
-    pub fn with_prior(self, prior: Scene) -> Result<MissionWorld, SceneError> {
+    pub fn with_prior(self, mut prior: Scene) -> Result<MissionWorld, SceneError> {
         let src = self.source.clone();
         let err =
             |field: &str, problem: String| error(&src, self.line(field), Some(field), problem);
+        let r = self.team.ugv.radius;
+        if r > 0.0 {
+            prior.robot_radius = r;
+            prior.validate(&src).map_err(|e| {
+                err(
+                    "team.ugv.radius",
+                    format!("{r}: the scene at this robot radius: {}", e.problem),
+                )
+            })?;
+        }
         for (i, name) in self.cleared_obstacles.iter().enumerate() {
             if !prior.obstacles.iter().any(|o| &o.name == name) {
                 return Err(err(
@@ -617,6 +645,12 @@ struct OutTeam {
 struct OutUgv {
     speed: Real,
     sensor_range: Real,
+    #[serde(skip_serializing_if = "is_zero")]
+    radius: Real,
+}
+
+fn is_zero(v: &Real) -> bool {
+    *v == 0.0
 }
 
 #[derive(serde::Serialize)]
@@ -652,6 +686,7 @@ impl MissionWorld {
                 ugv: OutUgv {
                     speed: self.team.ugv.speed,
                     sensor_range: self.team.ugv.sensor_range,
+                    radius: self.team.ugv.radius,
                 },
                 uavs: self
                     .team

@@ -113,8 +113,8 @@ fn a_small_map_world_is_reached_under_every_policy_deterministically_and_safely(
     let w = map_world("room-blocked.yaml");
     assert_eq!(w.changes.len(), 2, "{:?}", w.changes);
     assert!(w.changes.iter().any(|c| c.blocked && c.cells == [(12, 14)]));
-    let hindsight = run(&w, Policy::None).hindsight_length;
-    assert!(hindsight.is_some(), "the truth has a path");
+    let truth_plan = run(&w, Policy::None).truth_plan_length;
+    assert!(truth_plan.is_some(), "the truth has a path");
     for policy in Policy::ALL {
         let r = run(&w, policy);
         assert!(
@@ -148,7 +148,7 @@ fn a_small_map_world_is_reached_under_every_policy_deterministically_and_safely(
             "{}: the track enters an occupied cell",
             policy.name()
         );
-        assert!(r.ugv_distance >= 0.98 * hindsight.unwrap());
+        assert!(r.ugv_distance >= 0.98 * truth_plan.unwrap());
     }
 }
 

@@ -29,7 +29,7 @@ fn every_policy_reaches_the_goal_on_the_paper_worlds_and_runs_are_deterministic(
         for policy in Policy::ALL {
             let r = run(w, policy);
             assert!(
-                r.hindsight_length.is_some(),
+                r.truth_plan_length.is_some(),
                 "{}: the truth has a path",
                 w.name
             );
@@ -41,7 +41,7 @@ fn every_policy_reaches_the_goal_on_the_paper_worlds_and_runs_are_deterministic(
                 r.events.last()
             );
             // The distance driven is at least the track's chords and the straight line. (Not
-            // the hindsight plan's length: that plan is the cheapest by the cost, and the UGV
+            // the truth plan's length: that plan is the cheapest by the cost, and the UGV
             // may drive a shorter, costlier class.)
             let track: Vec<_> = r.ugv.samples.iter().map(|(_, p)| *p).collect();
             let chords: f64 = track.windows(2).map(|s| (s[1] - s[0]).norm()).sum();
@@ -184,7 +184,7 @@ fn generated_worlds_are_reached_whenever_the_truth_has_a_path() {
         tried += 1;
         for policy in Policy::ALL {
             let r = run(&w, policy);
-            if r.hindsight_length.is_some() {
+            if r.truth_plan_length.is_some() {
                 assert!(
                     r.reached,
                     "{} {}: {:?}",
@@ -312,7 +312,7 @@ fn a_winding_passage_too_narrow_for_ten_via_points_is_still_planned() {
         ..MissionConfig::default()
     };
     let r = simulate(&w, &cfg).unwrap();
-    assert!(r.hindsight_length.is_some(), "the truth has a path");
+    assert!(r.truth_plan_length.is_some(), "the truth has a path");
     assert!(r.reached, "{:#?}", r.events);
 }
 
@@ -376,7 +376,7 @@ fn a_re_plan_falls_back_to_the_full_graph_when_the_coarse_one_has_no_clear_class
 fn a_tight_spot_whose_every_way_is_narrower_than_a_cell_is_left() {
     let w = random_world(359, 2).unwrap();
     let r = run(&w, Policy::None);
-    assert!(r.hindsight_length.is_some(), "the truth has a path");
+    assert!(r.truth_plan_length.is_some(), "the truth has a path");
     assert!(r.reached, "{:#?}", r.events);
 }
 
@@ -454,7 +454,7 @@ fn a_mission_whose_goal_is_its_start_is_reached_at_once() {
     assert!(r.reached);
     assert_eq!(r.time, 0.0);
     assert_eq!(r.ugv_distance, 0.0);
-    assert_eq!(r.hindsight_length, Some(0.0));
+    assert_eq!(r.truth_plan_length, Some(0.0));
     assert_eq!(r.distance_ratio(), None);
     assert_eq!(r.time_ratio(w.team.ugv.speed), None);
 }

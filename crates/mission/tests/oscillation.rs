@@ -94,6 +94,7 @@ fn tempting_world_at(bump: f64, up: f64) -> MissionWorld {
         ugv: Ugv {
             speed: 0.5,
             sensor_range: 6.0,
+            radius: 0.0,
         },
         uavs: vec![Uav {
             start: prior.start,

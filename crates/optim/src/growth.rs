@@ -68,8 +68,9 @@ pub struct GrowthConfig {
     /// start ([`Guard::cost`]'s step at the target has no gradient), so it does not climb to
     /// the target, and the class stays unsafe; the simplex ranks a curve short of the target
     /// by its shortfall and climbs. With `--optimizer lbfgs` under the dm rule, narrow-pass
-    /// chose class `e` at cost 376 (its two short classes stuck at 2.86 and 2.94) and now
-    /// chooses `-1-2` at 130, as Nelder-Mead does (README, *Performance*, twentieth session).
+    /// chooses `-1-2` at cost 130, as Nelder-Mead does; without the climb it chooses class
+    /// `e` at 376, its two short classes stuck at 2.86 and 2.94
+    /// (docs/decisions/0004-lbfgs-climbs-by-simplex.md).
     /// Missions turn it off (`homospline_mission::MissionConfig`'s default, as measured there).
     pub climb_by_simplex: bool,
 }
@@ -824,8 +825,8 @@ impl Growth {
     /// via-points: no via-point is grown, and each round starts a fresh simplex where the
     /// last one stopped. A round at the default budget stops far from the best curve of its
     /// via-points (on the paper scenes one more round from the chosen curve, with its
-    /// finish, lowers its cost by 0.4 to 23 % without [`Growth::finish`] before it; README,
-    /// *Performance*, nineteenth session),
+    /// finish, lowers its cost by 0.4 to 23 % without [`Growth::finish`] before it;
+    /// docs/decisions/0015-polish-opt-in.md),
     /// and a growth's new curve starts off the curve before it, so a planner spends these
     /// on the class it chose.
     /// Under a clearance target, on a model that bounds how the clearance bends, the rounds
@@ -860,8 +861,8 @@ impl Growth {
     /// A `cap` below [`MIN_FINISH_EVALUATIONS`] runs nothing (each of the finish's stages
     /// takes at least two evaluations, so a smaller one would spend more than `cap`).
     /// At a full round's budget, on the 320 scanned scenes, this planned about as well as a
-    /// full polish round for 16 to 44 % less of its work (README, *Performance*,
-    /// twenty-first session). Kept or put back as
+    /// full polish round for 16 to 44 % less of its work
+    /// (docs/decisions/0016-finish-within-budget.md). Kept or put back as
     /// a polish round is; returns whether it was kept.
     pub fn finish(
         &mut self,

@@ -175,8 +175,7 @@ pub struct PlanConfig {
     /// and 2 to 4 none; 1.5 saves 60 % of the evaluations there (2.5: 53 %), and on the
     /// paper scenes 30 to 47 % of them (2.5: none on three of the five). With either
     /// optimiser (L-BFGS plans take half the evaluations with it, the same chosen cost in 319
-    /// of 320 scanned scenes, one 6.8 % dearer; until the twentieth session Nelder-Mead's
-    /// only, when L-BFGS rounds were too short for the wait to pay). `None`
+    /// of 320 scanned scenes, one 6.8 % dearer). `None`
     /// runs every class to its end (a mission does: its other classes are its alternatives).
     /// Applies where the classes are optimised after the search (scenes), not to a map's
     /// classes, optimised while the search goes on. At the defaults the evaluations it saves

@@ -2,11 +2,11 @@
 //! each quadrature's chosen plans cost when evaluated by a dense reference quadrature, and
 //! how far each quadrature's value of a curve is from the reference's.
 //!
-//! Sixteenth session, 320 scenes (the 20 fixtures and 300 generated worlds), reference 16
-//! nodes by 8 pieces: every quadrature cheaper than the default 5 x 2 chose dearer plans
-//! (regret geometric mean 1.022 at 5 x 2, 1.031 at 4 x 2, 1.037 at 3 x 2, 1.053 at 4 x 1,
-//! 1.060 at 5 x 1; p90 1.029 against 1.034 to 1.129) with as many evaluations, so 5 x 2
-//! stays (README, *Performance*).
+//! Measured on 320 scenes (the 20 fixtures and 300 generated worlds), reference 16 nodes by
+//! 8 pieces: every quadrature cheaper than the default 5 x 2 chose dearer plans (regret
+//! geometric mean 1.022 at 5 x 2, 1.031 at 4 x 2, 1.037 at 3 x 2, 1.053 at 4 x 1, 1.060 at
+//! 5 x 1; p90 1.029 against 1.034 to 1.129) with as many evaluations, so 5 x 2 stays
+//! (docs/decisions/0010-cost-accuracy.md).
 
 use homospline_geom::Scene;
 use homospline_optim::{PlanConfig, plan};

@@ -426,7 +426,7 @@ fn occupancy_of(a: &Bound<'_, PyAny>) -> PyResult<(usize, usize, Vec<bool>)> {
 /// `[origin + i * resolution, origin + (i + 1) * resolution]` in x and likewise in y, with
 /// y up from `origin` (ROS) or, with `y_down=True`, rows down the page (images, MovingAI).
 #[pyfunction]
-#[pyo3(signature = (occupancy, start, goal, resolution=1.0, origin=(0.0, 0.0), y_down=false, classes=5))]
+#[pyo3(signature = (occupancy, start, goal, resolution=1.0, origin=(0.0, 0.0), y_down=false, classes=5, robot_radius=0.0))]
 #[allow(clippy::too_many_arguments)]
 fn plan_map(
     py: Python<'_>,
@@ -437,6 +437,7 @@ fn plan_map(
     origin: (f64, f64),
     y_down: bool,
     classes: usize,
+    robot_radius: f64,
 ) -> PyResult<PyPlan> {
     let (rows, cols, cells) = occupancy_of(occupancy)?;
     if !(resolution.is_finite() && resolution > 0.0) {
@@ -462,7 +463,12 @@ fn plan_map(
     )
     .map_err(bad)?;
     let (s, g) = (Point::new(start.0, start.1), Point::new(goal.0, goal.1));
-    py.detach(|| homospline_maps::plan_map(&map, s, g, &cfg))
+    if !(robot_radius.is_finite() && robot_radius >= 0.0) {
+        return Err(bad(format!(
+            "robot_radius {robot_radius}: must be a finite number >= 0 (map units)"
+        )));
+    }
+    py.detach(|| homospline_maps::plan_map_for_robot(&map, robot_radius, s, g, &cfg))
         .map(|(inner, _)| PyPlan { inner })
         .map_err(|e| bad(e.to_string()))
 }
@@ -511,7 +517,7 @@ fn simulate<'py>(
 /// `limit`, or all), and only slice `shard = (k, n)` of them. Returns the CSV text of
 /// `docs/formats.md`; `bench_summary` merges the CSVs of several shards.
 #[pyfunction]
-#[pyo3(signature = (files, sample=None, limit=None, shard=(1, 1), classes=5, time_limit=None))]
+#[pyo3(signature = (files, sample=None, limit=None, shard=(1, 1), classes=5, time_limit=None, robot_radius=0.0))]
 fn bench_scen(
     py: Python<'_>,
     files: Vec<PathBuf>,
@@ -520,6 +526,7 @@ fn bench_scen(
     shard: (usize, usize),
     classes: usize,
     time_limit: Option<f64>,
+    robot_radius: f64,
 ) -> PyResult<String> {
     let shard = homospline_maps::bench::Shard::parse(&format!("{}/{}", shard.0, shard.1))
         .map_err(|e| bad(format!("shard {e}")))?;
@@ -531,6 +538,7 @@ fn bench_scen(
         classes,
         time_limit,
         weights: Vec::new(),
+        robot_radius,
     };
     let (rows, _) = py
         .detach(|| homospline_cli::bench::run_files(&job, |_, _| {}))

@@ -90,6 +90,16 @@ pub struct CostConfig {
     pub hazards: Vec<Point>,
     /// Where `m(C)` is searched between the quadrature nodes.
     pub clearance_search: ClearanceSearch,
+    /// The safety term integrated along the curve, `D = (1 / |S T|) integral omega^(dm - d(q))
+    /// dl`, instead of (7)'s `omega^(dm - m(C))` at the least clearance only (maps). On a
+    /// straight path of constant clearance it is (7); it sees every stretch that comes near
+    /// an obstacle (each pulls with its own share), and a start or goal next to a wall
+    /// weighs only over the stretch near it: with (7) the least clearance of a map path is
+    /// usually its start's or a one-cell door's, `D` is then the same for every curve, and
+    /// the rest of the path grazed corners. The scale is the fixed `|S T|` (1 when `S = T`),
+    /// not the curve's length: divided by its own length, `D` paid a detour through open
+    /// space (it lowered the mean), and paths on small cluttered maps came out twice as long.
+    pub safety_along: bool,
 }
 
 /// Where the cost looks for `m(C)` between its quadrature nodes, which can be several units
@@ -351,6 +361,7 @@ impl CostConfig {
             critical_points: Vec::new(),
             hazards: Vec::new(),
             clearance_search: ClearanceSearch::WorstNode,
+            safety_along: false,
         }
     }
 
@@ -1397,6 +1408,8 @@ fn run_in(
         );
     }
     let least_knot = knots.iter().map(|k| k.1).fold(Real::INFINITY, Real::min);
+    // The stops below bound `D` by `m(C)`, which holds for (7) only.
+    let enough = enough.filter(|_| !cfg.safety_along);
     // First stop: roughness, length and the knots' clearances (`m(C)` is at most theirs).
     if let Some(enough) = enough
         && let Some(low) = bounding_terms(&t, least_knot, cfg)
@@ -1435,18 +1448,24 @@ fn run_in(
             cfg.clearance_search,
         );
         t.min_clearance = m;
-        t.safety = cfg.omega.powf(cfg.dm - m);
-        if let Some(g) = grad {
-            let (seg, s) = spline.locate(tm);
-            let (_, dd) = model.clearance(&spline.eval_segment(seg, s).0);
-            let coef = -cfg.w_safety * t.safety * cfg.omega.ln();
-            g.push(NodePartial {
-                seg,
-                s,
-                gq: dd * coef,
-                gv: Vector::zeros(),
-                ga: Vector::zeros(),
-            });
+        if cfg.safety_along {
+            let span = (spline.position(1.0) - spline.position(0.0)).norm();
+            let scale = if span > 0.0 { span } else { 1.0 };
+            safety_along(samples, field, cfg, scale, &mut t, grad);
+        } else {
+            t.safety = cfg.omega.powf(cfg.dm - m);
+            if let Some(g) = grad {
+                let (seg, s) = spline.locate(tm);
+                let (_, dd) = model.clearance(&spline.eval_segment(seg, s).0);
+                let coef = -cfg.w_safety * t.safety * cfg.omega.ln();
+                g.push(NodePartial {
+                    seg,
+                    s,
+                    gq: dd * coef,
+                    gv: Vector::zeros(),
+                    ga: Vector::zeros(),
+                });
+            }
         }
     }
     if needs.line_of_sight {
@@ -1454,6 +1473,41 @@ fn run_in(
     }
     t.total = cfg.total(&t);
     Ok(t)
+}
+
+/// [`CostConfig::safety_along`]: `D = I / scale`, `I = integral omega^(dm - d(q)) dl` over
+/// the quadrature nodes, into `t.safety`, and with `grad` each node's partials:
+/// `dD/dq = -ln(omega) e |q'| dt grad d / scale` and `dD/dq' = e dt q' / (|q'| scale)`, where
+/// `e = omega^(dm - d)`.
+fn safety_along(
+    samples: &Samples,
+    field: &[FieldSample],
+    cfg: &CostConfig,
+    scale: Real,
+    t: &mut CostTerms,
+    grad: Option<&mut Vec<NodePartial>>,
+) {
+    let e = |d: Real| cfg.omega.powf(cfg.dm - d);
+    let integral: Real = samples
+        .nodes
+        .iter()
+        .zip(field)
+        .map(|(n, f)| e(f.clearance) * n.speed * n.dt)
+        .sum();
+    t.safety = integral / scale;
+    let Some(g) = grad else { return };
+    let ln_omega = cfg.omega.ln();
+    for (n, f) in samples.nodes.iter().zip(field) {
+        let ei = e(f.clearance);
+        let w = cfg.w_safety * n.dt * ei / scale;
+        g.push(NodePartial {
+            seg: n.seg,
+            s: n.s,
+            gq: f.clearance_grad * (-ln_omega * n.speed * w),
+            gv: unit(&n.v) * w,
+            ga: Vector::zeros(),
+        });
+    }
 }
 
 /// Terms bounding those of the finished evaluation from the terms `t` computed so far and

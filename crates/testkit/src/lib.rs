@@ -159,6 +159,7 @@ pub fn team(scene: &Scene, uavs: usize) -> Team {
         ugv: Ugv {
             speed: 1.0,
             sensor_range: 6.0,
+            radius: 0.0,
         },
         uavs: (0..uavs)
             .map(|_| Uav {

@@ -1,0 +1,275 @@
+//! The UGV's track keeps the robot's radius from every true obstacle, segment by segment: on
+//! the paper-like scene worlds (circles inflated by the robot radius), on a map world with
+//! `team.ugv.radius` 1 (exact distance from each track segment to each occupied cell of the
+//! true map), and on the fixture map world with a point robot. The track follows the route's
+//! certified polyline: a track of one sample per time step cut corners of it (a chord across
+//! a corner of the route next to a one-cell door came 0.008 cells into a wall).
+
+use std::path::PathBuf;
+
+use homospline_geom::{Point, Real};
+use homospline_maps::OccupancyMap;
+use homospline_mission::world::load_any;
+use homospline_mission::{
+    AnyWorld, MapWorld, MissionConfig, Policy, Team, Uav, Ugv, simulate, simulate_map,
+};
+use homospline_spline::{CircleModel, ClearanceModel};
+
+fn fixtures() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../fixtures")
+}
+
+fn cfg(policy: Policy) -> MissionConfig {
+    MissionConfig {
+        policy,
+        ..MissionConfig::default()
+    }
+}
+
+/// Distance from segment `ab` to the closed square `[x0, x0 + s] x [y0, y0 + s]` (0 when
+/// they meet).
+fn segment_square(a: Point, b: Point, x0: Real, y0: Real, s: Real) -> Real {
+    let inside = |p: Point| p.x >= x0 && p.x <= x0 + s && p.y >= y0 && p.y <= y0 + s;
+    let corners = [
+        Point::new(x0, y0),
+        Point::new(x0 + s, y0),
+        Point::new(x0 + s, y0 + s),
+        Point::new(x0, y0 + s),
+    ];
+    if inside(a) || inside(b) {
+        return 0.0;
+    }
+    // The segment crosses a side: parameters of the crossings with each side's line.
+    let cross = |p: Point, q: Point, c: Point, d: Point| {
+        let r = q - p;
+        let e = d - c;
+        let den = r.x * e.y - r.y * e.x;
+        if den == 0.0 {
+            return false;
+        }
+        let t = ((c - p).x * e.y - (c - p).y * e.x) / den;
+        let u = ((c - p).x * r.y - (c - p).y * r.x) / den;
+        (0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&u)
+    };
+    for k in 0..4 {
+        if cross(a, b, corners[k], corners[(k + 1) % 4]) {
+            return 0.0;
+        }
+    }
+    let point_square = |p: Point| {
+        let dx = (x0 - p.x).max(p.x - x0 - s).max(0.0);
+        let dy = (y0 - p.y).max(p.y - y0 - s).max(0.0);
+        dx.hypot(dy)
+    };
+    let point_segment = |c: Point| {
+        let d = b - a;
+        let t = if d.norm_squared() > 0.0 {
+            ((c - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        (a + d * t - c).norm()
+    };
+    corners
+        .iter()
+        .map(|&c| point_segment(c))
+        .chain([point_square(a), point_square(b)])
+        .fold(Real::INFINITY, Real::min)
+}
+
+/// The least distance from the track to an occupied cell of `map` or to its edge.
+fn track_clearance(map: &OccupancyMap, track: &[Point], reach: Real) -> Real {
+    let b = map.bounds();
+    let mut best = Real::INFINITY;
+    for p in track {
+        best = best.min(
+            (p.x - b.min.x)
+                .min(b.max.x - p.x)
+                .min(p.y - b.min.y)
+                .min(b.max.y - p.y),
+        );
+    }
+    for w in track.windows(2) {
+        let cell = |v: Real, o: Real, n: usize| {
+            (((v - o) / map.cell).floor().max(0.0) as usize).min(n - 1)
+        };
+        let r = reach + map.cell;
+        let (i0, i1) = (
+            cell(w[0].x.min(w[1].x) - r, map.origin.x, map.width),
+            cell(w[0].x.max(w[1].x) + r, map.origin.x, map.width),
+        );
+        let (j0, j1) = (
+            cell(w[0].y.min(w[1].y) - r, map.origin.y, map.height),
+            cell(w[0].y.max(w[1].y) + r, map.origin.y, map.height),
+        );
+        for j in j0..=j1 {
+            for i in i0..=i1 {
+                if map.occupied[j * map.width + i] {
+                    best = best.min(segment_square(
+                        w[0],
+                        w[1],
+                        map.origin.x + i as Real * map.cell,
+                        map.origin.y + j as Real * map.cell,
+                        map.cell,
+                    ));
+                }
+            }
+        }
+    }
+    best
+}
+
+/// A 40 x 40 map with a wall down the middle and two 6-cell gaps; the truth blocks the lower
+/// gap, on the prior's best path.
+fn two_gaps(radius: Real) -> (OccupancyMap, OccupancyMap, Team) {
+    let n = 40;
+    let mut occupied = vec![false; n * n];
+    for j in 0..n {
+        if !(8..14).contains(&j) && !(26..32).contains(&j) {
+            occupied[j * n + 20] = true;
+        }
+    }
+    let prior = OccupancyMap {
+        name: "two-gaps".into(),
+        width: n,
+        height: n,
+        cell: 1.0,
+        origin: Point::origin(),
+        occupied,
+        y_down: false,
+    };
+    let mut truth = prior.clone();
+    for j in 8..14 {
+        truth.occupied[j * n + 20] = true;
+    }
+    let team = Team {
+        ugv: Ugv {
+            speed: 1.0,
+            sensor_range: 5.0,
+            radius,
+        },
+        uavs: vec![Uav {
+            start: Point::new(3.5, 15.5),
+            speed: 3.0,
+            sensor_range: 6.0,
+        }],
+    };
+    (prior, truth, team)
+}
+
+#[test]
+fn the_segment_distance_is_exact_on_known_cases() {
+    let (a, b) = (Point::new(-1.0, 0.5), Point::new(3.0, 0.5));
+    assert_eq!(
+        segment_square(a, b, 1.0, 0.0, 1.0),
+        0.0,
+        "through the square"
+    );
+    let (a, b) = (Point::new(0.0, 3.0), Point::new(3.0, 0.0));
+    // The line x + y = 3 passes the corner (1, 1) of [0, 1]^2 at sqrt(2) / 2.
+    let d = segment_square(a, b, 0.0, 0.0, 1.0);
+    assert!((d - 0.5 * 2f64.sqrt()).abs() < 1e-12, "{d}");
+    let (a, b) = (Point::new(3.0, 0.5), Point::new(5.0, 0.5));
+    assert!((segment_square(a, b, 0.0, 0.0, 1.0) - 2.0).abs() < 1e-12);
+}
+
+#[test]
+fn a_map_mission_keeps_the_robot_radius_from_the_true_walls() {
+    let radius = 1.0;
+    let (prior, truth, team) = two_gaps(radius);
+    let world = MapWorld::new(
+        "two-gaps",
+        prior,
+        truth.clone(),
+        Point::new(3.5, 15.5),
+        Point::new(36.5, 15.5),
+        team,
+    )
+    .unwrap();
+    for policy in Policy::ALL {
+        let r = simulate_map(&world, &cfg(policy)).unwrap();
+        assert!(r.reached, "{}: not reached", policy.name());
+        let track: Vec<Point> = r.ugv.samples.iter().map(|(_, p)| *p).collect();
+        let c = track_clearance(&truth, &track, radius + 1.0);
+        assert!(
+            c >= radius,
+            "{}: the track comes {c} from a true wall, less than the radius {radius}",
+            policy.name()
+        );
+        // The truth's blockage was driven around: the track passes the upper gap.
+        assert!(
+            track.iter().any(|p| p.x > 19.0 && p.x < 22.0 && p.y > 25.0),
+            "{}: not through the upper gap",
+            policy.name()
+        );
+    }
+}
+
+#[test]
+fn a_map_world_refuses_a_start_closer_than_the_radius() {
+    let (prior, truth, team) = two_gaps(1.0);
+    let e = MapWorld::new(
+        "two-gaps",
+        prior,
+        truth,
+        Point::new(19.5, 5.5),
+        Point::new(36.5, 15.5),
+        team,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("has clearance 0.5000") && e.contains("team.ugv.radius 1"),
+        "{e}"
+    );
+}
+
+#[test]
+fn the_fixture_map_world_tracks_stay_out_of_every_true_cell() {
+    let w = match load_any(&fixtures().join("worlds/maps/room-blocked.yaml"), |p| {
+        std::fs::read(p)
+    }) {
+        Ok(AnyWorld::Map(w)) => w,
+        other => panic!("{:?}", other.err()),
+    };
+    for policy in Policy::ALL {
+        let r = simulate_map(&w, &cfg(policy)).unwrap();
+        let track: Vec<Point> = r.ugv.samples.iter().map(|(_, p)| *p).collect();
+        let c = track_clearance(&w.truth, &track, 1.0);
+        assert!(
+            c > 0.0,
+            "{}: the track touches a true wall ({c})",
+            policy.name()
+        );
+    }
+}
+
+#[test]
+fn scene_world_tracks_keep_the_robot_radius_from_the_true_circles() {
+    let mut worlds = 0;
+    for entry in std::fs::read_dir(fixtures().join("worlds")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "yaml") {
+            continue;
+        }
+        let w = match load_any(&path, |p| std::fs::read(p)) {
+            Ok(AnyWorld::Scene(w)) => w,
+            other => panic!("{}: {:?}", path.display(), other.err()),
+        };
+        // Circles inflated by the robot radius: a clearance >= 0 keeps the radius.
+        let truth = CircleModel::new(w.truth.circles());
+        for policy in Policy::ALL {
+            let r = simulate(&w, &cfg(policy)).unwrap();
+            let track: Vec<Point> = r.ugv.samples.iter().map(|(_, p)| *p).collect();
+            let c = truth.polyline_clearance(&track);
+            assert!(
+                c > 0.0,
+                "{} {}: the track comes within {c} of a true obstacle",
+                path.display(),
+                policy.name()
+            );
+        }
+        worlds += 1;
+    }
+    assert!(worlds >= 5);
+}
