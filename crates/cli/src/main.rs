@@ -64,8 +64,8 @@ enum ClearanceSearchArg {
     /// there and could rank first runs one more round with every-stretch.
     WorstNode,
     /// Between every two nodes, in every evaluation: every class is optimised against the
-    /// clearance it has (1.6 times an evaluation's cost). Scenes only: a map's
-    /// interpolated clearance has no bound on how sharply it bends, and this changes nothing.
+    /// clearance it has (1.6 times an evaluation's cost).
+    /// On maps too: the exact clearance to squares has the bound of a disc of radius 0.
     EveryStretch,
 }
 

@@ -407,3 +407,91 @@ fn graphs_of_many_maps_go_to_a_directory_and_a_failed_write_is_not_bad_input() {
             .contains("cannot write the plan JSON")
     );
 }
+
+#[test]
+fn a_robot_radius_plans_clear_of_walls_and_refuses_a_start_too_near() {
+    let room = "fixtures/maps/movingai/room-32-32-4.map";
+    let json = tmp("radius.json");
+    let out = homospline()
+        .args(["plan", room, "--start", "1.5,1.5", "--goal", "30.5,30.5"])
+        .args(["--robot-radius", "0.3", "--json", json.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let v = read_json(&json);
+    let best = v["best"].as_u64().unwrap() as usize;
+    // Clearances are the robot body's: positive means at least 0.3 from every wall.
+    assert!(
+        v["classes"][best - 1]["certified_clearance"]
+            .as_f64()
+            .unwrap()
+            > 0.0
+    );
+    let out = homospline()
+        .args(["plan", room, "--start", "1.5,1.5", "--goal", "30.5,30.5"])
+        .args(["--robot-radius", "0.7"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        err.contains("start [1.5, 1.5] has clearance 0.5000, less than the robot radius 0.7"),
+        "{err}"
+    );
+    for bad in ["-1", "nan"] {
+        let out = homospline()
+            .args(["plan", room, "--start", "1.5,1.5", "--goal", "30.5,30.5"])
+            .args([&format!("--robot-radius={bad}")])
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{bad}");
+        assert!(
+            String::from_utf8(out.stderr)
+                .unwrap()
+                .contains("robot radius"),
+            "{bad}"
+        );
+    }
+}
+
+#[test]
+fn a_saved_map_graph_is_reused_only_at_its_robot_radius() {
+    let room = "fixtures/maps/movingai/room-32-32-4.map";
+    let graph = |radius: &str| {
+        let g = tmp(&format!("room-r{radius}.msgpack"));
+        let out = homospline()
+            .args([
+                "graph",
+                room,
+                "--robot-radius",
+                radius,
+                "--out",
+                g.to_str().unwrap(),
+            ])
+            .output()
+            .unwrap();
+        assert_ok(&out);
+        g
+    };
+    let plan = |g: &std::path::Path, radius: &str| {
+        homospline()
+            .args(["plan", room, "--start", "1.5,1.5", "--goal", "30.5,30.5"])
+            .args(["--graph", g.to_str().unwrap(), "--robot-radius", radius])
+            .output()
+            .unwrap()
+    };
+    // At 0.3 every free cell's centre keeps the radius (the nearest walls are half a cell
+    // from it, no less): the free space, and so the graph, is the map's own.
+    let g = graph("0.3");
+    assert_ok(&plan(&g, "0.3"));
+    assert_ok(&plan(&g, "0"));
+    // At 0.6 the cells beside walls are closed: another free space, another graph.
+    let g = graph("0.6");
+    let out = plan(&g, "0");
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        err.contains("not built for map") && err.contains("robot radius"),
+        "{err}"
+    );
+}

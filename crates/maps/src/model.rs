@@ -183,12 +183,17 @@ impl GridModel {
             ];
             let (d, n) = sides
                 .into_iter()
-                .fold((Real::INFINITY, Vector::zeros()), |b, s| if s.0 < b.0 { s } else { b });
+                .fold((Real::INFINITY, Vector::zeros()), |b, s| {
+                    if s.0 < b.0 { s } else { b }
+                });
             return (-d, n);
         }
         let d2 = self.d2[k] as i64;
         if d2 > (self.w * self.w + self.h * self.h) as i64 {
-            return (self.exact_by_rings(p, ci, cj, Real::INFINITY), Vector::zeros());
+            return (
+                self.exact_by_rings(p, ci, cj, Real::INFINITY),
+                Vector::zeros(),
+            );
         }
         self.with_candidates(ci, cj, d2, |candidates| {
             let (mut best, mut towards) = (Real::INFINITY, Vector::zeros());
@@ -204,7 +209,11 @@ impl GridModel {
                     towards = v;
                 }
             }
-            let g = if best > 0.0 { towards / best } else { Vector::zeros() };
+            let g = if best > 0.0 {
+                towards / best
+            } else {
+                Vector::zeros()
+            };
             (best, g)
         })
     }
@@ -331,7 +340,8 @@ impl ClearanceModel for GridModel {
         (0..=n).all(|k| {
             let p = a + (b - a) * (k as Real / n as Real);
             self.cell_of(&p).is_some_and(|(i, j)| {
-                !self.occupied(j * self.w + i) && (self.offset == 0.0 || self.exact(&p) >= self.offset)
+                !self.occupied(j * self.w + i)
+                    && (self.offset == 0.0 || self.exact(&p) >= self.offset)
             })
         })
     }

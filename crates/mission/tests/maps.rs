@@ -148,7 +148,15 @@ fn a_small_map_world_is_reached_under_every_policy_deterministically_and_safely(
             "{}: the track enters an occupied cell",
             policy.name()
         );
-        assert!(r.ugv_distance >= 0.98 * truth_plan.unwrap());
+        // The truth plan is the best-cost plan on the true map, which keeps clear of walls
+        // along its whole length: not a lower bound of the distance driven (a re-plan from
+        // another position can be shorter). The straight line is one.
+        assert!(r.ugv_distance >= (w.goal - w.start).norm());
+        assert!(
+            r.distance_ratio().is_some_and(|d| d > 0.5),
+            "{:?}",
+            r.distance_ratio()
+        );
     }
 }
 

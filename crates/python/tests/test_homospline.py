@@ -71,6 +71,21 @@ def test_plan_map_equals_the_cli_plan_on_the_same_map(tmp_path):
     assert timeless(ours) == timeless(theirs)
 
 
+def test_plan_map_with_a_robot_radius_equals_the_cli_and_refuses_a_start_too_near(tmp_path):
+    path = ROOT / "fixtures/maps/movingai/room-32-32-4.map"
+    grid = movingai_array(path)
+    ours = homospline.plan_map(grid, (1.5, 1.5), (30.5, 30.5), y_down=True, robot_radius=0.3).to_dict()
+    theirs = cli_json(
+        ["plan", str(path), "--start", "1.5,1.5", "--goal", "30.5,30.5", "--robot-radius", "0.3"], tmp_path
+    )
+    ours.pop("scene"), theirs.pop("scene")
+    assert timeless(ours) == timeless(theirs)
+    with pytest.raises(ValueError, match="less than the robot radius 0.7"):
+        homospline.plan_map(grid, (1.5, 1.5), (30.5, 30.5), y_down=True, robot_radius=0.7)
+    with pytest.raises(ValueError, match="robot_radius -1"):
+        homospline.plan_map(grid, (1.5, 1.5), (30.5, 30.5), y_down=True, robot_radius=-1.0)
+
+
 def test_results_are_numpy_arrays_of_points():
     p = homospline.plan(homospline.Scene.example(), classes=3)
     assert p.best == 1

@@ -1,4 +1,5 @@
-//! The analytic gradient of the cost against central finite differences.
+//! The analytic gradient of the cost against central finite differences, with the safety
+//! term at the least clearance (7) and integrated along the curve (`safety_along`, maps).
 
 use homospline_geom::{Circle, Point, Real};
 use homospline_spline::{
@@ -73,6 +74,7 @@ proptest! {
         circles in prop::collection::vec((0.0..60.0, 0.0..60.0, 1.0..5.0), 1..12),
         ends in 0..3usize,
         form in prop::sample::select(RoughnessForm::ALL.to_vec()),
+        safety_along in any::<bool>(),
     ) {
         let mut pts = vec![Point::new(2.0, 30.0)];
         pts.extend(inner.into_iter().map(|(x, y)| Point::new(x, y)));
@@ -99,7 +101,7 @@ proptest! {
             .fold(Real::INFINITY, Real::min);
         prop_assume!(rho > 0.12);
         let model = CircleModel::new(circles);
-        check(&pts, end, &model, &CostConfig { roughness: form, ..cfg() })?;
+        check(&pts, end, &model, &CostConfig { roughness: form, safety_along, ..cfg() })?;
     }
 }
 

@@ -6,7 +6,8 @@
 
 use std::path::PathBuf;
 
-use homospline_geom::{Bounds, Circle, Obstacle, Point, Scene};
+use homospline_geom::{Bounds, Circle, Obstacle, Point, Real, Scene};
+use homospline_maps::OccupancyMap;
 use homospline_mission::{MissionConfig, MissionWorld, Team, Uav, Ugv, WorldFile};
 use homospline_optim::{Plan, plan};
 use homospline_spline::{CircleModel, ClearanceModel};
@@ -252,4 +253,98 @@ pub fn fixture_worlds() -> Vec<MissionWorld> {
             file.with_prior(scene).unwrap_or_else(|e| panic!("{e}"))
         })
         .collect()
+}
+
+/// Distance from segment `ab` to the closed square `[x0, x0 + s] x [y0, y0 + s]` (0 when
+/// they meet).
+pub fn segment_square(a: Point, b: Point, x0: Real, y0: Real, s: Real) -> Real {
+    let inside = |p: Point| p.x >= x0 && p.x <= x0 + s && p.y >= y0 && p.y <= y0 + s;
+    let corners = [
+        Point::new(x0, y0),
+        Point::new(x0 + s, y0),
+        Point::new(x0 + s, y0 + s),
+        Point::new(x0, y0 + s),
+    ];
+    if inside(a) || inside(b) {
+        return 0.0;
+    }
+    // The segment crosses a side: parameters of the crossings with each side's line.
+    let cross = |p: Point, q: Point, c: Point, d: Point| {
+        let r = q - p;
+        let e = d - c;
+        let den = r.x * e.y - r.y * e.x;
+        if den == 0.0 {
+            return false;
+        }
+        let t = ((c - p).x * e.y - (c - p).y * e.x) / den;
+        let u = ((c - p).x * r.y - (c - p).y * r.x) / den;
+        (0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&u)
+    };
+    for k in 0..4 {
+        if cross(a, b, corners[k], corners[(k + 1) % 4]) {
+            return 0.0;
+        }
+    }
+    let point_square = |p: Point| {
+        let dx = (x0 - p.x).max(p.x - x0 - s).max(0.0);
+        let dy = (y0 - p.y).max(p.y - y0 - s).max(0.0);
+        dx.hypot(dy)
+    };
+    let point_segment = |c: Point| {
+        let d = b - a;
+        let t = if d.norm_squared() > 0.0 {
+            ((c - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        (a + d * t - c).norm()
+    };
+    corners
+        .iter()
+        .map(|&c| point_segment(c))
+        .chain([point_square(a), point_square(b)])
+        .fold(Real::INFINITY, Real::min)
+}
+
+/// The least distance from the polyline `track` to an occupied cell of `map` or to its
+/// edge, exact (every cell within `reach` of each segment's box measured).
+pub fn track_clearance(map: &OccupancyMap, track: &[Point], reach: Real) -> Real {
+    let b = map.bounds();
+    let mut best = Real::INFINITY;
+    for p in track {
+        best = best.min(
+            (p.x - b.min.x)
+                .min(b.max.x - p.x)
+                .min(p.y - b.min.y)
+                .min(b.max.y - p.y),
+        );
+    }
+    for w in track.windows(2) {
+        let cell = |v: Real, o: Real, n: usize| {
+            (((v - o) / map.cell).floor().max(0.0) as usize).min(n - 1)
+        };
+        let r = reach + map.cell;
+        let (i0, i1) = (
+            cell(w[0].x.min(w[1].x) - r, map.origin.x, map.width),
+            cell(w[0].x.max(w[1].x) + r, map.origin.x, map.width),
+        );
+        let (j0, j1) = (
+            cell(w[0].y.min(w[1].y) - r, map.origin.y, map.height),
+            cell(w[0].y.max(w[1].y) + r, map.origin.y, map.height),
+        );
+        for j in j0..=j1 {
+            for i in i0..=i1 {
+                if map.occupied[j * map.width + i] {
+                    best = best.min(segment_square(
+                        w[0],
+                        w[1],
+                        map.origin.x + i as Real * map.cell,
+                        map.origin.y + j as Real * map.cell,
+                        map.cell,
+                    ));
+                }
+            }
+        }
+    }
+    best
 }
