@@ -483,6 +483,7 @@ fn mean(v: &[f64]) -> f64 {
 /// Every scout policy on `count` generated worlds, and the limited-overlap measurement.
 fn missions(count: usize) -> Result<()> {
     use homospline_mission::{MissionConfig, Policy, simulate};
+    use homospline_spline::{CircleModel, ClearanceModel};
     let mut worlds = Vec::new();
     let mut seed = 0;
     while worlds.len() < count && seed < 20 * count as u64 {
@@ -508,6 +509,9 @@ fn missions(count: usize) -> Result<()> {
         "worse than none"
     );
     let mut baseline: Vec<f64> = Vec::new();
+    // The least clearance of any UGV track, segment by segment, to the true obstacles
+    // (inflated by the robot radius: a track keeps the radius where it is positive).
+    let (mut track_clearance, mut missions_run) = (f64::INFINITY, 0);
     for policy in Policy::ALL {
         let cfg = MissionConfig {
             policy,
@@ -519,6 +523,11 @@ fn missions(count: usize) -> Result<()> {
         let mut times = Vec::new();
         for w in &worlds {
             let r = simulate(w, &cfg)?;
+            let track: Vec<homospline_geom::Point> = r.ugv.samples.iter().map(|s| s.1).collect();
+            let truth = CircleModel::new(w.truth.circles());
+            track_clearance = track_clearance
+                .min(truth.polyline_clearance(&track));
+            missions_run += 1;
             if r.truth_plan_length.is_some() {
                 solvable += 1;
                 reached += usize::from(r.reached);
@@ -557,9 +566,12 @@ fn missions(count: usize) -> Result<()> {
             worse
         );
     }
+    println!(
+        "UGV tracks: least clearance to the true obstacles, robot radius included, segment by segment: {track_clearance:.4} over {missions_run} missions{}",
+        if track_clearance > 0.0 { "" } else { "  TRACK ENTERS AN OBSTACLE" }
+    );
     // Limited overlap: single random blockages on the chosen path.
     use homospline_optim::{PlanConfig, plan};
-    use homospline_spline::{CircleModel, ClearanceModel};
     for diverse in [None, Some(0.8), Some(0.5)] {
         // The same blockage positions (as fractions of the chosen path) for every variant.
         let mut rng = homospline_testkit::SplitMix(42);

@@ -134,6 +134,9 @@ fn median(mut v: Vec<Real>) -> Real {
     }
 }
 
+/// A start, a goal and the optimum length between them.
+type Case = (Point, Point, Real);
+
 /// The map of `f` and its cases `(start, goal, optimum)` in order of length: a `.scen`
 /// file's scenarios sampled over every bucket (the octile optimum), or for a ROS map YAML,
 /// `sample` seeded pairs of free cell centres that keep the radius (the straight-line
@@ -141,7 +144,7 @@ fn median(mut v: Vec<Real>) -> Real {
 fn cases_of(
     f: &std::path::Path,
     o: &Options,
-) -> Result<(homospline_maps::OccupancyMap, Vec<(Point, Point, Real)>)> {
+) -> Result<(homospline_maps::OccupancyMap, Vec<Case>)> {
     let name = f.display().to_string();
     if f.extension().is_some_and(|e| e == "yaml" || e == "yml") {
         let homospline_maps::input::Input::Map(map) =

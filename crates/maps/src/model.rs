@@ -225,7 +225,8 @@ impl GridModel {
     /// the answer is at most |p - o*| - 1/2 <= D + sqrt(2)/2 - 1/2. A square at o is at least
     /// |p - o| - sqrt(2)/2 >= |c - o| - sqrt(2) away, so only centres with
     /// |c - o| <= D + sqrt(2)/2 - 1/2 + sqrt(2) can beat it: an annulus of width 1.62
-    /// instead of the whole disc.
+    /// instead of the whole disc; of its occupied cells, only those beside a free cell
+    /// ([`GridModel::on_boundary`]).
     fn annulus(&self, ci: usize, cj: usize, d2: i64) -> Box<[u32]> {
         let dc = (d2 as Real).sqrt();
         let best0 = dc + std::f64::consts::FRAC_1_SQRT_2 - 0.5;
@@ -256,7 +257,7 @@ impl GridModel {
                 for i in [ci as i64 + dx, ci as i64 - dx] {
                     if i >= 0 && (i as usize) < self.w {
                         let k = j as usize * self.w + i as usize;
-                        if self.occupied(k) {
+                        if self.occupied(k) && self.on_boundary(i as usize, j as usize) {
                             out.push(k as u32);
                         }
                     }
@@ -267,6 +268,17 @@ impl GridModel {
             }
         }
         out.into_boxed_slice()
+    }
+
+    /// Whether occupied cell `(i, j)` has a free 4-neighbour. Only such cells can hold the
+    /// nearest occupied point to a free point: that point lies on a side shared with a free
+    /// cell, or is a corner, which it shares with a cell beside a free cell.
+    fn on_boundary(&self, i: usize, j: usize) -> bool {
+        let k = j * self.w + i;
+        (i > 0 && !self.occupied(k - 1))
+            || (i + 1 < self.w && !self.occupied(k + 1))
+            || (j > 0 && !self.occupied(k - self.w))
+            || (j + 1 < self.h && !self.occupied(k + self.w))
     }
 
     /// Distance from `p` to the closed square of cell `(i, j)`.

@@ -518,6 +518,7 @@ fn simulate<'py>(
 /// `docs/formats.md`; `bench_summary` merges the CSVs of several shards.
 #[pyfunction]
 #[pyo3(signature = (files, sample=None, limit=None, shard=(1, 1), classes=5, time_limit=None, robot_radius=0.0))]
+#[allow(clippy::too_many_arguments)]
 fn bench_scen(
     py: Python<'_>,
     files: Vec<PathBuf>,
