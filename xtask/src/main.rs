@@ -525,8 +525,7 @@ fn missions(count: usize) -> Result<()> {
             let r = simulate(w, &cfg)?;
             let track: Vec<homospline_geom::Point> = r.ugv.samples.iter().map(|s| s.1).collect();
             let truth = CircleModel::new(w.truth.circles());
-            track_clearance = track_clearance
-                .min(truth.polyline_clearance(&track));
+            track_clearance = track_clearance.min(truth.polyline_clearance(&track));
             missions_run += 1;
             if r.truth_plan_length.is_some() {
                 solvable += 1;
@@ -568,7 +567,11 @@ fn missions(count: usize) -> Result<()> {
     }
     println!(
         "UGV tracks: least clearance to the true obstacles, robot radius included, segment by segment: {track_clearance:.4} over {missions_run} missions{}",
-        if track_clearance > 0.0 { "" } else { "  TRACK ENTERS AN OBSTACLE" }
+        if track_clearance > 0.0 {
+            ""
+        } else {
+            "  TRACK ENTERS AN OBSTACLE"
+        }
     );
     // Limited overlap: single random blockages on the chosen path.
     use homospline_optim::{PlanConfig, plan};

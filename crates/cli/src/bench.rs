@@ -110,7 +110,7 @@ fn map_beside(scen_file: &Path, map: &str) -> PathBuf {
 
 /// Reads the map at `path`, which line `line` of `scen` names.
 fn read_map_of(scen: &str, line: usize, path: &Path) -> Result<OccupancyMap, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
+    let text = crate::read_regular_string(path).map_err(|e| {
         format!(
             "{scen}:{line}: its map {}: cannot read: {e}",
             path.display()
@@ -162,7 +162,7 @@ pub fn run_files(
     for (f, path) in files.iter().enumerate() {
         let name = path.display().to_string();
         let text =
-            std::fs::read_to_string(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
+            crate::read_regular_string(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
         let scen = movingai::read_scen(&text, &name).map_err(|e| e.to_string())?;
         let chosen: Vec<usize> = match (job.limit, job.sample) {
             (Some(n), _) => (0..n.min(scen.len())).collect(),

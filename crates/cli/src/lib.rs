@@ -156,3 +156,22 @@ pub fn summary(scene: &Scene) -> String {
     }
     s
 }
+
+/// Reads a whole input file, refusing anything but a regular file: a named pipe blocked the
+/// command on open, and a device could be read forever.
+pub fn read_regular(path: &std::path::Path) -> std::io::Result<Vec<u8>> {
+    let meta = std::fs::metadata(path)?;
+    if !meta.is_file() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "not a regular file (a directory, pipe or device)",
+        ));
+    }
+    std::fs::read(path)
+}
+
+/// [`read_regular`] as UTF-8 text.
+pub fn read_regular_string(path: &std::path::Path) -> std::io::Result<String> {
+    String::from_utf8(read_regular(path)?)
+        .map_err(|_| std::io::Error::new(std::io::ErrorKind::InvalidData, "not UTF-8 text"))
+}

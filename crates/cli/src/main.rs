@@ -1,6 +1,7 @@
 //! The `homospline` command: validate scenes, plan paths, build Voronoi graphs, run MovingAI
 //! benchmarks (sharded and merged) and missions.
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -313,7 +314,8 @@ fn main() -> ExitCode {
     match result {
         Ok(code) => ExitCode::from(code),
         Err(e) => {
-            eprintln!("error: {e:#}");
+            // A failed write to stderr (full, closed) must not panic: the exit code says it.
+            let _ = writeln!(std::io::stderr().lock(), "error: {e:#}");
             // The user's input is to blame (2); anything else, such as an output that cannot
             // be written, is the run's failure (3).
             ExitCode::from(if e.downcast_ref::<BadInput>().is_some() {
@@ -326,13 +328,18 @@ fn main() -> ExitCode {
 }
 
 fn load_scene(path: &Path) -> anyhow::Result<Scene> {
-    let bytes =
-        std::fs::read(path).map_err(|e| bad(format!("{}: cannot read: {e}", path.display())))?;
+    let bytes = homospline_cli::read_regular(path)
+        .map_err(|e| bad(format!("{}: cannot read: {e}", path.display())))?;
     Scene::from_bytes(&bytes, &path.display().to_string()).map_err(|e| bad(e.to_string()))
 }
 
 fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
-    let world = homospline_mission::world::load_any(&a.world, |p| std::fs::read(p)).map_err(bad)?;
+    check_outputs(
+        &[&a.world],
+        &[("--json", a.json.as_deref()), ("--svg", a.svg.as_deref())],
+    )?;
+    let world =
+        homospline_mission::world::load_any(&a.world, homospline_cli::read_regular).map_err(bad)?;
     if a.classes == 0 || a.classes > 64 {
         return Err(bad(format!(
             "--classes {}: must be between 1 and 64",
@@ -412,20 +419,76 @@ fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
 
 /// Writes an output file; its directory must exist (none is made: a mistyped path fails
 /// instead of leaving a stray tree), and the error says which is missing.
+/// Writes `bytes` to `path` whole or not at all: into a temporary file beside it, then
+/// renamed over it. A full disk or a failed write leaves any file already at `path` as it
+/// was (no truncated output, no good file destroyed), and the temporary file is removed.
 fn write(path: &Path, what: &str, bytes: &[u8]) -> anyhow::Result<()> {
-    std::fs::write(path, bytes).with_context(|| {
-        match path
-            .parent()
-            .filter(|d| !d.as_os_str().is_empty() && !d.exists())
-        {
-            Some(d) => format!(
-                "{}: cannot write the {what}: the directory {} does not exist",
-                path.display(),
-                d.display()
-            ),
-            None => format!("{}: cannot write the {what}", path.display()),
+    let context = || match path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty() && !d.exists())
+    {
+        Some(d) => format!(
+            "{}: cannot write the {what}: the directory {} does not exist",
+            path.display(),
+            d.display()
+        ),
+        None => format!("{}: cannot write the {what}", path.display()),
+    };
+    let name = path
+        .file_name()
+        .map_or_else(|| "output".to_owned(), |n| n.to_string_lossy().into_owned());
+    let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
+    let result = (|| {
+        use std::io::Write;
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result.with_context(context)
+}
+
+/// Refuses, before any work, an output path that is one of the inputs or another output,
+/// or whose directory does not exist: a plan of minutes ended on a typo, and `--json`
+/// equal to the scene overwrote it.
+fn check_outputs(inputs: &[&Path], outputs: &[(&str, Option<&Path>)]) -> anyhow::Result<()> {
+    let same = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
+        (Ok(x), Ok(y)) => x == y,
+        _ => a == b,
+    };
+    let given: Vec<(&str, &Path)> = outputs
+        .iter()
+        .filter_map(|&(flag, p)| p.map(|p| (flag, p)))
+        .collect();
+    for (k, &(flag, p)) in given.iter().enumerate() {
+        if let Some(input) = inputs.iter().find(|i| same(i, p)) {
+            return Err(bad(format!(
+                "{flag} {}: is the input {}; write the output elsewhere",
+                p.display(),
+                input.display()
+            )));
         }
-    })
+        if let Some((other, _)) = given[..k].iter().find(|(_, q)| same(q, p)) {
+            return Err(bad(format!(
+                "{flag} {}: is also the {other} output; give each output its own file",
+                p.display()
+            )));
+        }
+        if let Some(d) = p
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty() && !d.is_dir())
+        {
+            return Err(bad(format!(
+                "{flag} {}: the directory {} does not exist",
+                p.display(),
+                d.display()
+            )));
+        }
+    }
+    Ok(())
 }
 
 fn check(path: &Path) -> anyhow::Result<u8> {
@@ -471,6 +534,14 @@ fn graph(
     json: Option<PathBuf>,
     svg: Option<PathBuf>,
 ) -> anyhow::Result<u8> {
+    check_outputs(
+        &[path],
+        &[
+            ("--out", out.as_deref()),
+            ("--json", json.as_deref()),
+            ("--svg", svg.as_deref()),
+        ],
+    )?;
     let input = graph_input(path, (resolution, robot_radius))?;
     let t = std::time::Instant::now();
     let (g, cells, res, name) = match &input {
@@ -744,10 +815,20 @@ fn parse_point(opt: &str, text: &str) -> anyhow::Result<Point> {
 
 /// Reads a scene, a MovingAI map or a ROS map YAML (with its image), by content and name.
 fn load_input(path: &Path) -> anyhow::Result<Input> {
-    homospline_maps::input::load(path, |p| std::fs::read(p)).map_err(bad)
+    homospline_maps::input::load(path, homospline_cli::read_regular).map_err(bad)
 }
 
 fn plan(a: PlanArgs) -> anyhow::Result<u8> {
+    let inputs: Vec<&Path> = a
+        .scene
+        .iter()
+        .chain(&a.graph)
+        .map(PathBuf::as_path)
+        .collect();
+    check_outputs(
+        &inputs,
+        &[("--json", a.json.as_deref()), ("--svg", a.svg.as_deref())],
+    )?;
     let input = match &a.scene {
         Some(p) => load_input(p)?,
         None => Input::Scene(
@@ -885,7 +966,7 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
                     |g| g.resolution,
                 );
                 if let Some(n) = homospline_cli::unseen_obstacles(scene, resolution) {
-                    eprintln!("{n}");
+                    let _ = writeln!(std::io::stderr().lock(), "{n}");
                 }
             }
             let result = plan_with_graph(scene, saved, &cfg)
@@ -909,7 +990,7 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
             let radius = a.robot_radius.unwrap_or(0.0);
             let prepared = match &a.graph {
                 Some(p) => {
-                    let bytes = std::fs::read(p)
+                    let bytes = homospline_cli::read_regular(p)
                         .map_err(|e| bad(format!("{}: cannot read: {e}", p.display())))?;
                     let g = VoronoiGraph::from_msgpack(&bytes)
                         .map_err(|e| bad(format!("{}: {e}", p.display())))?;
@@ -954,7 +1035,8 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
 }
 
 fn load_graph(p: &Path, scene: &Scene, cfg: &PlanConfig) -> anyhow::Result<VoronoiGraph> {
-    let bytes = std::fs::read(p).map_err(|e| bad(format!("{}: cannot read: {e}", p.display())))?;
+    let bytes = homospline_cli::read_regular(p)
+        .map_err(|e| bad(format!("{}: cannot read: {e}", p.display())))?;
     let g = VoronoiGraph::from_msgpack(&bytes).map_err(|e| bad(format!("{}: {e}", p.display())))?;
     if let Some(why) = homospline_optim::graph_misfit(&g, scene, cfg) {
         bail!(bad(format!("{}: {why}", p.display())));
@@ -978,6 +1060,8 @@ fn shard_of(opt: Option<&str>) -> anyhow::Result<homospline_maps::bench::Shard> 
 fn bench_scen(a: BenchArgs) -> anyhow::Result<u8> {
     use homospline_cli::bench::{BenchJob, csv_text, run_files};
     use homospline_maps::bench;
+    let inputs: Vec<&Path> = a.scen.iter().map(PathBuf::as_path).collect();
+    check_outputs(&inputs, &[("--csv", a.csv.as_deref())])?;
     let shard = shard_of(a.shard.as_deref())?;
     let job = BenchJob {
         files: a.scen.clone(),
@@ -1037,11 +1121,13 @@ fn bench_scen(a: BenchArgs) -> anyhow::Result<u8> {
 }
 
 fn bench_merge(csvs: &[PathBuf], out: Option<&Path>) -> anyhow::Result<u8> {
+    let inputs: Vec<&Path> = csvs.iter().map(PathBuf::as_path).collect();
+    check_outputs(&inputs, &[("--out", out)])?;
     let mut texts = Vec::new();
     for p in csvs {
         let name = p.display().to_string();
-        let text =
-            std::fs::read_to_string(p).map_err(|e| bad(format!("{name}: cannot read: {e}")))?;
+        let text = homospline_cli::read_regular_string(p)
+            .map_err(|e| bad(format!("{name}: cannot read: {e}")))?;
         texts.push((name, text));
     }
     let rows = homospline_cli::bench::rows_of_named(&texts).map_err(bad)?;

@@ -64,6 +64,17 @@ pub struct Bounds {
     pub max: Point,
 }
 
+/// `[x0, x1] x [y0, y1]`, as messages name a rectangle.
+impl std::fmt::Display for Bounds {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "[{}, {}] x [{}, {}]",
+            self.min.x, self.max.x, self.min.y, self.max.y
+        )
+    }
+}
+
 impl Bounds {
     /// Whether `p` lies inside or on the rectangle.
     pub fn contains(&self, p: &Point) -> bool {

@@ -433,7 +433,7 @@ impl OccupancyMap {
             problem: problem.to_owned(),
         };
         match self.free_at(p) {
-            None => Err(err(&format!("is outside the map {:?}", self.bounds()))),
+            None => Err(err(&format!("is outside the map {}", self.bounds()))),
             Some(false) => Err(err("is in an occupied cell")),
             Some(true) => match self.touches_obstacle(p) {
                 Some(why) => Err(err(why)),

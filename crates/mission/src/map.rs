@@ -159,7 +159,7 @@ impl WorldFile {
                     None => {
                         return Err(err(
                             field,
-                            format!("({}, {}) is outside the map {:?}", p.x, p.y, m.bounds()),
+                            format!("({}, {}) is outside the map {}", p.x, p.y, m.bounds()),
                         ));
                     }
                     Some(false) => {

@@ -531,6 +531,12 @@ impl WorldFile {
             })?;
         }
         for (i, name) in self.cleared_obstacles.iter().enumerate() {
+            if self.cleared_obstacles[..i].contains(name) {
+                return Err(err(
+                    &format!("cleared_obstacles[{i}]"),
+                    format!("'{name}' is listed twice"),
+                ));
+            }
             if !prior.obstacles.iter().any(|o| &o.name == name) {
                 return Err(err(
                     &format!("cleared_obstacles[{i}]"),

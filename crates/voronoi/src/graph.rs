@@ -328,7 +328,84 @@ impl VoronoiGraph {
         }
         let f: File =
             rmp_serde::from_slice(bytes).map_err(|e| GraphError::Decode(e.to_string()))?;
+        f.graph.validate()?;
         Ok(f.graph)
+    }
+
+    /// Checks a graph read from outside: a positive finite resolution, nodes numbered in
+    /// order, edges between existing nodes with at least one edge, finite non-negative
+    /// lengths and clearances, finite polyline points (at least two per edge), start and
+    /// goal among the nodes, finite obstacle representatives. A graph that fails any of these
+    /// sent the class search out of bounds or into an endless loop (negative lengths), or
+    /// gave "no plan" where the file was at fault.
+    pub fn validate(&self) -> Result<(), GraphError> {
+        let bad = |what: String| Err(GraphError::Decode(what));
+        if !(self.resolution.is_finite() && self.resolution > 0.0) {
+            return bad(format!(
+                "resolution {} is not a positive number",
+                self.resolution
+            ));
+        }
+        let n = self.nodes.len();
+        for (i, node) in self.nodes.iter().enumerate() {
+            if node.id != i {
+                return bad(format!(
+                    "node {i} has id {}: nodes must be numbered in order",
+                    node.id
+                ));
+            }
+            if !(node.at.iter().all(|v| v.is_finite())
+                && node.clearance.is_finite()
+                && node.clearance >= 0.0)
+            {
+                return bad(format!(
+                    "node {i}: its position or clearance is not a finite number (clearance >= 0)"
+                ));
+            }
+        }
+        if self.edges.is_empty() {
+            return bad("the graph has no edge".into());
+        }
+        for (k, e) in self.edges.iter().enumerate() {
+            if e.from >= n || e.to >= n {
+                return bad(format!(
+                    "edge {k} joins nodes {} and {}, but the graph has {n} nodes",
+                    e.from, e.to
+                ));
+            }
+            for (what, v) in [
+                ("length", e.length),
+                ("min_clearance", e.min_clearance),
+                ("mean_clearance", e.mean_clearance),
+            ] {
+                if !(v.is_finite() && v >= 0.0) {
+                    return bad(format!("edge {k}: {what} {v} is not a finite number >= 0"));
+                }
+            }
+            if e.polyline.len() < 2 || !e.polyline.iter().flatten().all(|v| v.is_finite()) {
+                return bad(format!(
+                    "edge {k}: its polyline needs at least two finite points"
+                ));
+            }
+        }
+        for (what, end) in [("start", self.start), ("goal", self.goal)] {
+            if let Some(i) = end
+                && i >= n
+            {
+                return bad(format!(
+                    "the {what} is node {i}, but the graph has {n} nodes"
+                ));
+            }
+        }
+        if !self
+            .obstacles
+            .iter()
+            .flat_map(|o| o.representative)
+            .all(|v| v.is_finite())
+        {
+            return bad("an obstacle's representative point is not finite".into());
+        }
+        Ok(())
     }
 }
 
