@@ -1,0 +1,83 @@
+//! The documentation keeps up with the command line: every option that a command's `--help`
+//! lists is in the user guide (docs/guide.md), the README stays a short manual, and no file
+//! of the repository reads as a lab notebook.
+
+mod common;
+
+use common::*;
+
+/// The long options of `homospline ARGS --help`.
+fn long_options(args: &[&str]) -> Vec<String> {
+    let out = homospline().args(args).arg("--help").output().unwrap();
+    assert_ok(&out);
+    let text = String::from_utf8(out.stdout).unwrap();
+    let mut v: Vec<String> = text
+        .split(|c: char| !(c.is_ascii_alphanumeric() || c == '-'))
+        .filter(|w| w.starts_with("--") && w.len() > 2 && w != &"--help" && w != &"--version")
+        .map(str::to_owned)
+        .collect();
+    v.sort();
+    v.dedup();
+    v
+}
+
+#[test]
+fn the_guide_documents_every_option_of_every_command() {
+    let guide = std::fs::read_to_string(root().join("docs/guide.md")).unwrap();
+    let commands = [
+        "plan",
+        "bench-scen",
+        "graph",
+        "bench-merge",
+        "simulate",
+        "check",
+    ];
+    let mut missing = Vec::new();
+    for c in commands {
+        let options = long_options(&[c]);
+        if c == "plan" {
+            assert!(options.len() > 20, "plan --help: {options:?}");
+        }
+        for o in options {
+            if !guide.contains(&format!("`{o}")) {
+                missing.push(format!("{c} {o}"));
+            }
+        }
+    }
+    assert!(missing.is_empty(), "not in docs/guide.md: {missing:?}");
+}
+
+#[test]
+fn the_readme_is_short_and_starts_with_the_two_commands() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let lines = readme.lines().count();
+    assert!(lines <= 250, "README.md has {lines} lines");
+    let head: String = readme.lines().take(20).collect::<Vec<_>>().join("\n");
+    assert!(head.contains("cargo test --workspace --locked"), "{head}");
+    assert!(head.contains("plan"), "{head}");
+}
+
+#[test]
+fn no_file_reads_as_a_lab_notebook() {
+    // The word is built here so that this file does not hold it.
+    let word = ["ses", "sion"].concat();
+    let mut found = Vec::new();
+    let mut stack = vec![root().to_path_buf()];
+    while let Some(dir) = stack.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            let name = path.file_name().unwrap().to_string_lossy().into_owned();
+            if name == "target" || name == ".git" {
+                continue;
+            }
+            if path.is_dir() {
+                stack.push(path);
+            } else if let Ok(text) = std::fs::read_to_string(&path)
+                && text.to_lowercase().contains(&word)
+            {
+                found.push(path.display().to_string());
+            }
+        }
+    }
+    assert!(found.is_empty(), "files holding the word: {found:?}");
+}
