@@ -50,11 +50,16 @@ pub fn read_yaml(text: &str, source: &str) -> Result<RosMapYaml, MapError> {
         let problem = homospline_geom::scene::yaml_problem(&e, "malformed map YAML");
         err(source, line, problem)
     })?;
-    if !(y.resolution.is_finite() && y.resolution > 0.0) {
+    // A cell below a nanometre is no map (1e-200 was read and planned into an empty path:
+    // lengths underflowed); so is one beyond a million metres.
+    if !(y.resolution.is_finite() && (MIN_RESOLUTION..=MAX_RESOLUTION).contains(&y.resolution)) {
         return Err(err(
             source,
             None,
-            format!("resolution: must be positive, got {}", y.resolution),
+            format!(
+                "resolution: must be a cell size from {MIN_RESOLUTION:e} to {MAX_RESOLUTION:e} metres, got {}",
+                y.resolution
+            ),
         ));
     }
     if !y.origin.iter().all(|v| v.is_finite()) {
@@ -102,6 +107,12 @@ pub fn read_yaml(text: &str, source: &str) -> Result<RosMapYaml, MapError> {
     }
     Ok(y)
 }
+
+/// The least cell size accepted, metres.
+pub const MIN_RESOLUTION: f64 = 1e-9;
+
+/// The largest cell size accepted, metres.
+pub const MAX_RESOLUTION: f64 = 1e6;
 
 /// The map from its YAML and the image's bytes (`image_source` names it in errors).
 pub fn read_map(
@@ -160,4 +171,22 @@ pub fn read_map(
         occupied,
         y_down: false,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_resolution_beyond_a_nanometre_or_a_thousand_kilometres_is_refused() {
+        for r in ["1e-200", "0", "-0.05", "1e7", ".nan"] {
+            let text = format!(
+                "image: m.pgm\nresolution: {r}\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n"
+            );
+            let e = read_yaml(&text, "m.yaml").unwrap_err().to_string();
+            assert!(e.contains("resolution: must be a cell size"), "{r}: {e}");
+        }
+        let ok = "image: m.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
+        assert!(read_yaml(ok, "m.yaml").is_ok());
+    }
 }
