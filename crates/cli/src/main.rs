@@ -336,7 +336,10 @@ fn load_scene(path: &Path) -> anyhow::Result<Scene> {
 fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
     check_outputs(
         &[&a.world],
-        &[("--json", a.json.as_deref()), ("--svg", a.svg.as_deref())],
+        &[
+            ("--json", "mission JSON", a.json.as_deref()),
+            ("--svg", "picture", a.svg.as_deref()),
+        ],
     )?;
     let world =
         homospline_mission::world::load_any(&a.world, homospline_cli::read_regular).map_err(bad)?;
@@ -454,16 +457,16 @@ fn write(path: &Path, what: &str, bytes: &[u8]) -> anyhow::Result<()> {
 /// Refuses, before any work, an output path that is one of the inputs or another output,
 /// or whose directory does not exist: a plan of minutes ended on a typo, and `--json`
 /// equal to the scene overwrote it.
-fn check_outputs(inputs: &[&Path], outputs: &[(&str, Option<&Path>)]) -> anyhow::Result<()> {
+fn check_outputs(inputs: &[&Path], outputs: &[(&str, &str, Option<&Path>)]) -> anyhow::Result<()> {
     let same = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
         (Ok(x), Ok(y)) => x == y,
         _ => a == b,
     };
-    let given: Vec<(&str, &Path)> = outputs
+    let given: Vec<(&str, &str, &Path)> = outputs
         .iter()
-        .filter_map(|&(flag, p)| p.map(|p| (flag, p)))
+        .filter_map(|&(flag, what, p)| p.map(|p| (flag, what, p)))
         .collect();
-    for (k, &(flag, p)) in given.iter().enumerate() {
+    for (k, &(flag, what, p)) in given.iter().enumerate() {
         if let Some(input) = inputs.iter().find(|i| same(i, p)) {
             return Err(bad(format!(
                 "{flag} {}: is the input {}; write the output elsewhere",
@@ -471,21 +474,22 @@ fn check_outputs(inputs: &[&Path], outputs: &[(&str, Option<&Path>)]) -> anyhow:
                 input.display()
             )));
         }
-        if let Some((other, _)) = given[..k].iter().find(|(_, q)| same(q, p)) {
+        if let Some((other, _, _)) = given[..k].iter().find(|(_, _, q)| same(q, p)) {
             return Err(bad(format!(
                 "{flag} {}: is also the {other} output; give each output its own file",
                 p.display()
             )));
         }
+        // Not the input's fault: like a write that fails, exit 3.
         if let Some(d) = p
             .parent()
             .filter(|d| !d.as_os_str().is_empty() && !d.is_dir())
         {
-            return Err(bad(format!(
-                "{flag} {}: the directory {} does not exist",
+            return Err(anyhow::anyhow!(
+                "{}: cannot write the {what}: the directory {} does not exist",
                 p.display(),
                 d.display()
-            )));
+            ));
         }
     }
     Ok(())
@@ -537,9 +541,9 @@ fn graph(
     check_outputs(
         &[path],
         &[
-            ("--out", out.as_deref()),
-            ("--json", json.as_deref()),
-            ("--svg", svg.as_deref()),
+            ("--out", "graph", out.as_deref()),
+            ("--json", "graph JSON", json.as_deref()),
+            ("--svg", "picture", svg.as_deref()),
         ],
     )?;
     let input = graph_input(path, (resolution, robot_radius))?;
@@ -827,7 +831,10 @@ fn plan(a: PlanArgs) -> anyhow::Result<u8> {
         .collect();
     check_outputs(
         &inputs,
-        &[("--json", a.json.as_deref()), ("--svg", a.svg.as_deref())],
+        &[
+            ("--json", "plan JSON", a.json.as_deref()),
+            ("--svg", "picture", a.svg.as_deref()),
+        ],
     )?;
     let input = match &a.scene {
         Some(p) => load_input(p)?,
@@ -1061,7 +1068,7 @@ fn bench_scen(a: BenchArgs) -> anyhow::Result<u8> {
     use homospline_cli::bench::{BenchJob, csv_text, run_files};
     use homospline_maps::bench;
     let inputs: Vec<&Path> = a.scen.iter().map(PathBuf::as_path).collect();
-    check_outputs(&inputs, &[("--csv", a.csv.as_deref())])?;
+    check_outputs(&inputs, &[("--csv", "CSV", a.csv.as_deref())])?;
     let shard = shard_of(a.shard.as_deref())?;
     let job = BenchJob {
         files: a.scen.clone(),
@@ -1122,7 +1129,7 @@ fn bench_scen(a: BenchArgs) -> anyhow::Result<u8> {
 
 fn bench_merge(csvs: &[PathBuf], out: Option<&Path>) -> anyhow::Result<u8> {
     let inputs: Vec<&Path> = csvs.iter().map(PathBuf::as_path).collect();
-    check_outputs(&inputs, &[("--out", out)])?;
+    check_outputs(&inputs, &[("--out", "CSV", out)])?;
     let mut texts = Vec::new();
     for p in csvs {
         let name = p.display().to_string();

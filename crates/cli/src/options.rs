@@ -89,6 +89,14 @@ pub fn plan_config(o: &PlanOptions, scene: Option<&Scene>) -> Result<PlanConfig,
     if let Some(s) = scene {
         cost = cost.with_scene_points(s);
     }
+    if scene.is_none() {
+        // The map defaults of the safety term, whatever the preset; `--weight` may change
+        // them below.
+        let map = homospline_maps::map_config().growth.cost;
+        cost.safety_along = map.safety_along;
+        cost.dm = map.dm;
+        cost.omega = map.omega;
+    }
     for (name, v) in &o.weights {
         cost.set(name.trim(), *v)
             .map_err(|e| format!("--weight {name}={v}: {e}"))?;
@@ -118,8 +126,6 @@ pub fn plan_config(o: &PlanOptions, scene: Option<&Scene>) -> Result<PlanConfig,
         Some(_) => PlanConfig::default(),
         None => homospline_maps::map_config(),
     };
-    // The form of the safety term is the world's (maps: along the path), whatever the preset.
-    cost.safety_along = base.growth.cost.safety_along;
     if let Some(form) = &o.roughness {
         cost.roughness = RoughnessForm::from_name(form)
             .ok_or_else(|| format!("--roughness {form}: expected paper, energy or authors"))?;

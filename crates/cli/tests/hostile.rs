@@ -92,9 +92,17 @@ fn outputs_never_overwrite_an_input_or_each_other_and_are_checked_first() {
         &["plan", s, "--json", x, "--svg", x],
         "is also the --json output",
     );
-    assert_refused(
-        &["plan", s, "--json", "no/such/dir/plan.json"],
-        "the directory no/such/dir does not exist",
+    // A missing directory is found before the work too, and fails like a write (exit 3).
+    let out = homospline()
+        .args(["plan", s, "--json", "no/such/dir/plan.json"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(3));
+    assert!(out.stdout.is_empty(), "checked before the work");
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        err.contains("the directory no/such/dir does not exist"),
+        "{err}"
     );
 }
 

@@ -51,13 +51,13 @@ pub fn read_yaml(text: &str, source: &str) -> Result<RosMapYaml, MapError> {
         err(source, line, problem)
     })?;
     // A cell below a nanometre is no map (1e-200 was read and planned into an empty path:
-    // lengths underflowed); so is one beyond a million metres.
-    if !(y.resolution.is_finite() && (MIN_RESOLUTION..=MAX_RESOLUTION).contains(&y.resolution)) {
+    // lengths underflowed). Large cells are refused by the map's extent (`read_map`).
+    if !(y.resolution.is_finite() && y.resolution >= MIN_RESOLUTION) {
         return Err(err(
             source,
             None,
             format!(
-                "resolution: must be a cell size from {MIN_RESOLUTION:e} to {MAX_RESOLUTION:e} metres, got {}",
+                "resolution: must be a cell size of at least {MIN_RESOLUTION:e} metres, got {}",
                 y.resolution
             ),
         ));
@@ -110,9 +110,6 @@ pub fn read_yaml(text: &str, source: &str) -> Result<RosMapYaml, MapError> {
 
 /// The least cell size accepted, metres.
 pub const MIN_RESOLUTION: f64 = 1e-9;
-
-/// The largest cell size accepted, metres.
-pub const MAX_RESOLUTION: f64 = 1e6;
 
 /// The map from its YAML and the image's bytes (`image_source` names it in errors).
 pub fn read_map(
@@ -178,8 +175,8 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_resolution_beyond_a_nanometre_or_a_thousand_kilometres_is_refused() {
-        for r in ["1e-200", "0", "-0.05", "1e7", ".nan"] {
+    fn a_resolution_below_a_nanometre_is_refused() {
+        for r in ["1e-200", "0", "-0.05", ".nan", ".inf"] {
             let text = format!(
                 "image: m.pgm\nresolution: {r}\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n"
             );

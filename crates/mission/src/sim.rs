@@ -792,6 +792,8 @@ pub fn simulate_map(world: &MapWorld, cfg: &MissionConfig) -> Result<MissionResu
     plan_cfg.search.one_path_per_state = defaults.search.one_path_per_state;
     plan_cfg.search.max_expansions = defaults.search.max_expansions;
     plan_cfg.growth.cost.safety_along = defaults.growth.cost.safety_along;
+    plan_cfg.growth.cost.dm = defaults.growth.cost.dm;
+    plan_cfg.growth.cost.omega = defaults.growth.cost.omega;
     let cfg = &MissionConfig {
         plan: plan_cfg,
         ..cfg.clone()
