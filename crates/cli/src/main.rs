@@ -420,8 +420,6 @@ fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
     Ok(if result.reached { 0 } else { 1 })
 }
 
-/// Writes an output file; its directory must exist (none is made: a mistyped path fails
-/// instead of leaving a stray tree), and the error says which is missing.
 /// Writes `bytes` to `path` whole or not at all: into a temporary file beside it, then
 /// renamed over it. A full disk or a failed write leaves any file already at `path` as it
 /// was (no truncated output, no good file destroyed), and the temporary file is removed.
@@ -458,8 +456,18 @@ fn write(path: &Path, what: &str, bytes: &[u8]) -> anyhow::Result<()> {
 /// or whose directory does not exist: a plan of minutes ended on a typo, and `--json`
 /// equal to the scene overwrote it.
 fn check_outputs(inputs: &[&Path], outputs: &[(&str, &str, Option<&Path>)]) -> anyhow::Result<()> {
-    let same = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
-        (Ok(x), Ok(y)) => x == y,
+    // Outputs need not exist yet: their directory is resolved, and their name joined.
+    let resolve = |p: &Path| {
+        p.canonicalize().ok().or_else(|| {
+            let dir = match p.parent() {
+                Some(d) if !d.as_os_str().is_empty() => d,
+                _ => Path::new("."),
+            };
+            Some(dir.canonicalize().ok()?.join(p.file_name()?))
+        })
+    };
+    let same = |a: &Path, b: &Path| match (resolve(a), resolve(b)) {
+        (Some(x), Some(y)) => x == y,
         _ => a == b,
     };
     let given: Vec<(&str, &str, &Path)> = outputs

@@ -29,7 +29,7 @@ fn lying_graph(name: &str, edit: impl Fn(&mut VoronoiGraph)) -> std::path::PathB
 #[test]
 fn saved_graphs_that_lie_are_refused_before_planning() {
     type Edit = fn(&mut VoronoiGraph);
-    let cases: [(&str, Edit, &str); 5] = [
+    let cases: [(&str, Edit, &str); 6] = [
         ("index", |g| g.edges[0].to = 9_999, "joins nodes"),
         ("negative", |g| g.edges[1].length = -3.0, "length -3"),
         (
@@ -39,6 +39,12 @@ fn saved_graphs_that_lie_are_refused_before_planning() {
         ),
         ("no-edges", |g| g.edges.clear(), "no edge"),
         ("ids", |g| g.nodes[1].id = 7, "numbered in order"),
+        // Far off the map: its index's sampling had looped for ever.
+        (
+            "far",
+            |g| g.edges[0].polyline[0] = [1e300, -1e300],
+            "not in a free cell",
+        ),
     ];
     for (name, edit, needle) in cases {
         let g = lying_graph(name, edit);
@@ -90,6 +96,18 @@ fn outputs_never_overwrite_an_input_or_each_other_and_are_checked_first() {
     let x = x.to_str().unwrap();
     assert_refused(
         &["plan", s, "--json", x, "--svg", x],
+        "is also the --json output",
+    );
+    // Two spellings of one file that does not exist yet.
+    assert_refused(
+        &[
+            "plan",
+            s,
+            "--json",
+            "same-out.json",
+            "--svg",
+            "./same-out.json",
+        ],
         "is also the --json output",
     );
     // A missing directory is found before the work too, and fails like a write (exit 3).

@@ -148,8 +148,10 @@ pub enum MapError {
     /// A saved graph that does not fit the map.
     #[error("{0}")]
     Graph(String),
-    /// A robot radius that is not a finite number `>= 0`.
-    #[error("robot radius {0}: must be a finite number >= 0 (map units; metres on a ROS map)")]
+    /// A robot radius that is not a finite number `>= 0`, or that no cell of the map keeps.
+    #[error(
+        "robot radius {0}: must be a finite number >= 0 (map units; metres on a ROS map) that some cell of the map keeps"
+    )]
     Radius(Real),
     /// More cells than a map may have ([`MAX_MAP_CELLS`]).
     #[error(
@@ -428,12 +430,17 @@ impl OccupancyMap {
     ) -> Result<Real, MapError> {
         self.check_endpoint(what, p)?;
         let c = self.clearance_within(p, radius + 2.0 * self.cell);
-        if c < radius {
+        if c < radius || (radius > 0.0 && c == radius) {
+            let than = if c < radius {
+                "less than"
+            } else {
+                "no more than"
+            };
             return Err(MapError::Endpoint {
                 what,
                 x: p.x,
                 y: p.y,
-                problem: format!("has clearance {c:.4}, less than the robot radius {radius}"),
+                problem: format!("has clearance {c:.4}, {than} the robot radius {radius}"),
             });
         }
         Ok(c)
@@ -524,6 +531,9 @@ impl PreparedMap {
         let model = GridModel::new(&grid, &DistanceField::build(&grid));
         drop(grid);
         let free = map.free_for_robot(radius, &model)?;
+        if free.occupied.iter().all(|&o| o) {
+            return Err(MapError::Radius(radius));
+        }
         Ok((free, Some(model.for_radius(radius)), Some(map.clone())))
     }
 
@@ -557,6 +567,23 @@ impl PreparedMap {
                 "the graph was not built for map {} at robot radius {radius} (resolution, \
                  obstacles or robot radius differ)",
                 map.name
+            )));
+        }
+        // Every node and polyline point in a free cell of this map at this radius: a graph of
+        // another radius whose obstacles happen to match (all merged with the wall) runs
+        // through cells now blocked, and points far off the map made the index's sampling
+        // loop for ever.
+        let off = graph
+            .nodes
+            .iter()
+            .map(|n| n.at)
+            .chain(graph.edges.iter().flat_map(|e| e.polyline.iter().copied()))
+            .find(|p| map.free_at(&Point::new(p[0], p[1])) != Some(true));
+        if let Some(p) = off {
+            return Err(MapError::Graph(format!(
+                "the graph was not built for map {} at robot radius {radius}: its point [{}, {}] \
+                 is not in a free cell",
+                map.name, p[0], p[1]
             )));
         }
         let graph = MapGraph::from_graph(&grid, graph);
@@ -606,16 +633,18 @@ impl PreparedMap {
         };
         let r = self.robot_radius;
         let c = truth.check_endpoint_for(what, p, r)?;
-        self.map.check_endpoint(what, p).map_err(|_| MapError::Endpoint {
-            what,
-            x: p.x,
-            y: p.y,
-            problem: format!(
-                "has clearance {c:.4} >= the robot radius {r}, but its cell comes closer than {r} \
-                 to an obstacle (free space is the cells all of whose points keep the radius): \
-                 move it up to one cell away from the wall"
-            ),
-        })
+        self.map
+            .check_endpoint(what, p)
+            .map_err(|_| MapError::Endpoint {
+                what,
+                x: p.x,
+                y: p.y,
+                problem: format!(
+                    "has clearance {c:.4} > the robot radius {r}, but its cell's centre does not \
+                 keep it (free space is the cells whose centre keeps the radius): move it up to \
+                 one cell away from the wall"
+                ),
+            })
     }
 
     /// The graph of one query: start and goal joined to the complete graph along
@@ -689,6 +718,9 @@ pub fn plan_map_for_robot(
     goal: Point,
     cfg: &PlanConfig,
 ) -> Result<(Plan, PreparedMap), MapError> {
+    if !(radius.is_finite() && radius >= 0.0) {
+        return Err(MapError::Radius(radius));
+    }
     map.check_endpoint_for("start", &start, radius)?;
     map.check_endpoint_for("goal", &goal, radius)?;
     let prepared = PreparedMap::for_robot(map, radius)?;

@@ -195,6 +195,11 @@ fn a_start_closer_than_the_radius_is_refused_with_its_clearance() {
         e.to_string().contains("goal") && e.to_string().contains("has clearance 0.6000"),
         "{e}"
     );
+    // A radius that no cell keeps leaves no free space: refused, not a graph without edges.
+    assert!(matches!(
+        PreparedMap::for_robot(&m, 1e6).map(|_| ()),
+        Err(MapError::Radius(_))
+    ));
     for bad in [-1.0, Real::NAN, Real::INFINITY] {
         assert!(matches!(
             PreparedMap::for_robot(&m, bad).map(|_| ()),

@@ -181,15 +181,21 @@ impl WorldFile {
         }
         // The robot's radius: both maps as its centre sees them; start and goal must keep it.
         let r = self.team.ugv.radius;
+        if !(r.is_finite() && r >= 0.0) {
+            return Err(err(
+                "team.ugv.radius",
+                format!("{r} must be a finite number >= 0"),
+            ));
+        }
         if r > 0.0 {
             for (field, p) in [("start", spec.start), ("goal", spec.goal)] {
                 for (which, m) in [("prior map", &prior), ("truth map", &truth)] {
                     let c = m.clearance_within(&p, r + 2.0 * m.cell);
-                    if c < r {
+                    if c <= r {
                         return Err(err(
                             field,
                             format!(
-                                "({}, {}) has clearance {c:.4} on the {which}, less than team.ugv.radius {r}",
+                                "({}, {}) has clearance {c:.4} on the {which}, not more than team.ugv.radius {r}",
                                 p.x, p.y
                             ),
                         ));
