@@ -6,8 +6,7 @@
 
 use std::time::Instant;
 
-use homospline_geom::Point;
-use homospline_maps::{OccupancyMap, PreparedMap};
+use homospline_maps::PreparedMap;
 
 /// Peak and current resident memory of this process, bytes (`None` off Linux).
 fn memory() -> Option<(u64, u64)> {
@@ -39,15 +38,7 @@ fn main() -> std::process::ExitCode {
             },
         }
     }
-    let map = OccupancyMap {
-        name: format!("random{n}-20"),
-        width: n,
-        height: n,
-        cell: 1.0,
-        origin: Point::origin(),
-        occupied: homospline_testkit::random_occupancy(n, 0.2, 43),
-        y_down: true,
-    };
+    let map = homospline_testkit::random_map(n);
     let cells = (n * n) as f64;
     let before = memory().map_or(0, |m| m.1);
     if stages {

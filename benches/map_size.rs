@@ -6,27 +6,13 @@
 //! `cargo xtask map-memory`'s.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use homospline_geom::Point;
-use homospline_maps::{OccupancyMap, PreparedMap};
+use homospline_maps::PreparedMap;
 use std::hint::black_box;
-
-/// A random `n x n` map, 20 % of its cells occupied (seeded).
-fn random_map(n: usize) -> OccupancyMap {
-    OccupancyMap {
-        name: format!("random{n}-20"),
-        width: n,
-        height: n,
-        cell: 1.0,
-        origin: Point::origin(),
-        occupied: homospline_testkit::random_occupancy(n, 0.2, 43),
-        y_down: true,
-    }
-}
 
 fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("map_size");
     for n in [1024, 4096] {
-        let map = random_map(n);
+        let map = homospline_testkit::random_map(n);
         if n > 1024 {
             g.sample_size(10);
         }

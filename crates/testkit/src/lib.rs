@@ -57,6 +57,19 @@ pub fn random_occupancy(n: usize, density: f64, seed: u64) -> Vec<bool> {
     (0..n * n).map(|_| rng.next_unit() < density).collect()
 }
 
+/// The `n x n` map of [`random_occupancy`] at 20 % (seed 43), unit cells, y down.
+pub fn random_map(n: usize) -> OccupancyMap {
+    OccupancyMap {
+        name: format!("random{n}-20"),
+        width: n,
+        height: n,
+        cell: 1.0,
+        origin: Point::origin(),
+        occupied: random_occupancy(n, 0.2, 43),
+        y_down: true,
+    }
+}
+
 /// A scene in the square `[0, size]^2` with these obstacles, no robot radius and no danger
 /// points, critical points or hazards.
 pub fn square_scene(
