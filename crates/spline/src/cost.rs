@@ -121,8 +121,8 @@ pub enum ClearanceSearch {
     /// bend ([`ClearanceModel::bend_radius`]); the worst node's two stretches are searched
     /// too (Brent's method follows one valley, and a second dip beside it escapes it). An
     /// evaluation costs 1.6 times as much on the cost bench: a curve held near `dm` has
-    /// many stretches close to it. A model without the bend bound (a map's grid) gets
-    /// `WorstNode`.
+    /// many stretches close to it. A model without the bend bound gets `WorstNode` (a map's
+    /// grid has it: the distance to a square bends as a disc of radius 0's).
     EveryStretch,
 }
 
