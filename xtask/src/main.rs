@@ -248,7 +248,7 @@ fn regress(bless: bool) -> Result<bool> {
         ok &= compare(
             &format!("check {stem}"),
             &golden,
-            &homospline_cli::summary(&scene),
+            &homospline_front::summary(&scene),
             bless,
         )?;
         count += 1;

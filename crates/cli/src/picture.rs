@@ -373,27 +373,88 @@ mod png {
     }
 }
 
+/// Width of a line of `text` in pixels at `font_size`, an upper estimate for sans-serif
+/// (0.6 em a character; most glyphs are narrower).
+pub fn text_width(text: &str, font_size: Real) -> Real {
+    0.6 * font_size * text.chars().count() as Real
+}
+
+/// A label's anchor near a marker at `(x, y)`: up and to the right, or to the other side
+/// where that would leave the picture `w x h` (a label is `width` wide and `size` high).
+fn label_at((x, y): (Real, Real), width: Real, size: Real, (w, h): (Real, Real)) -> (Real, Real) {
+    let lx = if x + 8.0 + width <= w {
+        x + 8.0
+    } else {
+        (x - 8.0 - width).max(0.0)
+    };
+    let ly = if y - 8.0 - size >= 0.0 {
+        y - 8.0
+    } else {
+        (y + 8.0 + size).min(h)
+    };
+    (lx, ly)
+}
+
 fn endpoints(start: Point, goal: Point, v: &View) -> Group {
     let mut g = Group::new().set("id", "endpoints");
     for (p, label, colour) in [(start, "S", "#2ca02c"), (goal, "T", "#d62728")] {
+        let (x, y) = (v.x(p.x), v.y(p.y));
+        let (lx, ly) = label_at((x, y), text_width(label, 16.0), 16.0, (v.w(), v.h()));
         g = g
             .add(
                 Circle::new()
-                    .set("cx", v.x(p.x))
-                    .set("cy", v.y(p.y))
+                    .set("cx", x)
+                    .set("cy", y)
                     .set("r", 6)
                     .set("fill", colour)
                     .set("stroke", "black"),
             )
             .add(
                 Text::new(label)
-                    .set("x", v.x(p.x) + 8.0)
-                    .set("y", v.y(p.y) - 8.0)
+                    .set("x", lx)
+                    .set("y", ly)
                     .set("font-size", 16)
                     .set("font-family", "sans-serif"),
             );
     }
     g
+}
+
+/// Height of the strip under the drawing that holds the scale bar and the legend.
+const STRIP_PAD: Real = 12.0;
+/// A legend row's height.
+const ROW: Real = 20.0;
+/// The legend's font size.
+const LEGEND_FONT: Real = 13.0;
+/// Width kept for the scale bar at the strip's left.
+const SCALE_BAR_WIDTH: Real = 190.0;
+
+/// The legend's layout under the drawing: columns of rows, each column as wide as its
+/// longest label, as many columns as fit beside the scale bar.
+struct LegendLayout {
+    rows: usize,
+    column_width: Real,
+}
+
+impl LegendLayout {
+    fn new(items: &[(&str, String, bool)], v: &View) -> Self {
+        let widest = items
+            .iter()
+            .map(|(_, l, _)| text_width(l, LEGEND_FONT))
+            .fold(0.0, Real::max);
+        let column_width = 36.0 + widest + 16.0;
+        let room = (v.w() - SCALE_BAR_WIDTH).max(column_width);
+        let columns = ((room / column_width).floor() as usize).clamp(1, items.len().max(1));
+        Self {
+            rows: items.len().div_ceil(columns).max(1),
+            column_width,
+        }
+    }
+
+    /// The strip's height.
+    fn height(&self) -> Real {
+        ROW * self.rows as Real + 2.0 * STRIP_PAD
+    }
 }
 
 fn scale_bar(v: &View) -> Group {
@@ -404,14 +465,16 @@ fn scale_bar(v: &View) -> Group {
         .map(|m| m * mag)
         .rfind(|l| *l <= target)
         .unwrap_or(mag);
-    let (x0, y0) = (20.0, v.h() - 20.0);
+    // Under the drawing, in the strip: never over a path or an endpoint.
+    let (x0, y0) = (20.0, v.h() + STRIP_PAD + 22.0);
+    let px = (len * v.scale).min(SCALE_BAR_WIDTH - 40.0);
     Group::new()
         .set("id", "scale-bar")
         .add(
             Line::new()
                 .set("x1", x0)
                 .set("y1", y0)
-                .set("x2", x0 + len * v.scale)
+                .set("x2", x0 + px)
                 .set("y2", y0)
                 .set("stroke", "black")
                 .set("stroke-width", 3),
@@ -425,21 +488,28 @@ fn scale_bar(v: &View) -> Group {
         )
 }
 
-fn legend(items: &[(&str, String, bool)], v: &View) -> Group {
+/// The legend, in the strip under the drawing (off the start, the goal and every curve),
+/// sized to its labels.
+fn legend(items: &[(&str, String, bool)], layout: &LegendLayout, v: &View) -> Group {
     let mut g = Group::new().set("id", "legend");
-    let (x0, y0) = (v.w() - 250.0, 16.0);
+    let columns = items.len().div_ceil(layout.rows).max(1);
+    let x_left = SCALE_BAR_WIDTH
+        .min(v.w() - layout.column_width * columns as Real)
+        .max(0.0);
+    let top = v.h() + STRIP_PAD / 2.0;
     g = g.add(
         Rectangle::new()
-            .set("x", x0 - 8.0)
-            .set("y", y0 - 12.0)
-            .set("width", 250)
-            .set("height", 20.0 * items.len() as Real + 10.0)
+            .set("x", x_left)
+            .set("y", top)
+            .set("width", layout.column_width * columns as Real)
+            .set("height", layout.height() - STRIP_PAD)
             .set("fill", "white")
-            .set("fill-opacity", 0.85)
             .set("stroke", "#333"),
     );
     for (k, (colour, label, dashed)) in items.iter().enumerate() {
-        let y = y0 + 20.0 * k as Real;
+        let (col, row) = (k / layout.rows, k % layout.rows);
+        let x0 = x_left + 8.0 + layout.column_width * col as Real;
+        let y = top + STRIP_PAD + 4.0 + ROW * row as Real;
         let mut line = Line::new()
             .set("x1", x0)
             .set("y1", y)
@@ -454,18 +524,20 @@ fn legend(items: &[(&str, String, bool)], v: &View) -> Group {
             Text::new(label.clone())
                 .set("x", x0 + 36.0)
                 .set("y", y + 4.0)
-                .set("font-size", 13)
+                .set("font-size", LEGEND_FONT)
                 .set("font-family", "sans-serif"),
         );
     }
     g
 }
 
-fn document(v: &View) -> Document {
+/// The document: the drawing `v.w() x v.h()` and a strip of `strip` pixels under it.
+fn document(v: &View, strip: Real) -> Document {
+    let h = (v.h() + strip).ceil();
     Document::new()
-        .set("viewBox", (0, 0, v.w().ceil(), v.h().ceil()))
+        .set("viewBox", (0, 0, v.w().ceil(), h))
         .set("width", v.w().ceil())
-        .set("height", v.h().ceil())
+        .set("height", h)
         .add(
             Rectangle::new()
                 .set("width", "100%")
@@ -478,15 +550,16 @@ fn document(v: &View) -> Document {
 /// (chosen bold), start and goal, legend, scale bar.
 pub fn plan_svg(bg: &Background<'_>, plan: &Plan) -> String {
     let v = View::new(bg);
-    let mut doc = bg.layers(&v, document(&v));
     let style = bg.graph_style(&v);
+    let items = plan_legend(plan, &style);
+    let layout = LegendLayout::new(&items, &v);
+    let mut doc = bg.layers(&v, document(&v, layout.height()));
     if let Some(g) = &plan.graph {
         doc = doc.add(voronoi(g, &v, &style));
     }
     let mut seeds = Group::new().set("id", "seeds");
     let mut paths = Group::new().set("id", "paths");
     let mut best = Group::new().set("id", "best");
-    let mut items = vec![(style.colour, "Voronoi graph".to_owned(), false)];
     for c in &plan.classes {
         let colour = PALETTE[(c.rank - 1) % PALETTE.len()];
         seeds = seeds.add(
@@ -508,12 +581,28 @@ pub fn plan_svg(bg: &Background<'_>, plan: &Plan) -> String {
         } else {
             paths = paths.add(p);
         }
+    }
+    let (start, goal) = (plan.start, plan.goal);
+    doc.add(seeds)
+        .add(paths)
+        .add(best)
+        .add(endpoints(start, goal, &v))
+        .add(legend(&items, &layout, &v))
+        .add(scale_bar(&v))
+        .to_string()
+}
+
+/// A plan's legend: the graph, each class by rank and short id, the seeds.
+fn plan_legend(plan: &Plan, style: &GraphStyle) -> Vec<(&'static str, String, bool)> {
+    let mut items = vec![(style.colour, "Voronoi graph".to_owned(), false)];
+    for c in &plan.classes {
+        let chosen = plan.best == Some(c.rank);
         items.push((
-            colour,
+            PALETTE[(c.rank - 1) % PALETTE.len()],
             format!(
                 "#{} {}{}{}",
                 c.rank,
-                c.signature,
+                homospline_homotopy::class_id(&c.signature),
                 if chosen { " (chosen)" } else { "" },
                 if c.collision_free { "" } else { " COLLIDES" }
             ),
@@ -521,14 +610,7 @@ pub fn plan_svg(bg: &Background<'_>, plan: &Plan) -> String {
         ));
     }
     items.push(("#555", "class seeds: dashed".to_owned(), true));
-    let (start, goal) = (plan.start, plan.goal);
-    doc.add(seeds)
-        .add(paths)
-        .add(best)
-        .add(endpoints(start, goal, &v))
-        .add(legend(&items, &v))
-        .add(scale_bar(&v))
-        .to_string()
+    items
 }
 
 /// A Voronoi graph: background, graph, start and goal, legend, scale bar.
@@ -548,11 +630,16 @@ pub fn graph_svg(bg: &Background<'_>, graph: &VoronoiGraph) -> String {
         n.and_then(|i| graph.nodes.get(i))
             .map(|n| Point::new(n.at[0], n.at[1]))
     };
-    let mut doc = bg.layers(&v, document(&v)).add(voronoi(graph, &v, &style));
+    let layout = LegendLayout::new(&items, &v);
+    let mut doc = bg
+        .layers(&v, document(&v, layout.height()))
+        .add(voronoi(graph, &v, &style));
     if let (Some(s), Some(t)) = (at(graph.start), at(graph.goal)) {
         doc = doc.add(endpoints(s, t, &v));
     }
-    doc.add(legend(&items, &v)).add(scale_bar(&v)).to_string()
+    doc.add(legend(&items, &layout, &v))
+        .add(scale_bar(&v))
+        .to_string()
 }
 
 #[cfg(test)]

@@ -206,7 +206,7 @@ fn bad_options_exit_2_with_the_option_named() {
         (vec!["plan", "--weight", "alpha=-1"], "--weight alpha=-1"),
         (
             vec!["plan", "--preset", "fast"],
-            "--preset: unknown preset 'fast'",
+            "invalid value 'fast' for '--preset <PRESET>'",
         ),
         (vec!["plan", "--classes", "0"], "--classes 0"),
         (vec!["plan", "--resolution", "0"], "--resolution 0"),
@@ -293,7 +293,7 @@ fn the_help_gives_the_default_pruning_ratio() {
         .split_whitespace()
         .collect::<Vec<_>>()
         .join(" ");
-    let said = format!("(default {})", homospline_optim::planner::DEFAULT_PRUNE);
+    let said = format!("[default: {}]", homospline_optim::planner::DEFAULT_PRUNE);
     assert!(help.contains(&said), "plan --help does not say {said}");
     // --classes has no clap default (so that --seed straight can refuse a given count): its
     // help states the library's.
@@ -302,6 +302,41 @@ fn the_help_gives_the_default_pruning_ratio() {
         homospline_optim::PlanConfig::default().classes
     );
     assert!(help.contains(&said), "plan --help does not say {said}");
+}
+
+/// `plan -h` gives one line per option under the headings, each default said once.
+#[test]
+fn the_short_help_is_grouped_with_one_line_per_option() {
+    let out = homospline().args(["plan", "-h"]).output().unwrap();
+    let help = String::from_utf8_lossy(&out.stdout).into_owned();
+    for heading in ["Input:", "Classes:", "Cost:", "Output:", "Advanced:"] {
+        assert!(
+            help.lines().any(|l| l == heading),
+            "no heading {heading}:\n{help}"
+        );
+    }
+    for line in help.lines() {
+        assert!(
+            line.matches("default").count() <= 1,
+            "a default said twice: {line}"
+        );
+    }
+    let options = help
+        .lines()
+        .filter(|l| l.trim_start().starts_with("--"))
+        .count();
+    assert!(options >= 25, "{options} options:\n{help}");
+    // One line each: an option's help is on its line, or (a long name) on the next one.
+    let mut after = 0;
+    for line in help.lines() {
+        let t = line.trim_start();
+        if t.starts_with('-') || t.is_empty() || !line.starts_with(' ') {
+            after = 0;
+        } else {
+            after += 1;
+            assert!(after <= 1, "an option's help runs on: {line}\n{help}");
+        }
+    }
 }
 
 #[test]
@@ -471,11 +506,16 @@ fn prune_marks_the_stopped_classes_and_off_runs_every_class_to_its_end() {
         v["classes"][b - 1]["path"].clone()
     };
     assert_eq!(chosen(&p), chosen(&f));
-    for bad in ["0.9", "none", "nan"] {
-        assert_refused(
-            &["plan", "--prune", bad],
-            &format!("--prune {bad}: expected off or a ratio of at least 1"),
-        );
+    // A value that is no number is clap's to refuse; a number out of range, the options'.
+    for (bad, needle) in [
+        ("0.9", "--prune 0.9: expected off or a ratio of at least 1"),
+        ("nan", "--prune NaN: expected off or a ratio of at least 1"),
+        (
+            "none",
+            "invalid value 'none' for '--prune <RATIO|off>': expected off or a ratio of at least 1",
+        ),
+    ] {
+        assert_refused(&["plan", "--prune", bad], needle);
     }
 }
 
@@ -667,7 +707,10 @@ fn the_finish_within_its_budget_lowers_the_chosen_class_and_refuses_bad_budgets_
     for bad in ["-1", "lots", "1.5"] {
         assert_refused(
             &["plan", scene, &format!("--finish-within={bad}")],
-            &format!("--finish-within {bad}: expected off or a number of evaluations"),
+            &format!(
+                "invalid value '{bad}' for '--finish-within <N|off>': expected off or a number of \
+                 evaluations"
+            ),
         );
     }
     assert_refused(

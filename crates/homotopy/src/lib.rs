@@ -5,13 +5,16 @@
 //! - [`search`]: [`k_best_classes`] on a [`homospline_voronoi::VoronoiGraph`], with blocked
 //!   edges and regions, and [`classes_through_edge`] / [`in_class`] for re-planning and for
 //!   keeping an optimised curve in its class.
+//! - [`id`]: [`class_id`], a short id for a class, for tables, legends and `--avoid`.
 //! - [`shortest`]: [`shortest_in_class`], the exact shortest path of one class that keeps a
 //!   clearance from circles (the oracle that checks an optimised curve's length).
 
+pub mod id;
 pub mod search;
 pub mod shortest;
 pub mod signature;
 
+pub use id::{class_id, is_hashed_id};
 pub use search::{
     ClassPath, EdgeCost, SearchConfig, SearchError, SearchResult, classes_through_edge, in_class,
     k_best_classes, k_best_classes_each,

@@ -15,6 +15,7 @@
 pub mod barrier;
 pub mod growth;
 pub mod lbfgs;
+pub mod names;
 pub mod nelder_mead;
 pub mod planner;
 

@@ -4,8 +4,8 @@
 
 use std::path::PathBuf;
 
-use homospline_cli::options::{PlanOptions, plan_config};
-use homospline_cli::{mission, report};
+use homospline_front::{Opt, OptionError, OrOff, PlanOptions, Spelling};
+use homospline_front::{mission, report};
 use homospline_geom::{Point, Scene};
 use homospline_maps::OccupancyMap;
 use homospline_mission::{AnyWorld, MissionConfig, Policy};
@@ -73,7 +73,7 @@ impl PyScene {
     #[staticmethod]
     fn example() -> PyResult<Self> {
         Scene::from_str(
-            homospline_cli::EXAMPLE_SCENE,
+            homospline_front::EXAMPLE_SCENE,
             "narrow-pass.yaml (built-in example)",
         )
         .map(|inner| Self { inner })
@@ -164,7 +164,7 @@ impl PyGraph {
 fn build_graph(py: Python<'_>, scene: &PyScene, resolution: Option<f64>) -> PyResult<PyGraph> {
     let res = resolution.unwrap_or_else(|| homospline_optim::default_resolution(&scene.inner));
     if !(res.is_finite() && res > 0.0) {
-        return Err(bad(format!("resolution {res}: must be positive")));
+        return Err(bad(format!("resolution={res}: must be positive")));
     }
     let s = &scene.inner;
     py.detach(|| homospline_voronoi::build(s, res))
@@ -306,29 +306,55 @@ fn weights_of(weights: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<(String, f64)
             let name: String = k.extract()?;
             let value: f64 = v
                 .extract()
-                .map_err(|_| bad(format!("--weight {name}: not a number")))?;
+                .map_err(|_| bad(format!("weights[{name:?}]: not a number")))?;
             out.push((name, value));
         }
     }
     Ok(out)
 }
 
-/// An option given as text (`"off"`, checked with the command line's own words) or as a
-/// number (`number` turns it into text); anything else is a `TypeError` of `message`.
-fn off_or_number(
-    value: Option<&Bound<'_, PyAny>>,
-    number: impl Fn(&Bound<'_, PyAny>) -> Option<String>,
-    message: &str,
-) -> PyResult<Option<String>> {
+/// An option error as Python spells it: `classes=0: must be between 1 and 64`.
+fn bad_option(e: OptionError) -> PyErr {
+    bad(e.spelled(Spelling::Keyword))
+}
+
+/// A keyword argument given as text, read as its type (`seed="voronoi"`); `None` when absent.
+fn named<T: std::str::FromStr>(opt: Opt, text: Option<&str>) -> PyResult<Option<T>>
+where
+    T::Err: std::fmt::Display,
+{
+    text.map(|t| {
+        t.parse()
+            .map_err(|e: T::Err| bad_option(OptionError::new(opt, format!("'{t}'"), e.to_string())))
+    })
+    .transpose()
+}
+
+/// `"off"` or a number (an `OrOff`), as the command line's `--prune` and `--finish-within`;
+/// anything else is a `TypeError` that names the keyword.
+fn off_or<'py, T: std::str::FromStr + FromPyObjectOwned<'py>>(
+    opt: Opt,
+    value: Option<&Bound<'py, PyAny>>,
+    expected: &str,
+) -> PyResult<Option<OrOff<T>>> {
     let Some(v) = value else {
         return Ok(None);
     };
     if let Ok(text) = v.extract::<String>() {
-        return Ok(Some(text));
+        return text.parse::<OrOff<T>>().map(Some).map_err(|_| {
+            bad_option(OptionError::new(
+                opt,
+                format!("'{text}'"),
+                format!("expected {expected}"),
+            ))
+        });
     }
-    number(v)
-        .map(Some)
-        .ok_or_else(|| PyTypeError::new_err(message.to_owned()))
+    v.extract::<T>().map(|x| Some(OrOff::On(x))).map_err(|_| {
+        PyTypeError::new_err(format!(
+            "{}: expected {expected}",
+            opt.keyword().replace('-', "_")
+        ))
+    })
 }
 
 /// Plans a scene: the k best homotopy classes, each optimised and checked (the `plan`
@@ -353,35 +379,27 @@ fn plan(
     polish: usize,
     finish_within: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyPlan> {
-    // `"off"` or a ratio, as the command line's `--prune`.
-    let prune = off_or_number(
-        prune,
-        |v| v.extract::<f64>().ok().map(|x| x.to_string()),
-        "prune: expected \"off\" or a number",
-    )?;
-    // `"off"` or a number of evaluations, as the command line's `--finish-within`.
-    let finish_within = off_or_number(
-        finish_within,
-        |v| v.extract::<u64>().ok().map(|n| n.to_string()),
-        "finish_within: expected \"off\" or a number of evaluations",
-    )?;
     let options = PlanOptions {
-        seed: seed.to_owned(),
+        seed: named(Opt::Seed, Some(seed))?.unwrap_or_default(),
         classes,
-        preset: preset.to_owned(),
+        preset: named(Opt::Preset, Some(preset))?.unwrap_or_default(),
         weights: weights_of(weights)?,
-        optimizer,
-        roughness,
+        optimizer: named(Opt::Optimizer, optimizer.as_deref())?,
+        roughness: named(Opt::Roughness, roughness.as_deref())?,
         clearance_floor,
         soft_dm,
-        prune,
-        clearance_search,
+        prune: off_or(Opt::Prune, prune, "\"off\" or a ratio of at least 1")?,
+        clearance_search: named(Opt::ClearanceSearch, clearance_search.as_deref())?,
         polish,
-        finish_within,
+        finish_within: off_or(
+            Opt::FinishWithin,
+            finish_within,
+            "\"off\" or a number of evaluations",
+        )?,
         graph: graph.is_some(),
         ..PlanOptions::default()
     };
-    let cfg = plan_config(&options, Some(&scene.inner)).map_err(bad)?;
+    let cfg = options.validate(Some(&scene.inner)).map_err(bad_option)?;
     let s = &scene.inner;
     let saved = graph.map(|g| g.inner.clone());
     py.detach(|| homospline_optim::plan_with_graph(s, saved, &cfg))
@@ -442,7 +460,7 @@ fn plan_map(
     let (rows, cols, cells) = occupancy_of(occupancy)?;
     if !(resolution.is_finite() && resolution > 0.0) {
         return Err(bad(format!(
-            "resolution {resolution}: must be a positive cell size"
+            "resolution={resolution}: must be a positive cell size"
         )));
     }
     let map = OccupancyMap {
@@ -454,18 +472,16 @@ fn plan_map(
         occupied: cells,
         y_down,
     };
-    let cfg = plan_config(
-        &PlanOptions {
-            classes: Some(classes),
-            ..PlanOptions::default()
-        },
-        None,
-    )
-    .map_err(bad)?;
+    let cfg = PlanOptions {
+        classes: Some(classes),
+        ..PlanOptions::default()
+    }
+    .validate(None)
+    .map_err(bad_option)?;
     let (s, g) = (Point::new(start.0, start.1), Point::new(goal.0, goal.1));
     if !(robot_radius.is_finite() && robot_radius >= 0.0) {
         return Err(bad(format!(
-            "robot_radius {robot_radius}: must be a finite number >= 0 (map units)"
+            "robot_radius={robot_radius}: must be a finite number >= 0 (map units)"
         )));
     }
     py.detach(|| homospline_maps::plan_map_for_robot(&map, robot_radius, s, g, &cfg))
@@ -490,7 +506,7 @@ fn simulate<'py>(
         "alternatives" => Policy::Alternatives,
         other => {
             return Err(bad(format!(
-                "--policy {other}: expected none, ahead or alternatives"
+                "policy='{other}': expected none, ahead or alternatives"
             )));
         }
     };
@@ -531,7 +547,7 @@ fn bench_scen(
 ) -> PyResult<String> {
     let shard = homospline_maps::bench::Shard::parse(&format!("{}/{}", shard.0, shard.1))
         .map_err(|e| bad(format!("shard {e}")))?;
-    let job = homospline_cli::bench::BenchJob {
+    let job = homospline_front::bench::BenchJob {
         files,
         sample,
         limit,
@@ -542,16 +558,19 @@ fn bench_scen(
         robot_radius,
     };
     let (rows, _) = py
-        .detach(|| homospline_cli::bench::run_files(&job, |_, _| {}))
-        .map_err(bad)?;
-    Ok(homospline_cli::bench::csv_text(&rows))
+        .detach(|| homospline_front::bench::run_files(&job, |_, _| {}))
+        .map_err(|e| match e {
+            homospline_front::bench::BenchError::Option(e) => bad_option(e),
+            input => bad(input.to_string()),
+        })?;
+    Ok(homospline_front::bench::csv_text(&rows))
 }
 
 /// The summary of the rows of one or more `bench_scen` CSVs (shards of one sweep), as
 /// `homospline bench-merge` prints it.
 #[pyfunction]
 fn bench_summary(csvs: Vec<String>) -> PyResult<String> {
-    let rows = homospline_cli::bench::rows_of(&csvs).map_err(bad)?;
+    let rows = homospline_front::bench::rows_of(&csvs).map_err(bad)?;
     Ok(homospline_maps::bench::summary(&rows))
 }
 

@@ -82,7 +82,7 @@ def test_plan_map_with_a_robot_radius_equals_the_cli_and_refuses_a_start_too_nea
     assert timeless(ours) == timeless(theirs)
     with pytest.raises(ValueError, match="less than the robot radius 0.7"):
         homospline.plan_map(grid, (1.5, 1.5), (30.5, 30.5), y_down=True, robot_radius=0.7)
-    with pytest.raises(ValueError, match="robot_radius -1"):
+    with pytest.raises(ValueError, match="robot_radius=-1"):
         homospline.plan_map(grid, (1.5, 1.5), (30.5, 30.5), y_down=True, robot_radius=-1.0)
 
 
@@ -130,13 +130,13 @@ def test_errors_are_exceptions_with_the_cli_messages():
         assert str(e.value) == expected
     with pytest.raises(OSError, match="cannot read"):
         homospline.Scene.from_file(ROOT / "no-such-scene.yaml")
-    with pytest.raises(ValueError, match="--classes 0: must be between 1 and 64"):
+    with pytest.raises(ValueError, match="classes=0: must be between 1 and 64"):
         homospline.plan(homospline.Scene.example(), classes=0)
-    with pytest.raises(ValueError, match="--classes 3: --seed straight plans one class"):
+    with pytest.raises(ValueError, match="classes=3: seed straight plans one class"):
         homospline.plan(homospline.Scene.example(), seed="straight", classes=3)
     assert len(homospline.plan(homospline.Scene.example(), seed="straight", classes=1).classes) == 1
     example = homospline.Scene.example()
-    with pytest.raises(ValueError, match="--seed straight plans one class from the straight line"):
+    with pytest.raises(ValueError, match="graph gives the Voronoi seed's classes; seed straight plans one class from the straight line"):
         homospline.plan(example, seed="straight", graph=homospline.build_graph(example))
     with pytest.raises(ValueError, match="unknown weight or parameter 'safty'"):
         homospline.plan(homospline.Scene.example(), weights={"safty": 1.0})
@@ -192,6 +192,16 @@ def test_shards_merge_into_the_whole_sweep():
     assert "success      4/4" in summary
     with pytest.raises(ValueError, match="overlapping shards"):
         homospline.bench_summary([parts[0], parts[0]])
+    # Errors name the keyword arguments, not the command line's flags.
+    for kwargs, message in [
+        ({"sample": 0}, "sample=0: must be at least 1"),
+        ({"sample": 2, "limit": 2}, "limit and sample exclude each other"),
+        ({"classes": 65}, "classes=65: must be between 1 and 64"),
+        ({"robot_radius": -1.0}, "robot_radius=-1: must be a finite number >= 0"),
+        ({"time_limit": 0.0}, "time_limit=0: must be a positive number of ms"),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            homospline.bench_scen(files, **kwargs)
 
 
 def test_prune_equals_the_cli_flag(tmp_path):
@@ -202,7 +212,7 @@ def test_prune_equals_the_cli_flag(tmp_path):
         assert timeless(ours) == timeless(cli_json(["plan", str(path), "--prune", flag], tmp_path))
     assert any(c["pruned"] for c in homospline.plan(scene).to_dict()["classes"])
     assert not any(c["pruned"] for c in homospline.plan(scene, prune="off").to_dict()["classes"])
-    with pytest.raises(ValueError, match="--prune 0.5"):
+    with pytest.raises(ValueError, match="prune=0.5: expected off or a ratio of at least 1"):
         homospline.plan(scene, prune=0.5)
 
 
@@ -212,7 +222,7 @@ def test_clearance_search_equals_the_cli_flag(tmp_path):
     every = homospline.plan(scene, clearance_search="every-stretch").to_dict()
     cli = cli_json(["plan", str(path), "--clearance-search", "every-stretch"], tmp_path)
     assert timeless(every) == timeless(cli)
-    with pytest.raises(ValueError, match="--clearance-search exact"):
+    with pytest.raises(ValueError, match="clearance_search='exact': unknown clearance search"):
         homospline.plan(scene, clearance_search="exact")
 
 
@@ -226,7 +236,7 @@ def test_polish_equals_the_cli_flag(tmp_path):
     def chosen(p):
         return p["classes"][p["best"] - 1]
     assert chosen(polished)["cost"]["total"] < chosen(plain)["cost"]["total"]
-    with pytest.raises(ValueError, match="--polish 11"):
+    with pytest.raises(ValueError, match="polish=11: must be between 0 and 10"):
         homospline.plan(scene, polish=11)
 
 
@@ -245,7 +255,7 @@ def test_finish_within_equals_the_cli_flag(tmp_path):
     assert chosen(small)["path"] == chosen(off)["path"]
     assert chosen(default)["cost"]["total"] < 0.95 * chosen(off)["cost"]["total"]
     assert chosen(default)["iterations"] == chosen(off)["iterations"] + 1
-    with pytest.raises(ValueError, match="--finish-within never"):
+    with pytest.raises(ValueError, match="finish_within='never': expected \"off\" or a number of evaluations"):
         homospline.plan(scene, finish_within="never")
     with pytest.raises(TypeError, match="finish_within"):
         homospline.plan(scene, finish_within=1.5)

@@ -31,6 +31,7 @@ pub mod certify;
 pub mod cost;
 pub mod curve;
 pub mod field;
+pub mod names;
 pub mod quad;
 pub mod roughness;
 
@@ -41,3 +42,4 @@ pub use cost::{
 };
 pub use curve::{EndCondition, Parametrization, Spline, SplineError};
 pub use field::{CircleModel, ClearanceModel, FIELD_BLOCK};
+pub use names::{Preset, UnknownName};

@@ -1,13 +1,15 @@
-//! What the `homospline` command prints and writes (summaries, plan JSON, tables, SVG), and
-//! what every front end shares (the plan options, the bench sweep), kept in a library so that
-//! the command line, the Python package, tests and `xtask` share it. File IO stays in
-//! `main.rs`, except for `bench`, which reads the sweep's files.
+//! What every front end of homospline shares (the command line, the Python package,
+//! `xtask`): the typed plan options and their checks ([`options`]), the plan's JSON and
+//! tables ([`report`]), a mission's text and JSON ([`mission`]), the MovingAI bench sweep
+//! ([`bench`]), scene summaries, and reading input files that must be regular files. The
+//! pictures and the command line's arguments belong to `homospline-cli`.
 
 pub mod bench;
 pub mod mission;
 pub mod options;
-pub mod picture;
 pub mod report;
+
+pub use options::{Opt, OptionError, OrOff, PlanOptions, Spelling};
 
 use std::fmt::Write;
 

@@ -5,7 +5,7 @@ use std::fmt::Write;
 
 use homospline_geom::shortest::TangentGraph;
 use homospline_geom::{Point, Scene};
-use homospline_homotopy::{Rays, shortest_in_class};
+use homospline_homotopy::{Rays, class_id, shortest_in_class};
 use homospline_optim::Plan;
 use homospline_spline::CostTerms;
 use homospline_spline::cost::TERMS;
@@ -144,15 +144,6 @@ pub fn plan_json_with(plan: &Plan, optima: &[Option<Optimum>]) -> String {
     serde_json::to_string_pretty(&doc).unwrap_or_default() + "\n"
 }
 
-/// A signature cut to `n` characters for the table (the JSON keeps it whole).
-fn short(sig: &str, n: usize) -> String {
-    if sig.chars().count() <= n {
-        sig.to_owned()
-    } else {
-        format!("{}..", sig.chars().take(n - 2).collect::<String>())
-    }
-}
-
 /// The table `homospline plan` prints.
 pub fn plan_table(plan: &Plan) -> String {
     let mut s = String::new();
@@ -169,15 +160,15 @@ pub fn plan_table(plan: &Plan) -> String {
     );
     let _ = writeln!(
         s,
-        "{:>4}  {:<14} {:>8} {:>9} {:>11} {:>11} {:>6} {:>6} {:>8}  collision-free  safe",
+        "{:>4}  {:<12} {:>8} {:>9} {:>11} {:>11} {:>6} {:>6} {:>8}  collision-free  safe",
         "rank", "class", "length", "clearance", "roughness", "cost", "rounds", "evals", "time ms"
     );
     for c in &plan.classes {
         let _ = writeln!(
             s,
-            "{:>4}  {:<14} {:>8.2} {:>9.3} {:>11.1} {:>11.2} {:>6} {:>6} {:>8.1}  {:<14}  {}{}",
+            "{:>4}  {:<12} {:>8.2} {:>9.3} {:>11.1} {:>11.2} {:>6} {:>6} {:>8.1}  {:<14}  {}{}",
             c.rank,
-            short(&c.signature, 14),
+            class_id(&c.signature),
             c.length,
             c.min_clearance,
             c.cost.roughness,
@@ -204,7 +195,7 @@ pub fn plan_table(plan: &Plan) -> String {
             let _ = writeln!(
                 s,
                 "chosen: rank {b}, class {}, length {:.2}, minimum clearance {:.3}{}{}",
-                short(&c.signature, 40),
+                class_id(&c.signature),
                 c.length,
                 c.min_clearance,
                 if c.safe {
@@ -297,7 +288,7 @@ pub fn optimum_table(plan: &Plan, optima: &[Option<Optimum>]) -> String {
     );
     let pct = |len: f64, o: f64| 100.0 * (len / o - 1.0);
     for (c, o) in plan.classes.iter().zip(optima) {
-        let name = short(&c.signature, 14);
+        let name = class_id(&c.signature);
         let _ = match o {
             Some(Optimum {
                 class: ClassOptimum::Found(k),

@@ -1,0 +1,208 @@
+//! `homospline graph`: the Voronoi graph of a scene (start and goal attached) or the complete
+//! graph of a map, saved for `plan --graph`, as JSON or as a picture; `--out-dir` for many.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+use homospline_maps::input::Input;
+use homospline_optim::default_resolution;
+use homospline_spline::CostConfig;
+
+use crate::args::GraphArgs;
+use crate::bench::shard_of;
+use crate::input::load_input;
+use crate::out::{bad, check_outputs, write};
+use crate::picture;
+
+/// `graph`: one input and its outputs, or many into `--out-dir`.
+pub fn run(a: GraphArgs) -> anyhow::Result<u8> {
+    let grid = (a.resolution, a.robot_radius);
+    match &a.out_dir {
+        Some(dir) => graph_dir(
+            &a.scene,
+            grid,
+            dir,
+            a.shard.as_deref(),
+            (a.out, a.json, a.svg),
+        ),
+        None if a.scene.len() == 1 && a.shard.is_none() => {
+            graph(&a.scene[0], grid, a.out, a.json, a.svg)
+        }
+        None => Err(bad(
+            "several inputs (or --shard) need --out-dir: each graph is saved as DIR/STEM.msgpack",
+        )),
+    }
+}
+
+/// The input of `graph`, read and checked against its options (`--resolution` is a
+/// scene's): what `graph --out-dir` checks of every input before it builds any graph.
+fn graph_input(
+    path: &Path,
+    (resolution, robot_radius): (Option<f64>, Option<f64>),
+) -> anyhow::Result<Input> {
+    if let Some(r) = robot_radius
+        && !(r.is_finite() && r >= 0.0)
+    {
+        return Err(bad(format!(
+            "--robot-radius {r}: must be a finite number >= 0"
+        )));
+    }
+    let input = load_input(path)?;
+    match input {
+        Input::Map(_) if resolution.is_some() => Err(bad(format!(
+            "{}: --resolution applies to scenes; a map's grid is its cells",
+            path.display()
+        ))),
+        Input::Scene(mut scene) if robot_radius.is_some() => {
+            scene.robot_radius = robot_radius.unwrap_or(0.0);
+            scene
+                .validate(&path.display().to_string())
+                .map_err(|e| bad(format!("--robot-radius: {e}")))?;
+            Ok(Input::Scene(scene))
+        }
+        input => Ok(input),
+    }
+}
+
+fn graph(
+    path: &Path,
+    (resolution, robot_radius): (Option<f64>, Option<f64>),
+    out: Option<PathBuf>,
+    json: Option<PathBuf>,
+    svg: Option<PathBuf>,
+) -> anyhow::Result<u8> {
+    check_outputs(
+        &[path],
+        &[
+            ("--out", "graph", out.as_deref()),
+            ("--json", "graph JSON", json.as_deref()),
+            ("--svg", "picture", svg.as_deref()),
+        ],
+    )?;
+    let input = graph_input(path, (resolution, robot_radius))?;
+    let t = std::time::Instant::now();
+    let (g, cells, res, name) = match &input {
+        Input::Scene(scene) => {
+            let res = resolution.unwrap_or_else(|| default_resolution(scene));
+            let (grid, _, g) = homospline_voronoi::build(scene, res)
+                .map_err(|e| bad(format!("{}: {e}", path.display())))?;
+            (g, (grid.width(), grid.height()), res, scene.name.clone())
+        }
+        Input::Map(map) => {
+            // The complete graph of the whole map, without start or goal: `plan MAP --graph`
+            // attaches each query's start and goal to it.
+            let prepared =
+                homospline_maps::PreparedMap::for_robot(map, robot_radius.unwrap_or(0.0))
+                    .map_err(|e| bad(format!("{}: {e}", path.display())))?;
+            let res = prepared.grid.resolution();
+            // Moved out, not cloned: a 4096 x 4096 map's graph is half a gigabyte.
+            (
+                prepared.graph.graph,
+                (map.width, map.height),
+                res,
+                map.name.clone(),
+            )
+        }
+    };
+    say!(
+        "graph of {}: {} x {} cells at {:.3} cells per unit, {} nodes, {} edges, {} cycles, {:.1} ms",
+        name,
+        cells.0,
+        cells.1,
+        res,
+        g.nodes.len(),
+        g.edges.len(),
+        g.cycle_rank(),
+        t.elapsed().as_secs_f64() * 1e3
+    );
+    if let Some(p) = out {
+        write(&p, "graph", &g.to_msgpack())?;
+    }
+    if let Some(p) = json {
+        write(&p, "graph JSON", g.to_json().as_bytes())?;
+    }
+    if let Some(p) = svg {
+        let bg = match &input {
+            Input::Scene(scene) => picture::Background::Scene(scene, CostConfig::default().alpha),
+            Input::Map(map) => picture::Background::Map(map),
+        };
+        write(&p, "picture", picture::graph_svg(&bg, &g).as_bytes())?;
+    }
+    Ok(0)
+}
+
+/// `graph --out-dir`: every input's graph (or this shard's slice of them) saved as
+/// `DIR/STEM.msgpack`.
+fn graph_dir(
+    inputs: &[PathBuf],
+    grid: (Option<f64>, Option<f64>),
+    dir: &Path,
+    shard: Option<&str>,
+    single: (Option<PathBuf>, Option<PathBuf>, Option<PathBuf>),
+) -> anyhow::Result<u8> {
+    if single.0.is_some() || single.1.is_some() || single.2.is_some() {
+        return Err(bad(
+            "--out-dir writes one file per input: drop --out, --json and --svg",
+        ));
+    }
+    let shard = shard_of(shard)?;
+    let mut files = Vec::new();
+    for p in inputs {
+        if p.is_dir() {
+            files.extend(homospline_front::bench::files_in(p, "map").map_err(bad)?);
+        } else {
+            files.push(p.clone());
+        }
+    }
+    if files.is_empty() {
+        return Err(bad(format!(
+            "{}: no input to build a graph of (a directory gives its .map files)",
+            inputs
+                .iter()
+                .map(|p| p.display().to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )));
+    }
+    // Every name is checked before anything is written: a clash found halfway left the
+    // first inputs' graphs behind.
+    let mut stems = std::collections::BTreeMap::new();
+    for f in &files {
+        let stem = f
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or("graph")
+            .to_owned();
+        if let Some(first) = stems.insert(stem.clone(), f) {
+            return Err(bad(format!(
+                "{} and {} would both be saved as {stem}.msgpack",
+                first.display(),
+                f.display()
+            )));
+        }
+    }
+    // Every input of this shard is read, and dropped, before any graph is built: an
+    // unreadable map found halfway left the first maps' graphs behind. Reading is a small
+    // part of a graph's cost; a graph that cannot be built still stops the run where it is.
+    for (i, f) in files.iter().enumerate() {
+        if shard.takes(i) {
+            graph_input(f, grid)?;
+        }
+    }
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("{}: cannot create the directory", dir.display()))?;
+    for (i, f) in files.iter().enumerate() {
+        if !shard.takes(i) {
+            continue;
+        }
+        let stem = f.file_stem().and_then(|s| s.to_str()).unwrap_or("graph");
+        graph(
+            f,
+            grid,
+            Some(dir.join(format!("{stem}.msgpack"))),
+            None,
+            None,
+        )?;
+    }
+    Ok(0)
+}

@@ -1,0 +1,61 @@
+//! Reading the command line's inputs: scenes, maps and saved graphs from files that must be
+//! regular files, and the values of options that are points or weights.
+
+use std::path::Path;
+
+use homospline_geom::{Point, Scene};
+use homospline_maps::input::Input;
+use homospline_voronoi::VoronoiGraph;
+
+use crate::out::bad;
+
+/// Reads a scene file (YAML or JSON).
+pub fn load_scene(path: &Path) -> anyhow::Result<Scene> {
+    let bytes = homospline_front::read_regular(path)
+        .map_err(|e| bad(format!("{}: cannot read: {e}", path.display())))?;
+    Scene::from_bytes(&bytes, &path.display().to_string()).map_err(|e| bad(e.to_string()))
+}
+
+/// `--weight NAME=VALUE` options as names and numbers (the names are checked later, by
+/// the cost).
+pub fn parse_weights(weights: &[String]) -> anyhow::Result<Vec<(String, f64)>> {
+    weights
+        .iter()
+        .map(|w| {
+            let (name, value) = w
+                .split_once('=')
+                .ok_or_else(|| bad(format!("--weight {w}: expected NAME=VALUE")))?;
+            let v: f64 = value
+                .trim()
+                .parse()
+                .map_err(|_| bad(format!("--weight {w}: '{value}' is not a number")))?;
+            Ok((name.trim().to_owned(), v))
+        })
+        .collect()
+}
+
+/// `--start` or `--goal` (`opt`) `X,Y` as a point.
+pub fn parse_point(opt: &str, text: &str) -> anyhow::Result<Point> {
+    let (x, y) = text
+        .split_once(',')
+        .ok_or_else(|| bad(format!("{opt} {text}: expected X,Y")))?;
+    let p = |v: &str| v.trim().parse::<f64>().ok().filter(|f| f.is_finite());
+    match (p(x), p(y)) {
+        (Some(x), Some(y)) => Ok(Point::new(x, y)),
+        _ => Err(bad(format!(
+            "{opt} {text}: expected two finite numbers X,Y"
+        ))),
+    }
+}
+
+/// Reads a scene, a MovingAI map or a ROS map YAML (with its image), by content and name.
+pub fn load_input(path: &Path) -> anyhow::Result<Input> {
+    homospline_maps::input::load(path, homospline_front::read_regular).map_err(bad)
+}
+
+/// Reads a graph saved by `graph --out`, checked for its own consistency.
+pub fn read_graph(p: &Path) -> anyhow::Result<VoronoiGraph> {
+    let bytes = homospline_front::read_regular(p)
+        .map_err(|e| bad(format!("{}: cannot read: {e}", p.display())))?;
+    VoronoiGraph::from_msgpack(&bytes).map_err(|e| bad(format!("{}: {e}", p.display())))
+}

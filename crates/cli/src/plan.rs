@@ -1,0 +1,263 @@
+//! `homospline plan`: read the input, apply the command line's changes to it (start, goal,
+//! blocks, radius), check the options once, plan, print the table and write the outputs.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use anyhow::bail;
+use homospline_front::{EXAMPLE_SCENE, PlanOptions, report};
+use homospline_geom::{Circle, Obstacle, Point, Scene};
+use homospline_maps::PreparedMap;
+use homospline_maps::input::Input;
+use homospline_optim::{Plan, PlanConfig, Seed, default_resolution, plan_with_graph};
+use homospline_voronoi::VoronoiGraph;
+
+use crate::args::PlanArgs;
+use crate::input::{load_input, parse_point, parse_weights, read_graph};
+use crate::out::{bad, check_outputs, write};
+use crate::picture;
+
+/// Exit code when no plan could be found.
+const EXIT_NO_PLAN: u8 = 1;
+
+/// `plan`: exit 0 with a collision-free plan, 1 without one.
+pub fn plan(a: PlanArgs) -> anyhow::Result<u8> {
+    let inputs: Vec<&Path> = a
+        .scene
+        .iter()
+        .chain(&a.graph)
+        .map(PathBuf::as_path)
+        .collect();
+    check_outputs(
+        &inputs,
+        &[
+            ("--json", "plan JSON", a.json.as_deref()),
+            ("--svg", "picture", a.svg.as_deref()),
+        ],
+    )?;
+    let (input, ends) = edited_input(&a)?;
+    let scene = match &input {
+        Input::Scene(s) => Some(s),
+        Input::Map(_) => None,
+    };
+    if a.optimum && scene.is_none() {
+        bail!(bad(
+            "--optimum needs a scene of circles: a map's walls are cells"
+        ));
+    }
+    let cfg = options(&a)?
+        .validate(scene)
+        .map_err(|e| bad(format!("{}: {e}", input_name(&input))))?;
+    let (result, picture) = match &input {
+        Input::Scene(scene) => plan_scene(&a, scene, &cfg)?,
+        Input::Map(map) => plan_map(&a, map, ends, &cfg)?,
+    };
+    report_plan(&a, scene, &result, picture)?;
+    Ok(if result.best.is_some() {
+        0
+    } else {
+        EXIT_NO_PLAN
+    })
+}
+
+/// The input's name, as its errors start.
+fn input_name(input: &Input) -> &str {
+    match input {
+        Input::Scene(s) => &s.name,
+        Input::Map(m) => &m.name,
+    }
+}
+
+/// The options as the planner takes them.
+fn options(a: &PlanArgs) -> anyhow::Result<PlanOptions> {
+    Ok(PlanOptions {
+        seed: a.seed.into(),
+        classes: a.classes,
+        preset: a.preset.into(),
+        weights: parse_weights(&a.weights)?,
+        optimizer: a.optimizer.map(Into::into),
+        roughness: a.roughness.map(Into::into),
+        clearance_search: a.clearance_search.map(Into::into),
+        resolution: a.resolution,
+        threads: a.threads,
+        max_via: a.max_via,
+        rounds: a.rounds,
+        clearance_floor: a.clearance_floor,
+        soft_dm: a.soft_dm,
+        avoid: a.avoid.clone(),
+        diverse: a.diverse,
+        prune: a.prune,
+        polish: a.polish,
+        finish_within: a.finish_within,
+        graph: a.graph.is_some(),
+    })
+}
+
+/// `--block X,Y,R` options as discs.
+fn blocks(a: &PlanArgs) -> anyhow::Result<Vec<(Point, f64)>> {
+    let mut blocks = Vec::new();
+    for b in &a.block {
+        let v: Vec<f64> = b
+            .split(',')
+            .map(|x| x.trim().parse::<f64>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| bad(format!("--block {b}: expected X,Y,R (three numbers)")))?;
+        match v[..] {
+            [x, y, r] if x.is_finite() && y.is_finite() && r.is_finite() && r > 0.0 => {
+                blocks.push((Point::new(x, y), r))
+            }
+            _ => {
+                return Err(bad(format!(
+                    "--block {b}: expected X,Y,R with finite numbers and R > 0"
+                )));
+            }
+        }
+    }
+    Ok(blocks)
+}
+
+/// The input (the built-in example without one) with the command line's start, goal,
+/// radius and blocked discs applied (a scene is checked again after them); a map's start
+/// and goal, which it needs.
+fn edited_input(a: &PlanArgs) -> anyhow::Result<(Input, Option<(Point, Point)>)> {
+    let input = match &a.scene {
+        Some(p) => load_input(p)?,
+        None => Input::Scene(
+            Scene::from_str(EXAMPLE_SCENE, "narrow-pass.yaml (built-in example)")
+                .map_err(|e| bad(e.to_string()))?,
+        ),
+    };
+    let point = |opt, t: &Option<String>| t.as_deref().map(|t| parse_point(opt, t)).transpose();
+    let (start, goal) = (point("--start", &a.start)?, point("--goal", &a.goal)?);
+    let blocks = blocks(a)?;
+    let mut ends = None;
+    let input = match input {
+        Input::Scene(mut scene) => {
+            if let Some(r) = a.robot_radius {
+                scene.robot_radius = r;
+            }
+            scene.start = start.unwrap_or(scene.start);
+            scene.goal = goal.unwrap_or(scene.goal);
+            for (i, (c, r)) in blocks.iter().enumerate() {
+                scene.obstacles.push(Obstacle {
+                    name: format!("blocked-{i}"),
+                    circles: vec![Circle::new(c.x, c.y, *r)],
+                });
+            }
+            scene
+                .validate(&scene.name.clone())
+                .map_err(|e| bad(format!("--start/--goal/--block/--robot-radius: {e}")))?;
+            Input::Scene(scene)
+        }
+        Input::Map(mut map) => {
+            let (Some(s), Some(g)) = (start, goal) else {
+                bail!(bad(format!(
+                    "{}: a map needs --start X,Y and --goal X,Y",
+                    map.name
+                )));
+            };
+            if !blocks.is_empty() && a.graph.is_some() {
+                bail!(bad(
+                    "--block changes the map: it cannot reuse a saved --graph"
+                ));
+            }
+            for (c, r) in &blocks {
+                map.block_disc(c, *r);
+            }
+            ends = Some((s, g));
+            Input::Map(map)
+        }
+    };
+    Ok((input, ends))
+}
+
+/// A plan on a scene, and its picture when one is asked for.
+fn plan_scene(
+    a: &PlanArgs,
+    scene: &Scene,
+    cfg: &PlanConfig,
+) -> anyhow::Result<(Plan, Option<String>)> {
+    let saved = match &a.graph {
+        Some(p) => Some(scene_graph(p, scene, cfg)?),
+        None => None,
+    };
+    if cfg.seed == Seed::Voronoi {
+        let resolution = saved.as_ref().map_or_else(
+            || cfg.resolution.unwrap_or_else(|| default_resolution(scene)),
+            |g| g.resolution,
+        );
+        if let Some(n) = homospline_front::unseen_obstacles(scene, resolution) {
+            let _ = writeln!(std::io::stderr().lock(), "{n}");
+        }
+    }
+    let result =
+        plan_with_graph(scene, saved, cfg).map_err(|e| bad(format!("{}: {e}", scene.name)))?;
+    let alpha = cfg.growth.cost.alpha;
+    let pic = a
+        .svg
+        .as_ref()
+        .map(|_| picture::plan_svg(&picture::Background::Scene(scene, alpha), &result));
+    Ok((result, pic))
+}
+
+/// A saved graph for `scene`, refused when it is another scene's or another grid's.
+fn scene_graph(p: &Path, scene: &Scene, cfg: &PlanConfig) -> anyhow::Result<VoronoiGraph> {
+    let g = read_graph(p)?;
+    if let Some(why) = homospline_optim::graph_misfit(&g, scene, cfg) {
+        bail!(bad(format!("{}: {why}", p.display())));
+    }
+    Ok(g)
+}
+
+/// A plan on a map (its start and goal given), and its picture when one is asked for.
+fn plan_map(
+    a: &PlanArgs,
+    map: &homospline_maps::OccupancyMap,
+    ends: Option<(Point, Point)>,
+    cfg: &PlanConfig,
+) -> anyhow::Result<(Plan, Option<String>)> {
+    let Some((s, g)) = ends else {
+        bail!(bad(format!(
+            "{}: a map needs --start X,Y and --goal X,Y",
+            map.name
+        )));
+    };
+    let radius = a.robot_radius.unwrap_or(0.0);
+    let prepared = match &a.graph {
+        Some(p) => PreparedMap::with_graph(map, read_graph(p)?, radius)
+            .map_err(|e| bad(format!("{}: {e}", p.display())))?,
+        None => PreparedMap::for_robot(map, radius).map_err(|e| bad(e.to_string()))?,
+    };
+    let result = prepared.plan(s, g, cfg).map_err(|e| bad(e.to_string()))?;
+    let pic = a
+        .svg
+        .as_ref()
+        .map(|_| picture::plan_svg(&picture::Background::Map(map), &result));
+    Ok((result, pic))
+}
+
+/// Prints the table (and the optima, when asked for) and writes the outputs.
+fn report_plan(
+    a: &PlanArgs,
+    scene: Option<&Scene>,
+    result: &Plan,
+    picture: Option<String>,
+) -> anyhow::Result<()> {
+    say_raw!("{}", report::plan_table(result));
+    let optima = match scene {
+        Some(scene) if a.optimum => report::optima(scene, result),
+        _ => Vec::new(),
+    };
+    if a.optimum {
+        say_raw!("{}", report::optimum_table(result, &optima));
+    }
+    if let Some(p) = &a.json {
+        let json = report::plan_json_with(result, &optima);
+        write(p, "plan JSON", json.as_bytes())?;
+    }
+    if let (Some(p), Some(pic)) = (&a.svg, picture) {
+        write(p, "picture", pic.as_bytes())?;
+        say!("picture: {}", p.display());
+    }
+    Ok(())
+}

@@ -1,0 +1,88 @@
+//! `homospline simulate`: a team's mission in a world file, its events and figures, its JSON
+//! and its animated picture.
+
+use homospline_front::mission;
+use homospline_front::options::{check_classes, check_diverse};
+use homospline_mission::{AnyWorld, MissionConfig};
+use homospline_optim::PlanConfig;
+
+use crate::args::SimulateArgs;
+use crate::mission_svg;
+use crate::out::{bad, check_outputs, write};
+
+/// `simulate`: exit 0 when the UGV reaches the goal, 1 when not.
+pub fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
+    check_outputs(
+        &[&a.world],
+        &[
+            ("--json", "mission JSON", a.json.as_deref()),
+            ("--svg", "picture", a.svg.as_deref()),
+        ],
+    )?;
+    let world = homospline_mission::world::load_any(&a.world, homospline_front::read_regular)
+        .map_err(bad)?;
+    check_classes(a.classes).map_err(|e| bad(e.to_string()))?;
+    if let Some(f) = a.diverse {
+        check_diverse(f).map_err(|e| bad(e.to_string()))?;
+    }
+    if !(a.switch_margin.is_finite() && (0.0..1.0).contains(&a.switch_margin)) {
+        return Err(bad(format!(
+            "--switch-margin {}: must be in [0, 1)",
+            a.switch_margin
+        )));
+    }
+    if !(a.min_switch_interval.is_finite() && a.min_switch_interval >= 0.0) {
+        return Err(bad(format!(
+            "--min-switch-interval {}: must be >= 0 seconds",
+            a.min_switch_interval
+        )));
+    }
+    let base = MissionConfig::default();
+    let cfg = MissionConfig {
+        plan: PlanConfig {
+            classes: a.classes,
+            diverse: a.diverse,
+            ..base.plan.clone()
+        },
+        policy: a.policy.into(),
+        scouts: a.scouts,
+        dt: a.dt,
+        switch_margin: a.switch_margin,
+        min_switch_interval: a.min_switch_interval,
+        ..base
+    };
+    let failed = |e: homospline_mission::MissionError| bad(format!("{}: {e}", a.world.display()));
+    let (result, text, json, svg) = match &world {
+        AnyWorld::Scene(w) => {
+            let r = homospline_mission::simulate(w, &cfg).map_err(failed)?;
+            let (t, j) = (mission::mission_text(w, &r), mission::mission_json(w, &r));
+            let svg = a.svg.as_ref().map(|_| mission_svg::mission_svg(w, &r));
+            (r, t, j, svg)
+        }
+        AnyWorld::Map(w) => {
+            let r = homospline_mission::simulate_map(w, &cfg).map_err(failed)?;
+            let (t, j) = (
+                mission::map_mission_text(w, &r),
+                mission::map_mission_json(w, &r),
+            );
+            let svg = a.svg.as_ref().map(|_| mission_svg::map_mission_svg(w, &r));
+            (r, t, j, svg)
+        }
+    };
+    if result.dt < cfg.dt {
+        say!(
+            "time step {} s: --dt {} refined so that no robot travels more than half its sensor range between two looks",
+            result.dt,
+            cfg.dt
+        );
+    }
+    say_raw!("{text}");
+    if let Some(p) = &a.json {
+        write(p, "mission JSON", json.as_bytes())?;
+    }
+    if let (Some(p), Some(svg)) = (&a.svg, svg) {
+        write(p, "picture", svg.as_bytes())?;
+        say!("picture: {}", p.display());
+    }
+    Ok(if result.reached { 0 } else { 1 })
+}

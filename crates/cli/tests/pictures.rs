@@ -1,0 +1,278 @@
+//! Every picture the command line writes, on the fixture scenes, maps and worlds: its text
+//! stays inside its canvas, and its legend stays off the start, the goal and every curve.
+
+mod common;
+
+use common::{assert_ok, homospline, root, tmp};
+use quick_xml::events::{BytesStart, Event};
+
+/// A box on the page: `[x0, x1] x [y0, y1]`, pixels, y down.
+#[derive(Clone, Copy, Debug)]
+struct Bbox {
+    x0: f64,
+    y0: f64,
+    x1: f64,
+    y1: f64,
+}
+
+impl Bbox {
+    fn meets(&self, o: &Bbox) -> bool {
+        self.x0 < o.x1 && o.x0 < self.x1 && self.y0 < o.y1 && o.y0 < self.y1
+    }
+    fn holds(&self, (x, y): (f64, f64)) -> bool {
+        self.x0 < x && x < self.x1 && self.y0 < y && y < self.y1
+    }
+    fn join(self, o: Bbox) -> Bbox {
+        Bbox {
+            x0: self.x0.min(o.x0),
+            y0: self.y0.min(o.y0),
+            x1: self.x1.max(o.x1),
+            y1: self.y1.max(o.y1),
+        }
+    }
+}
+
+/// What the checks need of an SVG.
+#[derive(Default, Debug)]
+struct Page {
+    width: f64,
+    height: f64,
+    /// Each text's content and its box, with 0.6 em a character (an upper estimate for
+    /// sans-serif; the picture code sizes its labels with the same rule).
+    texts: Vec<(String, Bbox)>,
+    /// The legend's box: its rectangle, or its texts'.
+    legend: Option<Bbox>,
+    /// The start's and the goal's markers.
+    ends: Vec<Bbox>,
+    /// Every vertex of every path and polyline outside the legend.
+    vertices: Vec<(f64, f64)>,
+}
+
+fn attr(e: &BytesStart<'_>, key: &str) -> Option<String> {
+    e.attributes()
+        .flatten()
+        .find(|a| a.key.as_ref() == key.as_bytes())
+        .map(|a| String::from_utf8(a.value.to_vec()).unwrap())
+}
+
+fn num(e: &BytesStart<'_>, key: &str) -> Option<f64> {
+    attr(e, key).and_then(|v| v.trim_end_matches("px").parse().ok())
+}
+
+/// The numbers of a path's `d` or a polyline's `points`, in pairs.
+fn pairs(text: &str) -> Vec<(f64, f64)> {
+    let v: Vec<f64> = text
+        .split(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-' || c == 'e'))
+        .filter_map(|t| t.parse().ok())
+        .collect();
+    v.chunks_exact(2).map(|p| (p[0], p[1])).collect()
+}
+
+fn read_page(svg: &str) -> Page {
+    let mut reader = quick_xml::Reader::from_str(svg);
+    let mut page = Page::default();
+    let mut groups: Vec<Option<String>> = Vec::new();
+    let mut text: Option<(f64, f64, f64)> = None;
+    loop {
+        let (e, empty) = match reader.read_event().expect("well-formed SVG") {
+            Event::Start(e) => (e, false),
+            Event::Empty(e) => (e, true),
+            Event::Text(t) => {
+                if let Some((x, y, size)) = text.take() {
+                    let content = t.xml_content().unwrap().into_owned();
+                    let w = 0.6 * size * content.chars().count() as f64;
+                    let b = Bbox {
+                        x0: x,
+                        y0: y - size,
+                        x1: x + w,
+                        y1: y + 0.3 * size,
+                    };
+                    if groups.iter().flatten().any(|g| g == "legend") {
+                        page.legend = Some(page.legend.map_or(b, |l| l.join(b)));
+                    }
+                    page.texts.push((content, b));
+                }
+                continue;
+            }
+            Event::End(e) => {
+                if e.name().as_ref() == b"g" {
+                    groups.pop();
+                }
+                continue;
+            }
+            Event::Eof => break,
+            _ => continue,
+        };
+        let in_group = |id: &str| groups.iter().flatten().any(|g| g == id);
+        match e.name().as_ref() {
+            b"svg" => {
+                page.width = num(&e, "width").unwrap();
+                page.height = num(&e, "height").unwrap();
+            }
+            b"g" if !empty => groups.push(attr(&e, "id")),
+            b"text" => {
+                let size = num(&e, "font-size").unwrap();
+                text = Some((num(&e, "x").unwrap(), num(&e, "y").unwrap(), size));
+            }
+            b"rect" if in_group("legend") => {
+                let (x, y) = (num(&e, "x").unwrap(), num(&e, "y").unwrap());
+                let b = Bbox {
+                    x0: x,
+                    y0: y,
+                    x1: x + num(&e, "width").unwrap(),
+                    y1: y + num(&e, "height").unwrap(),
+                };
+                page.legend = Some(page.legend.map_or(b, |l| l.join(b)));
+            }
+            b"circle" if in_group("endpoints") => {
+                let (x, y, r) = (
+                    num(&e, "cx").unwrap(),
+                    num(&e, "cy").unwrap(),
+                    num(&e, "r").unwrap(),
+                );
+                page.ends.push(Bbox {
+                    x0: x - r,
+                    y0: y - r,
+                    x1: x + r,
+                    y1: y + r,
+                });
+            }
+            b"path" if !in_group("legend") => page.vertices.extend(pairs(&attr(&e, "d").unwrap())),
+            b"polyline" => page.vertices.extend(pairs(&attr(&e, "points").unwrap())),
+            _ => {}
+        }
+    }
+    page
+}
+
+/// Asserts the page's rules on the SVG at `path`.
+fn check(path: &std::path::Path, what: &str) {
+    let svg = std::fs::read_to_string(path).unwrap();
+    let page = read_page(&svg);
+    assert!(page.width > 0.0 && page.height > 0.0, "{what}: no size");
+    let canvas = Bbox {
+        x0: -0.5,
+        y0: -0.5,
+        x1: page.width + 0.5,
+        y1: page.height + 0.5,
+    };
+    for (t, b) in &page.texts {
+        let inside =
+            canvas.x0 <= b.x0 && b.x1 <= canvas.x1 && canvas.y0 <= b.y0 && b.y1 <= canvas.y1;
+        assert!(
+            inside,
+            "{what}: text '{t}' at {b:?} leaves the {} x {} canvas",
+            page.width, page.height
+        );
+    }
+    let legend = page.legend.unwrap_or_else(|| panic!("{what}: no legend"));
+    assert!(
+        page.ends.len() == 2,
+        "{what}: {} endpoint markers",
+        page.ends.len()
+    );
+    for e in &page.ends {
+        assert!(
+            !legend.meets(e),
+            "{what}: the legend {legend:?} covers an endpoint {e:?}"
+        );
+    }
+    if let Some(v) = page.vertices.iter().find(|v| legend.holds(**v)) {
+        panic!("{what}: the legend {legend:?} covers a curve's vertex {v:?}");
+    }
+}
+
+/// The last (longest) scenario of a `.scen` file as `--start`/`--goal` cell centres.
+fn longest(scen: &str) -> (String, String, String) {
+    let text = std::fs::read_to_string(root().join(scen)).unwrap();
+    let last = text.lines().last().unwrap();
+    let f: Vec<&str> = last.split('\t').collect();
+    let c = |k: usize| f[k].parse::<f64>().unwrap() + 0.5;
+    let map = std::path::Path::new(scen).with_file_name(f[1]);
+    (
+        map.display().to_string(),
+        format!("{},{}", c(4), c(5)),
+        format!("{},{}", c(6), c(7)),
+    )
+}
+
+#[test]
+fn plans_and_graphs_of_scenes_keep_their_text_inside_and_legend_off_the_ends() {
+    for scene in [
+        "concave-cup",
+        "convex",
+        "field",
+        "narrow-pass",
+        "two-homotopies",
+    ] {
+        let file = format!("fixtures/scenes/{scene}.yaml");
+        for (cmd, name) in [("plan", "plan"), ("graph", "graph")] {
+            let svg = tmp(&format!("{scene}.{name}.svg"));
+            let out = homospline()
+                .args([cmd, &file, "--svg", svg.to_str().unwrap()])
+                .output()
+                .unwrap();
+            assert!(out.status.code().is_some_and(|c| c <= 1), "{scene} {cmd}");
+            check(&svg, &format!("{cmd} {scene}"));
+        }
+    }
+}
+
+#[test]
+fn plans_on_maps_keep_their_text_inside_and_legend_off_the_ends() {
+    for scen in [
+        "fixtures/maps/movingai/maze-32-32-2-random-1.scen",
+        "fixtures/maps/movingai/random-32-32-10-random-1.scen",
+        "fixtures/maps/movingai/room-32-32-4-random-1.scen",
+        "fixtures/maps/movingai/warehouse-10-20-10-2-1-random-1.scen",
+    ] {
+        let (map, start, goal) = longest(scen);
+        let svg = tmp("map-plan.svg");
+        let out = homospline()
+            .args(["plan", &map, "--start", &start, "--goal", &goal])
+            .args(["--svg", svg.to_str().unwrap()])
+            .output()
+            .unwrap();
+        assert_ok(&out);
+        check(&svg, &format!("plan {map} {start} {goal}"));
+    }
+}
+
+#[test]
+fn missions_keep_their_caption_inside_and_draw_robots_at_their_start() {
+    let dir = root().join("fixtures/worlds");
+    let mut worlds: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .chain(std::fs::read_dir(dir.join("maps")).unwrap())
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "yaml"))
+        .collect();
+    worlds.sort();
+    assert!(worlds.len() >= 7);
+    for w in &worlds {
+        let svg = tmp("mission.svg");
+        let out = homospline()
+            .args([
+                "simulate",
+                w.to_str().unwrap(),
+                "--svg",
+                svg.to_str().unwrap(),
+            ])
+            .output()
+            .unwrap();
+        assert!(out.status.code().is_some_and(|c| c <= 1), "{}", w.display());
+        check(&svg, &format!("simulate {}", w.display()));
+        // A static view shows each robot where it starts, not at the page's corner.
+        let text = std::fs::read_to_string(&svg).unwrap();
+        let robots = &text[text.find("<g id=\"robots\">").unwrap()..];
+        for circle in robots.split("<circle").skip(1) {
+            assert!(
+                circle.contains(" cx=\""),
+                "{}: a robot without a position",
+                w.display()
+            );
+            assert!(!circle.starts_with(" r="), "{}", w.display());
+        }
+        assert!(!text.contains(" 1 scouts "), "{}: one scout", w.display());
+    }
+}

@@ -1,0 +1,271 @@
+//! What `homospline simulate` prints and writes: the events and figures of a mission and
+//! its JSON (timeline and every trajectory). The animated picture is the command line's.
+
+use std::fmt::Write;
+
+use homospline_geom::{Point, Real};
+use homospline_mission::{EventKind, MapWorld, MissionResult, MissionWorld, Robot};
+use serde_json::{Value, json};
+
+fn who(r: Robot) -> String {
+    match r {
+        Robot::Ugv => "ugv".into(),
+        Robot::Uav(i) => format!("uav-{i}"),
+    }
+}
+
+/// A class name as the event lines print it: its short id (the signature when short, else a
+/// hash), as `plan` prints it and `plan --avoid` takes it. The JSON keeps names whole.
+fn label(name: &str) -> String {
+    homospline_homotopy::class_id(name)
+}
+
+/// One line per event.
+fn describe(kind: &EventKind) -> String {
+    match kind {
+        EventKind::Planned { classes, class } => {
+            format!(
+                "planned on the prior map: {classes} collision-free classes, driving {}",
+                label(class)
+            )
+        }
+        EventKind::Discovered {
+            obstacle,
+            hidden,
+            by,
+        } => {
+            if *hidden {
+                format!("{} sees obstacle '{obstacle}', not on the map", who(*by))
+            } else {
+                format!("{} sees that obstacle '{obstacle}' is gone", who(*by))
+            }
+        }
+        EventKind::ClassClosed { class } => {
+            format!("class {} is blocked (an alternative)", label(class))
+        }
+        EventKind::Blocked { class } => {
+            format!("the UGV's path (class {}) is blocked", label(class))
+        }
+        EventKind::Replanned {
+            forced,
+            classes,
+            class,
+        } => format!(
+            "re-planned ({}): {classes} collision-free classes, driving {}",
+            if *forced { "blocked" } else { "map changed" },
+            label(class)
+        ),
+        EventKind::Switched { from, to } => {
+            format!("switched class {} -> {}", label(from), label(to))
+        }
+        EventKind::TurnedAround => {
+            "the new path leaves off the heading: the UGV turns on the spot".into()
+        }
+        EventKind::Reached => "goal reached".into(),
+        EventKind::Stuck { reason } => format!("stopped: {reason}"),
+    }
+}
+
+/// A figure to three decimals, or `-` when there is none.
+pub fn fmt_opt(x: Option<Real>) -> String {
+    x.map_or("-".into(), |v| format!("{v:.3}"))
+}
+
+/// The events and the figures, as `homospline simulate` prints them.
+pub fn mission_text(world: &MissionWorld, r: &MissionResult) -> String {
+    let head = format!(
+        "world {}  policy {}  scouts {}  hidden {}  cleared {}",
+        r.world,
+        r.policy.name(),
+        r.scouts,
+        world.hidden.len(),
+        world.cleared.len()
+    );
+    text_with(&head, world.team.ugv.speed, r)
+}
+
+/// The same for a map world, with each update of the known map.
+pub fn map_mission_text(world: &MapWorld, r: &MissionResult) -> String {
+    let blocked = world.changes.iter().filter(|c| c.blocked).count();
+    let head = format!(
+        "world {}  map {} x {}  policy {}  scouts {}  blocked {}  freed {}",
+        r.world,
+        world.prior.width,
+        world.prior.height,
+        r.policy.name(),
+        r.scouts,
+        blocked,
+        world.changes.len() - blocked
+    );
+    let mut s = text_with(&head, world.team.ugv.speed, r);
+    for u in &r.map_updates {
+        let _ = writeln!(
+            s,
+            "map update: {} cells, brushfire {} {:.2} ms, graph {} {:.1} ms, model {:.1} ms",
+            u.cells,
+            if u.local {
+                "updated locally"
+            } else {
+                "rebuilt"
+            },
+            u.field_ms,
+            if u.graph_rebuilt {
+                "rebuilt"
+            } else {
+                "kept, edges through the blockage closed,"
+            },
+            u.graph_ms,
+            u.model_ms
+        );
+    }
+    s
+}
+
+fn text_with(head: &str, ugv_speed: Real, r: &MissionResult) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "{head}");
+    for e in &r.events {
+        let _ = writeln!(
+            s,
+            "{:>8.2} s  ({:>7.2}, {:>7.2})  {}",
+            e.t,
+            e.at.x,
+            e.at.y,
+            describe(&e.kind)
+        );
+    }
+    let ms = &r.replan_ms;
+    let _ = writeln!(
+        s,
+        "reached {}  time {:.2} s  UGV distance {:.2}  truth plan (best-cost plan on the true map; not a lower bound) {}  distance / truth plan {}  time / truth plan {}",
+        if r.reached { "yes" } else { "NO" },
+        r.time,
+        r.ugv_distance,
+        fmt_opt(r.truth_plan_length),
+        fmt_opt(r.distance_ratio()),
+        fmt_opt(r.time_ratio(ugv_speed)),
+    );
+    let _ = writeln!(
+        s,
+        "re-plans {}  switches {}  driven on abandoned paths {:.2}  UAV distance {:.2}  re-plan ms {}",
+        r.replans,
+        r.switches,
+        r.abandoned_distance,
+        r.uav_distance,
+        if ms.is_empty() {
+            "-".to_owned()
+        } else {
+            ms.iter()
+                .map(|m| format!("{m:.1}"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        }
+    );
+    s
+}
+
+fn xy(p: &Point) -> Value {
+    json!([p.x, p.y])
+}
+
+/// The mission as JSON (`docs/formats.md`, mission result).
+pub fn mission_json(world: &MissionWorld, r: &MissionResult) -> String {
+    json_with(world.team.ugv.speed, r)
+}
+
+/// The same for a map world (`docs/formats.md`, mission result, with `map_updates`).
+pub fn map_mission_json(world: &MapWorld, r: &MissionResult) -> String {
+    json_with(world.team.ugv.speed, r)
+}
+
+fn json_with(ugv_speed: Real, r: &MissionResult) -> String {
+    let events: Vec<Value> = r
+        .events
+        .iter()
+        .map(|e| {
+            let mut v = match &e.kind {
+                EventKind::Planned { classes, class } => {
+                    json!({"kind": "planned", "classes": classes, "class": class})
+                }
+                EventKind::Discovered {
+                    obstacle,
+                    hidden,
+                    by,
+                } => json!({"kind": "discovered", "obstacle": obstacle, "hidden": hidden, "by": who(*by)}),
+                EventKind::ClassClosed { class } => json!({"kind": "class_closed", "class": class}),
+                EventKind::Blocked { class } => json!({"kind": "blocked", "class": class}),
+                EventKind::Replanned {
+                    forced,
+                    classes,
+                    class,
+                } => json!({"kind": "replanned", "forced": forced, "classes": classes, "class": class}),
+                EventKind::Switched { from, to } => json!({"kind": "switched", "from": from, "to": to}),
+                EventKind::TurnedAround => json!({"kind": "turned_around"}),
+                EventKind::Reached => json!({"kind": "reached"}),
+                EventKind::Stuck { reason } => json!({"kind": "stuck", "reason": reason}),
+            };
+            v["t"] = json!(e.t);
+            v["at"] = xy(&e.at);
+            v
+        })
+        .collect();
+    let track = |t: &homospline_mission::Track| {
+        json!({
+            "name": t.name,
+            "samples": t.samples.iter().map(|(t, p)| json!([t, p.x, p.y])).collect::<Vec<_>>(),
+        })
+    };
+    let doc = json!({
+        "world": r.world,
+        "policy": r.policy.name(),
+        "scouts": r.scouts,
+        "reached": r.reached,
+        "time": r.time,
+        "dt": r.dt,
+        "ugv_distance": r.ugv_distance,
+        "truth_plan_length": r.truth_plan_length,
+        "distance_ratio": r.distance_ratio(),
+        "time_ratio": r.time_ratio(ugv_speed),
+        "replans": r.replans,
+        "switches": r.switches,
+        "abandoned_distance": r.abandoned_distance,
+        "uav_distance": r.uav_distance,
+        "replan_ms": r.replan_ms,
+        "events": events,
+        "ugv": track(&r.ugv),
+        "uavs": r.uavs.iter().map(track).collect::<Vec<_>>(),
+        "adopted": r.adopted.iter().map(|a| json!({
+            "t": a.t,
+            "class": a.class,
+            "path": a.path.iter().map(xy).collect::<Vec<_>>(),
+        })).collect::<Vec<_>>(),
+    });
+    let mut doc = doc;
+    if !r.map_updates.is_empty() {
+        doc["map_updates"] = r
+            .map_updates
+            .iter()
+            .map(|u| {
+                json!({"cells": u.cells, "local": u.local, "field_ms": u.field_ms,
+                       "graph_ms": u.graph_ms, "graph_rebuilt": u.graph_rebuilt,
+                       "model_ms": u.model_ms})
+            })
+            .collect();
+    }
+    serde_json::to_string_pretty(&doc).unwrap_or_default() + "\n"
+}
+
+#[cfg(test)]
+mod tests {
+    use super::label;
+
+    #[test]
+    fn long_class_names_are_short_ids_told_apart() {
+        assert_eq!(label("-1+2"), "-1+2");
+        let a: String = (1..=60).map(|i| format!("-{i}")).collect();
+        let b = a.replacen("-30", "+30", 1);
+        let (la, lb) = (label(&a), label(&b));
+        assert_eq!(la.len(), 9, "{la}");
+        assert_ne!(la, lb, "names that differ in the middle keep different ids");
+    }
+}

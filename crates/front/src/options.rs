@@ -1,0 +1,464 @@
+//! The planner's options as every front end takes them (the command line, the Python
+//! package): typed values, checked once by [`PlanOptions::validate`], with errors that name
+//! the option as each front end spells it ([`Opt::flag`], [`Opt::keyword`]).
+
+use std::fmt;
+use std::str::FromStr;
+
+use homospline_geom::Scene;
+use homospline_optim::{GrowthConfig, Optimizer, PlanConfig, Seed};
+use homospline_spline::{ClearanceSearch, Preset, RoughnessForm};
+
+/// An option of a front end, by what it sets.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[allow(missing_docs)] // each variant is the option of the same name
+pub enum Opt {
+    Seed,
+    Classes,
+    Preset,
+    Weight,
+    Optimizer,
+    Roughness,
+    ClearanceSearch,
+    Resolution,
+    Threads,
+    MaxVia,
+    Rounds,
+    ClearanceFloor,
+    Avoid,
+    Diverse,
+    Prune,
+    Polish,
+    FinishWithin,
+    Graph,
+    RobotRadius,
+    Sample,
+    Limit,
+    TimeLimit,
+}
+
+impl Opt {
+    /// The command line's spelling: `--classes`.
+    pub fn flag(self) -> &'static str {
+        match self {
+            Self::Seed => "--seed",
+            Self::Classes => "--classes",
+            Self::Preset => "--preset",
+            Self::Weight => "--weight",
+            Self::Optimizer => "--optimizer",
+            Self::Roughness => "--roughness",
+            Self::ClearanceSearch => "--clearance-search",
+            Self::Resolution => "--resolution",
+            Self::Threads => "--threads",
+            Self::MaxVia => "--max-via",
+            Self::Rounds => "--rounds",
+            Self::ClearanceFloor => "--clearance-floor",
+            Self::Avoid => "--avoid",
+            Self::Diverse => "--diverse",
+            Self::Prune => "--prune",
+            Self::Polish => "--polish",
+            Self::FinishWithin => "--finish-within",
+            Self::Graph => "--graph",
+            Self::RobotRadius => "--robot-radius",
+            Self::Sample => "--sample",
+            Self::Limit => "--limit",
+            Self::TimeLimit => "--time-limit",
+        }
+    }
+
+    /// The Python keyword argument's spelling: `classes`.
+    pub fn keyword(self) -> &'static str {
+        match self {
+            Self::Weight => "weights",
+            other => &other.flag()[2..],
+        }
+    }
+}
+
+/// How an error spells the options it names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Spelling {
+    /// `--classes 0: ...` (the command line).
+    Flag,
+    /// `classes=0: ...` (Python's keyword arguments; underscores for dashes).
+    Keyword,
+}
+
+impl Spelling {
+    fn name(self, o: Opt) -> String {
+        match self {
+            Self::Flag => o.flag().to_owned(),
+            Self::Keyword => o.keyword().replace('-', "_"),
+        }
+    }
+}
+
+/// An option whose value cannot be taken: which option, the value given and the problem. The
+/// problem may name other options as `{Opt:...}` markers, spelled as the error is.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct OptionError {
+    /// The option at fault.
+    pub option: Opt,
+    /// The value given, when one was.
+    pub value: Option<String>,
+    problem: String,
+    others: Vec<Opt>,
+}
+
+impl OptionError {
+    /// `option` given `value` has `problem`.
+    pub fn new(option: Opt, value: impl fmt::Display, problem: impl Into<String>) -> Self {
+        Self {
+            option,
+            value: Some(value.to_string()),
+            problem: problem.into(),
+            others: Vec::new(),
+        }
+    }
+
+    /// `option` cannot be given here: `problem` says why.
+    pub fn given(option: Opt, problem: impl Into<String>) -> Self {
+        Self {
+            option,
+            value: None,
+            problem: problem.into(),
+            others: Vec::new(),
+        }
+    }
+
+    /// The problem names `other`, written `{}` in it (in order).
+    pub fn naming(mut self, other: Opt) -> Self {
+        self.others.push(other);
+        self
+    }
+
+    /// The message in `spelling`: `--classes 0: must be between 1 and 64` or
+    /// `classes=0: must be between 1 and 64`.
+    pub fn spelled(&self, spelling: Spelling) -> String {
+        let mut problem = self.problem.clone();
+        for o in &self.others {
+            problem = problem.replacen("{}", &spelling.name(*o), 1);
+        }
+        let name = spelling.name(self.option);
+        match (&self.value, spelling) {
+            (Some(v), Spelling::Flag) => format!("{name} {v}: {problem}"),
+            (Some(v), Spelling::Keyword) => format!("{name}={v}: {problem}"),
+            (None, _) => format!("{name} {problem}"),
+        }
+    }
+}
+
+impl fmt::Display for OptionError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.spelled(Spelling::Flag))
+    }
+}
+
+impl std::error::Error for OptionError {}
+
+/// A setting that can be switched off: `off`, or a value.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum OrOff<T> {
+    /// `off`.
+    Off,
+    /// A value.
+    On(T),
+}
+
+impl<T: FromStr> FromStr for OrOff<T> {
+    type Err = T::Err;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.trim() {
+            "off" => Ok(Self::Off),
+            v => v.parse().map(Self::On),
+        }
+    }
+}
+
+impl<T: fmt::Display> fmt::Display for OrOff<T> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Off => f.write_str("off"),
+            Self::On(v) => v.fmt(f),
+        }
+    }
+}
+
+/// What a front end asks of a plan; `None` keeps the default of the scene or the map.
+#[derive(Clone, Debug, Default)]
+pub struct PlanOptions {
+    /// How the splines are seeded.
+    pub seed: Seed,
+    /// Classes to optimise, 1 to 64 (`None`: 5). The straight seed plans one class and
+    /// refuses any other count given.
+    pub classes: Option<usize>,
+    /// The cost preset.
+    pub preset: Preset,
+    /// Weights and parameters by name, in order.
+    pub weights: Vec<(String, f64)>,
+    /// The local optimiser.
+    pub optimizer: Option<Optimizer>,
+    /// The form of roughness (4).
+    pub roughness: Option<RoughnessForm>,
+    /// Where the optimiser's `m(C)` is searched between quadrature nodes.
+    pub clearance_search: Option<ClearanceSearch>,
+    /// Grid cells per map unit (scenes only).
+    pub resolution: Option<f64>,
+    /// Worker threads.
+    pub threads: Option<usize>,
+    /// Most via-points.
+    pub max_via: Option<usize>,
+    /// Growth rounds.
+    pub rounds: Option<usize>,
+    /// Hard clearance margin.
+    pub clearance_floor: f64,
+    /// `dm` as a penalty only: the dm rule off (maps never apply it).
+    pub soft_dm: bool,
+    /// Classes to leave out.
+    pub avoid: Vec<String>,
+    /// Limited overlap.
+    pub diverse: Option<f64>,
+    /// Successive halving of the classes: off, or a ratio of at least 1 (scenes only).
+    pub prune: Option<OrOff<f64>>,
+    /// Polish rounds for the chosen class, 0 to 10 (scenes only).
+    pub polish: usize,
+    /// The chosen class's finish: off, or a work budget in evaluations (scenes only).
+    pub finish_within: Option<OrOff<usize>>,
+    /// Whether a saved graph is given (the Voronoi seed's; the straight seed refuses it).
+    pub graph: bool,
+}
+
+/// `x` is in `range`, or the error "must be between a and b".
+fn within(o: Opt, x: usize, range: std::ops::RangeInclusive<usize>) -> Result<usize, OptionError> {
+    if range.contains(&x) {
+        Ok(x)
+    } else {
+        Err(OptionError::new(
+            o,
+            x,
+            format!("must be between {} and {}", range.start(), range.end()),
+        ))
+    }
+}
+
+/// `--classes`: 1 to 64.
+pub fn check_classes(k: usize) -> Result<usize, OptionError> {
+    within(Opt::Classes, k, 1..=64)
+}
+
+/// `--diverse`: a fraction in [0, 1].
+pub fn check_diverse(f: f64) -> Result<f64, OptionError> {
+    if f.is_finite() && (0.0..=1.0).contains(&f) {
+        Ok(f)
+    } else {
+        Err(OptionError::new(
+            Opt::Diverse,
+            f,
+            "must be a fraction in [0, 1]",
+        ))
+    }
+}
+
+/// Problems of options that apply to scenes only, given with a map.
+const SCENES_ONLY: &str = "applies to scenes; a map's classes are optimised while its search \
+                           goes on";
+
+impl PlanOptions {
+    /// Checks every option and gives the planner's configuration for `scene` (its danger
+    /// and critical points and hazards join the cost), or for a map when `scene` is `None`
+    /// (the map defaults).
+    pub fn validate(&self, scene: Option<&Scene>) -> Result<PlanConfig, OptionError> {
+        self.check_ranges(scene)?;
+        self.check_seed()?;
+        let base = match scene {
+            Some(_) => PlanConfig::default(),
+            None => homospline_maps::map_config(),
+        };
+        let mut cost = self.preset.config();
+        if let Some(s) = scene {
+            cost = cost.with_scene_points(s);
+        } else {
+            // The map defaults of the safety term, whatever the preset; `--weight` may
+            // change them below.
+            let map = &base.growth.cost;
+            cost.safety_along = map.safety_along;
+            cost.dm = map.dm;
+            cost.omega = map.omega;
+        }
+        for (name, v) in &self.weights {
+            cost.set(name.trim(), *v)
+                .map_err(|e| OptionError::new(Opt::Weight, format!("{name}={v}"), e.to_string()))?;
+        }
+        if let Some(form) = self.roughness {
+            cost.roughness = form;
+        }
+        if let Some(search) = self.clearance_search {
+            cost.clearance_search = search;
+        }
+        let prune = match self.prune {
+            None => base.prune,
+            Some(OrOff::Off) => None,
+            Some(OrOff::On(r)) => Some(r),
+        };
+        let finish_within = match self.finish_within {
+            None => base.finish_within,
+            Some(OrOff::Off) => None,
+            Some(OrOff::On(n)) => Some(n),
+        };
+        Ok(PlanConfig {
+            seed: self.seed,
+            classes: self.classes.unwrap_or(base.classes),
+            resolution: self.resolution,
+            growth: GrowthConfig {
+                cost,
+                optimizer: self.optimizer.unwrap_or(base.growth.optimizer),
+                max_via_points: self.max_via.unwrap_or(base.growth.max_via_points),
+                max_rounds: self.rounds.unwrap_or(base.growth.max_rounds),
+                ..base.growth.clone()
+            },
+            threads: self.threads,
+            clearance_floor: self.clearance_floor,
+            dm_rule: base.dm_rule && !self.soft_dm,
+            avoid: self.avoid.clone(),
+            diverse: self.diverse,
+            prune,
+            polish: self.polish,
+            finish_within,
+            ..base
+        })
+    }
+
+    /// Numbers in their ranges, and the scene-only options absent on a map.
+    fn check_ranges(&self, scene: Option<&Scene>) -> Result<(), OptionError> {
+        if let Some(k) = self.classes {
+            check_classes(k)?;
+        }
+        if let Some(r) = self.resolution {
+            if scene.is_none() {
+                return Err(OptionError::given(
+                    Opt::Resolution,
+                    "applies to scenes; a map's grid is its cells",
+                ));
+            }
+            if !(r.is_finite() && r > 0.0) {
+                return Err(OptionError::new(Opt::Resolution, r, "must be positive"));
+            }
+        }
+        if let Some(n) = self.threads {
+            within(Opt::Threads, n, 1..=homospline_optim::planner::MAX_THREADS)?;
+        }
+        if !(self.clearance_floor.is_finite() && self.clearance_floor >= 0.0) {
+            return Err(OptionError::new(
+                Opt::ClearanceFloor,
+                self.clearance_floor,
+                "must be a finite number >= 0",
+            ));
+        }
+        if let Some(f) = self.diverse {
+            check_diverse(f)?;
+        }
+        if let Some(OrOff::On(r)) = self.prune
+            && !(r.is_finite() && r >= 1.0)
+        {
+            return Err(OptionError::new(
+                Opt::Prune,
+                r,
+                "expected off or a ratio of at least 1",
+            ));
+        }
+        if let (Some(OrOff::On(n)), None) = (self.finish_within, scene)
+            && n != 0
+        {
+            return Err(OptionError::given(Opt::FinishWithin, SCENES_ONLY));
+        }
+        if let Some(r) = self.rounds {
+            within(Opt::Rounds, r, 1..=100)?;
+        }
+        if let Some(v) = self.max_via {
+            within(Opt::MaxVia, v, 1..=200)?;
+        }
+        within(Opt::Polish, self.polish, 0..=10)?;
+        if self.polish > 0 && scene.is_none() {
+            return Err(OptionError::given(Opt::Polish, SCENES_ONLY));
+        }
+        Ok(())
+    }
+
+    /// The straight seed plans one class and takes no saved graph.
+    fn check_seed(&self) -> Result<(), OptionError> {
+        if self.seed != Seed::Straight {
+            return Ok(());
+        }
+        if let Some(k @ 2..) = self.classes {
+            return Err(OptionError::new(
+                Opt::Classes,
+                k,
+                "{} straight plans one class, from the straight line S-T",
+            )
+            .naming(Opt::Seed));
+        }
+        if self.graph {
+            return Err(OptionError::given(
+                Opt::Graph,
+                "gives the Voronoi seed's classes; {} straight plans one class from the \
+                 straight line",
+            )
+            .naming(Opt::Seed));
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn errors_name_the_option_in_each_spelling() {
+        let e = PlanOptions {
+            seed: Seed::Straight,
+            classes: Some(3),
+            ..Default::default()
+        }
+        .validate(None)
+        .unwrap_err();
+        assert_eq!(
+            e.spelled(Spelling::Flag),
+            "--classes 3: --seed straight plans one class, from the straight line S-T"
+        );
+        assert_eq!(
+            e.spelled(Spelling::Keyword),
+            "classes=3: seed straight plans one class, from the straight line S-T"
+        );
+        let e = PlanOptions {
+            clearance_floor: -1.0,
+            ..Default::default()
+        }
+        .validate(None)
+        .unwrap_err();
+        assert_eq!(
+            e.spelled(Spelling::Keyword),
+            "clearance_floor=-1: must be a finite number >= 0"
+        );
+    }
+
+    #[test]
+    fn defaults_are_the_planners() {
+        let scene = Scene::from_str(crate::EXAMPLE_SCENE, "example").unwrap();
+        let cfg = PlanOptions::default().validate(Some(&scene)).unwrap();
+        let base = PlanConfig::default();
+        assert_eq!(cfg.classes, base.classes);
+        assert_eq!(cfg.prune, base.prune);
+        assert_eq!(cfg.finish_within, base.finish_within);
+        assert_eq!(cfg.growth.max_rounds, base.growth.max_rounds);
+        let map = PlanOptions::default().validate(None).unwrap();
+        assert_eq!(map.growth.cost, homospline_maps::map_config().growth.cost);
+        assert_eq!(
+            "off".parse::<OrOff<f64>>(),
+            Ok(OrOff::Off),
+            "off reads as off"
+        );
+        assert_eq!("2".parse::<OrOff<f64>>(), Ok(OrOff::On(2.0)));
+    }
+}
