@@ -10,7 +10,7 @@ use homospline_spline::CostConfig;
 
 use crate::args::GraphArgs;
 use crate::bench::shard_of;
-use crate::input::load_input;
+use crate::input::{Reads, load_input};
 use crate::out::{bad, check_outputs, write};
 use crate::picture;
 
@@ -39,6 +39,7 @@ pub fn run(a: GraphArgs) -> anyhow::Result<u8> {
 fn graph_input(
     path: &Path,
     (resolution, robot_radius): (Option<f64>, Option<f64>),
+    reads: &Reads,
 ) -> anyhow::Result<Input> {
     if let Some(r) = robot_radius
         && !(r.is_finite() && r >= 0.0)
@@ -47,7 +48,7 @@ fn graph_input(
             "--robot-radius {r}: must be a finite number >= 0"
         )));
     }
-    let input = load_input(path)?;
+    let input = load_input(path, reads)?;
     match input {
         Input::Map(_) if resolution.is_some() => Err(bad(format!(
             "{}: --resolution applies to scenes; a map's grid is its cells",
@@ -71,15 +72,18 @@ fn graph(
     json: Option<PathBuf>,
     svg: Option<PathBuf>,
 ) -> anyhow::Result<u8> {
+    let reads = Reads::default();
+    let input = graph_input(path, (resolution, robot_radius), &reads)?;
+    // The input and the files it names (a ROS map's image): none of them is overwritten.
+    let inputs = reads.paths();
     check_outputs(
-        &[path],
+        &inputs.iter().map(PathBuf::as_path).collect::<Vec<_>>(),
         &[
             ("--out", "graph", out.as_deref()),
             ("--json", "graph JSON", json.as_deref()),
             ("--svg", "picture", svg.as_deref()),
         ],
     )?;
-    let input = graph_input(path, (resolution, robot_radius))?;
     let t = std::time::Instant::now();
     let (g, cells, res, name) = match &input {
         Input::Scene(scene) => {
@@ -186,7 +190,7 @@ fn graph_dir(
     // part of a graph's cost; a graph that cannot be built still stops the run where it is.
     for (i, f) in files.iter().enumerate() {
         if shard.takes(i) {
-            graph_input(f, grid)?;
+            graph_input(f, grid, &Reads::default())?;
         }
     }
     std::fs::create_dir_all(dir)

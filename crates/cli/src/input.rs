@@ -1,7 +1,8 @@
 //! Reading the command line's inputs: scenes, maps and saved graphs from files that must be
 //! regular files, and the values of options that are points or weights.
 
-use std::path::Path;
+use std::cell::RefCell;
+use std::path::{Path, PathBuf};
 
 use homospline_geom::{Point, Scene};
 use homospline_maps::input::Input;
@@ -49,8 +50,27 @@ pub fn parse_point(opt: &str, text: &str) -> anyhow::Result<Point> {
 }
 
 /// Reads a scene, a MovingAI map or a ROS map YAML (with its image), by content and name.
-pub fn load_input(path: &Path) -> anyhow::Result<Input> {
-    homospline_maps::input::load(path, homospline_front::read_regular).map_err(bad)
+pub fn load_input(path: &Path, reads: &Reads) -> anyhow::Result<Input> {
+    homospline_maps::input::load(path, |p| reads.read(p)).map_err(bad)
+}
+
+/// Reads input files (regular files only) and keeps every path read, so that the outputs
+/// can be checked against each file an input names (a ROS map's image, a world's maps) as
+/// well as the input itself.
+#[derive(Default)]
+pub struct Reads(RefCell<Vec<PathBuf>>);
+
+impl Reads {
+    /// Reads `p` whole, and keeps its path.
+    pub fn read(&self, p: &Path) -> std::io::Result<Vec<u8>> {
+        self.0.borrow_mut().push(p.to_path_buf());
+        homospline_front::read_regular(p)
+    }
+
+    /// Every path read, in order.
+    pub fn paths(&self) -> Vec<PathBuf> {
+        self.0.borrow().clone()
+    }
 }
 
 /// Reads a graph saved by `graph --out`, checked for its own consistency.

@@ -13,7 +13,7 @@ use homospline_optim::{Plan, PlanConfig, Seed, default_resolution, plan_with_gra
 use homospline_voronoi::VoronoiGraph;
 
 use crate::args::PlanArgs;
-use crate::input::{load_input, parse_point, parse_weights, read_graph};
+use crate::input::{Reads, load_input, parse_point, parse_weights, read_graph};
 use crate::out::{bad, check_outputs, write};
 use crate::picture;
 
@@ -22,20 +22,17 @@ const EXIT_NO_PLAN: u8 = 1;
 
 /// `plan`: exit 0 with a collision-free plan, 1 without one.
 pub fn plan(a: PlanArgs) -> anyhow::Result<u8> {
-    let inputs: Vec<&Path> = a
-        .scene
-        .iter()
-        .chain(&a.graph)
-        .map(PathBuf::as_path)
-        .collect();
+    let reads = Reads::default();
+    let (input, ends) = edited_input(&a, &reads)?;
+    // The input, the files it names (a ROS map's image) and the graph: none is overwritten.
+    let inputs = reads.paths();
     check_outputs(
-        &inputs,
+        &inputs.iter().chain(&a.graph).map(PathBuf::as_path).collect::<Vec<_>>(),
         &[
             ("--json", "plan JSON", a.json.as_deref()),
             ("--svg", "picture", a.svg.as_deref()),
         ],
     )?;
-    let (input, ends) = edited_input(&a)?;
     let scene = match &input {
         Input::Scene(s) => Some(s),
         Input::Map(_) => None,
@@ -119,9 +116,12 @@ fn blocks(a: &PlanArgs) -> anyhow::Result<Vec<(Point, f64)>> {
 /// The input (the built-in example without one) with the command line's start, goal,
 /// radius and blocked discs applied (a scene is checked again after them); a map's start
 /// and goal, which it needs.
-fn edited_input(a: &PlanArgs) -> anyhow::Result<(Input, Option<(Point, Point)>)> {
+fn edited_input(
+    a: &PlanArgs,
+    reads: &Reads,
+) -> anyhow::Result<(Input, Option<(Point, Point)>)> {
     let input = match &a.scene {
-        Some(p) => load_input(p)?,
+        Some(p) => load_input(p, reads)?,
         None => Input::Scene(
             Scene::from_str(EXAMPLE_SCENE, "narrow-pass.yaml (built-in example)")
                 .map_err(|e| bad(e.to_string()))?,

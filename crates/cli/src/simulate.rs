@@ -7,20 +7,26 @@ use homospline_mission::{AnyWorld, MissionConfig};
 use homospline_optim::PlanConfig;
 
 use crate::args::SimulateArgs;
+use std::path::PathBuf;
+
+use crate::input::Reads;
 use crate::mission_svg;
 use crate::out::{bad, check_outputs, write};
 
 /// `simulate`: exit 0 when the UGV reaches the goal, 1 when not.
 pub fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
+    let reads = Reads::default();
+    let world =
+        homospline_mission::world::load_any(&a.world, |p| reads.read(p)).map_err(bad)?;
+    // The world and the maps it names: none of them is overwritten.
+    let inputs = reads.paths();
     check_outputs(
-        &[&a.world],
+        &inputs.iter().map(PathBuf::as_path).collect::<Vec<_>>(),
         &[
             ("--json", "mission JSON", a.json.as_deref()),
             ("--svg", "picture", a.svg.as_deref()),
         ],
     )?;
-    let world = homospline_mission::world::load_any(&a.world, homospline_front::read_regular)
-        .map_err(bad)?;
     check_classes(a.classes).map_err(|e| bad(e.to_string()))?;
     if let Some(f) = a.diverse {
         check_diverse(f).map_err(|e| bad(e.to_string()))?;

@@ -11,30 +11,11 @@ use homospline_mission::WorldFile;
 use homospline_voronoi::VoronoiGraph;
 use proptest::prelude::*;
 
+mod common;
+use common::mutate;
+
 fn fixture(path: &str) -> Vec<u8> {
     std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/../../").to_owned() + path).unwrap()
-}
-
-/// `base` mutated: bytes flipped, a slice cut out, a number replaced by an extreme one.
-fn mutate(base: &[u8], flips: &[(usize, u8)], cut: (usize, usize), number: usize) -> Vec<u8> {
-    let mut v = base.to_vec();
-    if v.is_empty() {
-        return v;
-    }
-    for &(i, b) in flips {
-        let k = i % v.len();
-        v[k] ^= b;
-    }
-    let (a, n) = (cut.0 % v.len(), cut.1 % 64);
-    let z = (a + n).min(v.len());
-    v.drain(a..z);
-    let extremes: [&[u8]; 6] = [b"1e308", b"-0", b"NaN", b"99999999999", b"-7", b"0.0000001"];
-    if let Some(p) = v.iter().position(|c| c.is_ascii_digit()) {
-        let at = (p + number) % v.len();
-        let e = extremes[number % extremes.len()];
-        v.splice(at..(at + 1).min(v.len()), e.iter().copied());
-    }
-    v
 }
 
 /// Runs `read` on `bytes`, which must return within a second (a panic fails the test).

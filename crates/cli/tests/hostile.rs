@@ -176,3 +176,150 @@ fn a_cleared_obstacle_listed_twice_is_refused() {
         "{err}"
     );
 }
+
+/// A file an input names (a ROS map's image, a world's map) is an input too: an output
+/// there is refused before the work, and the file is left as it was.
+#[test]
+fn an_output_onto_a_file_an_input_names_is_refused() {
+    let dir = tmp("named-inputs");
+    std::fs::create_dir_all(&dir).unwrap();
+    let ros = root().join("fixtures/maps/ros/turtlebot3_world");
+    for f in ["map.yaml", "map.pgm"] {
+        std::fs::copy(ros.join(f), dir.join(f)).unwrap();
+    }
+    let image = dir.join("map.pgm");
+    let before = std::fs::read(&image).unwrap();
+    let yaml = dir.join("map.yaml");
+    let (y, i) = (yaml.to_str().unwrap(), image.to_str().unwrap());
+    let plan = ["plan", y, "--start", "0,0", "--goal", "1,1", "--svg", i];
+    let err = assert_refused_with(&plan, "is the input");
+    assert!(err.contains("map.pgm"), "{err}");
+    assert_refused(&["graph", y, "--json", i], "is the input");
+    assert_eq!(std::fs::read(&image).unwrap(), before, "the image was overwritten");
+    // A map world names its prior and its true map.
+    let world = root().join("fixtures/worlds/maps/room-blocked.yaml");
+    let truth = root().join("fixtures/worlds/maps/room-32-32-4-truth.map");
+    let before = std::fs::read(&truth).unwrap();
+    assert_refused(
+        &["simulate", world.to_str().unwrap(), "--json", truth.to_str().unwrap()],
+        "is the input",
+    );
+    assert_eq!(std::fs::read(&truth).unwrap(), before);
+}
+
+/// [`refused`] holding `needle`; its stderr.
+fn assert_refused_with(args: &[&str], needle: &str) -> String {
+    let err = refused(args);
+    assert!(err.contains(needle), "{args:?}: {err}");
+    err
+}
+
+/// An output path that is a symbolic link: the file it names is replaced, the link stays.
+#[cfg(unix)]
+#[test]
+fn an_output_through_a_link_replaces_the_file_it_names() {
+    let dir = tmp("links");
+    std::fs::create_dir_all(&dir).unwrap();
+    let target = dir.join("target.json");
+    let link = dir.join("link.json");
+    std::fs::write(&target, "old").unwrap();
+    let _ = std::fs::remove_file(&link);
+    std::os::unix::fs::symlink("target.json", &link).unwrap();
+    let out = homospline()
+        .args(["plan", "--json", link.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    assert!(
+        link.symlink_metadata().unwrap().file_type().is_symlink(),
+        "the link was replaced by a file"
+    );
+    let json = read_json(&target);
+    assert!(json["classes"].is_array(), "the linked file holds the plan");
+}
+
+/// 20,000 hidden obstacles far from every robot: sensing scans the pending ones by index
+/// (a name lookup in a list made 2,000 take 11 s and 20,000 run past 600 s). A bound on
+/// the whole run, generous for a debug build on a loaded machine, catches a return of the
+/// quadratic scan; it measures nothing.
+#[test]
+fn a_world_of_20000_hidden_obstacles_is_simulated_in_seconds() {
+    let mut obstacles = Vec::new();
+    for i in 0..200 {
+        for j in 0..100 {
+            let (x, y) = (88.03 + 0.06 * f64::from(i), -7.95 + 0.1 * f64::from(j));
+            obstacles.push(serde_json::json!({
+                "name": format!("h{}", i * 100 + j),
+                "circles": [[x, y, 0.02]],
+            }));
+        }
+    }
+    let world = serde_json::json!({
+        "version": 1,
+        "name": "hidden-20000",
+        "scene": root().join("fixtures/scenes/narrow-pass.yaml"),
+        "hidden_obstacles": obstacles,
+        "team": {"ugv": {"speed": 1.0, "sensor_range": 6.0}, "uavs": []},
+    });
+    let path = tmp("hidden-20000.json");
+    std::fs::write(&path, world.to_string()).unwrap();
+    let t = std::time::Instant::now();
+    let mut child = homospline()
+        .args(["simulate", path.to_str().unwrap(), "--policy", "none"])
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        if t.elapsed().as_secs() > 120 {
+            let _ = child.kill();
+            panic!("simulate with 20,000 hidden obstacles ran past 120 s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    assert_eq!(status.code(), Some(0), "the goal is reached");
+}
+
+/// A start a hair (1e-7) from an occupied cell: its certified clearance is positive, so
+/// the plan is collision-free (it once had every class "not collision-free", exit 1).
+#[test]
+fn a_start_a_hair_from_a_wall_plans() {
+    let map = root().join("fixtures/maps/movingai/random-32-32-10.map");
+    let text = std::fs::read_to_string(&map).unwrap();
+    let m = homospline_maps::movingai::read_map(&text, "random-32-32-10.map").unwrap();
+    // A free cell (i, j) whose left neighbour is occupied, far enough from the goal.
+    let free = |i: usize, j: usize| !m.occupied[j * m.width + i];
+    let (i, j) = (1..m.width)
+        .flat_map(|i| (1..m.height).map(move |j| (i, j)))
+        .find(|&(i, j)| free(i, j) && !free(i - 1, j) && free(i + 1, j) && i < 16)
+        .expect("a free cell beside a wall");
+    // Cell (i, j) covers [i, i + 1] x [j, j + 1] in map coordinates (y down).
+    let start = format!("{},{}", i as f64 + 1e-7, j as f64 + 0.5);
+    let out = homospline()
+        .args(["plan", map.to_str().unwrap(), "--start", &start, "--goal", "30.5,2.5"])
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("chosen: rank"), "{text}");
+}
+
+/// A scene resolution whose grid passes the cell limit is refused before anything of its
+/// size is allocated, with the finest resolution that fits (it once said only "lower the
+/// resolution").
+#[test]
+fn a_scene_grid_too_fine_is_refused_with_the_resolution_that_fits() {
+    let err = assert_refused_with(
+        &["plan", "fixtures/scenes/convex.yaml", "--resolution", "1000"],
+        "a resolution of at most 96.5 cells per unit fits",
+    );
+    assert!(err.contains("3600000000 cells"), "{err}");
+    // What it advises fits.
+    let out = homospline()
+        .args(["graph", "fixtures/scenes/convex.yaml", "--resolution", "96.5"])
+        .output()
+        .unwrap();
+    assert_ok(&out);
+}

@@ -44,7 +44,7 @@ fn err(source: &str, line: Option<usize>, problem: impl Into<String>) -> MapErro
 
 /// Reads and checks the YAML.
 pub fn read_yaml(text: &str, source: &str) -> Result<RosMapYaml, MapError> {
-    let y: RosMapYaml = serde_saphyr::from_str(text).map_err(|e| {
+    let y: RosMapYaml = homospline_geom::scene::from_yaml(text).map_err(|e| {
         let line = e.location().map(|l| l.line() as usize).filter(|&l| l > 0);
         // Without the parser's own "error: line L column C: ", which the location repeats.
         let problem = homospline_geom::scene::yaml_problem(&e, "malformed map YAML");

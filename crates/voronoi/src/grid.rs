@@ -53,6 +53,19 @@ pub enum GridError {
         /// The limit.
         max: usize,
     },
+    /// A scene's resolution too fine for the cell limit, with the finest that fits.
+    #[error(
+        "the grid would have {cells} cells at this resolution (at most {max} are supported): \
+         a resolution of at most {fits} cells per unit fits"
+    )]
+    TooFine {
+        /// Cells asked for.
+        cells: usize,
+        /// The limit.
+        max: usize,
+        /// The finest resolution whose grid keeps to the limit, rounded down to 3 digits.
+        fits: Real,
+    },
     /// Occupancy data of the wrong size.
     #[error("occupancy has {got} cells, expected {width} x {height}")]
     Size {
@@ -63,6 +76,19 @@ pub enum GridError {
         /// Height.
         height: usize,
     },
+}
+
+/// The finest resolution, to 3 significant digits and rounded down, at which a scene of
+/// extent `ex x ey` keeps to [`MAX_CELLS`] (walls included).
+fn finest_resolution(ex: Real, ey: Real) -> Real {
+    let cells = |r: Real| ((ex * r).ceil() + 2.0) * ((ey * r).ceil() + 2.0);
+    let mut r = (MAX_CELLS as Real / (ex * ey).max(Real::MIN_POSITIVE)).sqrt();
+    let digits = 10f64.powf(r.log10().floor() - 2.0);
+    r = (r / digits).floor() * digits;
+    while r > 0.0 && cells(r) > MAX_CELLS as Real {
+        r -= digits;
+    }
+    r
 }
 
 /// A grid of square cells. Cell `(i, j)` covers `[x0 + i h, x0 + (i + 1) h] x
@@ -141,9 +167,10 @@ impl Grid {
             });
         }
         if w * hh > MAX_CELLS as Real {
-            return Err(GridError::TooLarge {
+            return Err(GridError::TooFine {
                 cells: (w * hh).min(usize::MAX as Real) as usize,
                 max: MAX_CELLS,
+                fits: finest_resolution(ext.x, ext.y),
             });
         }
         let (width, height) = (w as usize + 2, hh as usize + 2);

@@ -102,3 +102,26 @@ pub fn svg_layers(text: &str) -> Vec<String> {
     assert_eq!(depth, 0, "balanced tags");
     ids
 }
+
+/// `base` mutated: bytes flipped, a slice cut out, a number replaced by an extreme one.
+pub fn mutate(base: &[u8], flips: &[(usize, u8)], cut: (usize, usize), number: usize) -> Vec<u8> {
+    let mut v = base.to_vec();
+    if v.is_empty() {
+        return v;
+    }
+    for &(i, b) in flips {
+        let k = i % v.len();
+        v[k] ^= b;
+    }
+    let (a, n) = (cut.0 % v.len(), cut.1 % 64);
+    let z = (a + n).min(v.len());
+    v.drain(a..z);
+    let extremes: [&[u8]; 6] = [b"1e308", b"-0", b"NaN", b"99999999999", b"-7", b"0.0000001"];
+    if let Some(p) = v.iter().position(|c| c.is_ascii_digit()) {
+        let at = (p + number) % v.len();
+        let e = extremes[number % extremes.len()];
+        v.splice(at..(at + 1).min(v.len()), e.iter().copied());
+    }
+    v
+}
+
