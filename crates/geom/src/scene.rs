@@ -409,37 +409,18 @@ impl Scene {
 
     /// Every rule of formats.md; returns the blamed field and the problem.
     fn check(&self) -> Result<(), (String, String)> {
-        fn number(field: &str, what: &str, v: Real) -> Result<(), (String, String)> {
-            if v.is_nan() {
-                Err((field.to_owned(), format!("{what} is NaN")))
-            } else if v.is_infinite() {
-                Err((field.to_owned(), format!("{what} is infinite")))
-            } else if v.abs() > MAX_MAGNITUDE {
-                Err((
-                    field.to_owned(),
-                    format!(
-                        "{what} = {v:e} is too large (|value| must be at most {MAX_MAGNITUDE:e})"
-                    ),
-                ))
-            } else {
-                Ok(())
-            }
-        }
-        fn point(field: &str, p: &Point) -> Result<(), (String, String)> {
-            number(field, "x", p.x)?;
-            number(field, "y", p.y)
-        }
-        fn positive(field: &str, what: &str, v: Real) -> Result<(), (String, String)> {
-            number(field, what, v)?;
-            if v > 0.0 {
-                Ok(())
-            } else {
-                Err((field.to_owned(), format!("{what} must be > 0, got {v}")))
-            }
-        }
+        self.check_frame()?;
+        self.check_obstacles()?;
+        self.check_points()?;
+        self.check_ends()
+    }
+
+    /// The bounds (finite, not empty), start and goal (finite) and the robot radius
+    /// (finite, `>= 0`).
+    fn check_frame(&self) -> Result<(), (String, String)> {
         let b = &self.bounds;
-        point("bounds.min", &b.min)?;
-        point("bounds.max", &b.max)?;
+        check_point("bounds.min", &b.min)?;
+        check_point("bounds.max", &b.max)?;
         if !(b.min.x < b.max.x && b.min.y < b.max.y) {
             return Err((
                 "bounds".to_owned(),
@@ -449,15 +430,21 @@ impl Scene {
                 ),
             ));
         }
-        point("start", &self.start)?;
-        point("goal", &self.goal)?;
-        number("robot_radius", "robot_radius", self.robot_radius)?;
+        check_point("start", &self.start)?;
+        check_point("goal", &self.goal)?;
+        check_number("robot_radius", "robot_radius", self.robot_radius)?;
         if self.robot_radius < 0.0 {
             return Err((
                 "robot_radius".to_owned(),
                 format!("robot_radius must be >= 0, got {}", self.robot_radius),
             ));
         }
+        Ok(())
+    }
+
+    /// The obstacles: unique names, at least one circle each, finite centres and positive
+    /// radii.
+    fn check_obstacles(&self) -> Result<(), (String, String)> {
         let mut names: HashMap<&str, usize> = HashMap::new();
         for (i, o) in self.obstacles.iter().enumerate() {
             if let Some(first) = names.insert(&o.name, i) {
@@ -477,8 +464,8 @@ impl Scene {
             }
             for (j, c) in o.circles.iter().enumerate() {
                 let f = format!("obstacles[{i}].circles[{j}]");
-                point(&f, &c.center)?;
-                number(&f, "radius", c.radius)?;
+                check_point(&f, &c.center)?;
+                check_number(&f, "radius", c.radius)?;
                 if c.radius <= 0.0 {
                     return Err((
                         f,
@@ -490,19 +477,31 @@ impl Scene {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// The danger and critical points (finite, positive distances) and the hazards
+    /// (finite).
+    fn check_points(&self) -> Result<(), (String, String)> {
         for (i, d) in self.danger_points.iter().enumerate() {
             let f = format!("danger_points[{i}]");
-            point(&f, &d.at)?;
-            positive(&f, "min_distance", d.min_distance)?;
+            check_point(&f, &d.at)?;
+            check_positive(&f, "min_distance", d.min_distance)?;
         }
         for (i, d) in self.critical_points.iter().enumerate() {
             let f = format!("critical_points[{i}]");
-            point(&f, &d.at)?;
-            positive(&f, "max_distance", d.max_distance)?;
+            check_point(&f, &d.at)?;
+            check_positive(&f, "max_distance", d.max_distance)?;
         }
         for (i, h) in self.hazards.iter().enumerate() {
-            point(&format!("hazards[{i}]"), h)?;
+            check_point(&format!("hazards[{i}]"), h)?;
         }
+        Ok(())
+    }
+
+    /// Start and goal inside the bounds and outside every inflated circle.
+    fn check_ends(&self) -> Result<(), (String, String)> {
+        let b = &self.bounds;
         for (field, p) in [("start", &self.start), ("goal", &self.goal)] {
             if !b.contains(p) {
                 return Err((
@@ -721,4 +720,36 @@ fn enclosing_key(text: &str, line: u64) -> Option<String> {
     let same_line = text.lines().nth(n - 1).unwrap_or("");
     let several = same_line.matches("\":").count() + same_line.matches(": ").count() > 1;
     (!(*n as u64 == line && several)).then(|| key.clone())
+}
+
+/// `v`, the `what` of `field`, is finite and at most [`MAX_MAGNITUDE`] in magnitude.
+fn check_number(field: &str, what: &str, v: Real) -> Result<(), (String, String)> {
+    if v.is_nan() {
+        Err((field.to_owned(), format!("{what} is NaN")))
+    } else if v.is_infinite() {
+        Err((field.to_owned(), format!("{what} is infinite")))
+    } else if v.abs() > MAX_MAGNITUDE {
+        Err((
+            field.to_owned(),
+            format!("{what} = {v:e} is too large (|value| must be at most {MAX_MAGNITUDE:e})"),
+        ))
+    } else {
+        Ok(())
+    }
+}
+
+/// Both coordinates of `p`, the point of `field`, pass [`check_number`].
+fn check_point(field: &str, p: &Point) -> Result<(), (String, String)> {
+    check_number(field, "x", p.x)?;
+    check_number(field, "y", p.y)
+}
+
+/// `v` passes [`check_number`] and is `> 0`.
+fn check_positive(field: &str, what: &str, v: Real) -> Result<(), (String, String)> {
+    check_number(field, what, v)?;
+    if v > 0.0 {
+        Ok(())
+    } else {
+        Err((field.to_owned(), format!("{what} must be > 0, got {v}")))
+    }
 }

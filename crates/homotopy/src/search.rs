@@ -12,7 +12,7 @@ use std::cmp::{Ordering, Reverse};
 use std::collections::{BinaryHeap, HashSet};
 
 use homospline_geom::{Point, Real};
-use homospline_voronoi::{Edge, VoronoiGraph};
+use homospline_voronoi::{Adjacency, Edge, VoronoiGraph};
 use thiserror::Error;
 
 use crate::signature::{Rays, Signature};
@@ -177,10 +177,21 @@ pub fn k_best_classes_each(
     graph: &VoronoiGraph,
     rays: &Rays,
     cfg: &SearchConfig,
-    mut found: impl FnMut(&ClassPath),
+    found: impl FnMut(&ClassPath),
 ) -> Result<SearchResult, SearchError> {
     let start = graph.start.ok_or(SearchError::NotAttached("start"))?;
     let goal = graph.goal.ok_or(SearchError::NotAttached("goal"))?;
+    check_config(cfg)?;
+    let allowed = allowed_edges(graph, cfg, start, goal);
+    let cost = edge_costs(graph, cfg);
+    let adjacency = graph.adjacency(|i| allowed[i]);
+    let h = distances_to(goal, graph.nodes.len(), &adjacency, &cost);
+    let frontier = Frontier::new(graph, rays, &adjacency, &cost, &h, start);
+    Ok(frontier.search(cfg, goal, found))
+}
+
+/// Refuses a negative or non-finite minimum clearance or clearance penalty weight.
+fn check_config(cfg: &SearchConfig) -> Result<(), SearchError> {
     if !(cfg.min_clearance.is_finite() && cfg.min_clearance >= 0.0) {
         return Err(SearchError::Config(format!(
             "min_clearance must be finite and >= 0, got {}",
@@ -194,32 +205,14 @@ pub fn k_best_classes_each(
             "clearance penalty weight must be finite and >= 0, got {weight}"
         )));
     }
-    let n = graph.nodes.len();
+    Ok(())
+}
+
+/// Whether the search may use each edge: not blocked, wide enough (start and goal
+/// connectors excepted) and entering no blocked region.
+fn allowed_edges(graph: &VoronoiGraph, cfg: &SearchConfig, start: usize, goal: usize) -> Vec<bool> {
     let blocked: HashSet<usize> = cfg.blocked_edges.iter().copied().collect();
-    // Whether edge `e` enters a blocked disc; the polyline's box is tested first (a map
-    // mission closes a disc round every blocked cell, against tens of thousands of edges).
-    let enters_blocked_region = |e: &Edge| {
-        if cfg.blocked_regions.is_empty() {
-            return false;
-        }
-        let (mut lo, mut hi) = ([Real::INFINITY; 2], [Real::NEG_INFINITY; 2]);
-        for q in &e.polyline {
-            lo = [lo[0].min(q[0]), lo[1].min(q[1])];
-            hi = [hi[0].max(q[0]), hi[1].max(q[1])];
-        }
-        cfg.blocked_regions.iter().any(|(c, r)| {
-            let outside = c.x + r < lo[0] || c.x - r > hi[0] || c.y + r < lo[1] || c.y - r > hi[1];
-            !outside
-                && e.polyline.windows(2).any(|s| {
-                    homospline_geom::math::distance_point_segment(
-                        c,
-                        &Point::new(s[0][0], s[0][1]),
-                        &Point::new(s[1][0], s[1][1]),
-                    ) <= *r
-                })
-        })
-    };
-    let allowed: Vec<bool> = graph
+    graph
         .edges
         .iter()
         .enumerate()
@@ -227,10 +220,38 @@ pub fn k_best_classes_each(
             let connector = [e.from, e.to].iter().any(|&x| x == start || x == goal);
             !blocked.contains(&i)
                 && (connector || e.min_clearance >= cfg.min_clearance)
-                && !enters_blocked_region(e)
+                && !enters_blocked_region(e, &cfg.blocked_regions)
         })
-        .collect();
-    let cost: Vec<Real> = graph
+        .collect()
+}
+
+/// Whether edge `e` enters one of the discs `regions`; the polyline's box is tested first (a
+/// map mission closes a disc round every blocked cell, against tens of thousands of edges).
+fn enters_blocked_region(e: &Edge, regions: &[(Point, Real)]) -> bool {
+    if regions.is_empty() {
+        return false;
+    }
+    let (mut lo, mut hi) = ([Real::INFINITY; 2], [Real::NEG_INFINITY; 2]);
+    for q in &e.polyline {
+        lo = [lo[0].min(q[0]), lo[1].min(q[1])];
+        hi = [hi[0].max(q[0]), hi[1].max(q[1])];
+    }
+    regions.iter().any(|(c, r)| {
+        let outside = c.x + r < lo[0] || c.x - r > hi[0] || c.y + r < lo[1] || c.y - r > hi[1];
+        !outside
+            && e.polyline.windows(2).any(|s| {
+                homospline_geom::math::distance_point_segment(
+                    c,
+                    &Point::new(s[0][0], s[0][1]),
+                    &Point::new(s[1][0], s[1][1]),
+                ) <= *r
+            })
+    })
+}
+
+/// Each edge's cost in the search ([`EdgeCost`]).
+fn edge_costs(graph: &VoronoiGraph, cfg: &SearchConfig) -> Vec<Real> {
+    graph
         .edges
         .iter()
         .map(|e| match cfg.cost {
@@ -239,10 +260,12 @@ pub fn k_best_classes_each(
                 e.length * (1.0 + weight / e.mean_clearance.max(1e-6))
             }
         })
-        .collect();
-    let adjacency = graph.adjacency(|i| allowed[i]);
-    let adj = |k: usize| adjacency.of(k);
-    // Exact distance to the goal (Dijkstra backwards; the graph is undirected).
+        .collect()
+}
+
+/// The exact distance from each of the `n` nodes to `goal` along the edges of `adjacency`
+/// (Dijkstra backwards; the graph is undirected); infinite where the goal is out of reach.
+fn distances_to(goal: usize, n: usize, adjacency: &Adjacency, cost: &[Real]) -> Vec<Real> {
     let mut h = vec![Real::INFINITY; n];
     h[goal] = 0.0;
     // Entries (distance's bits, node): non-negative floats order as their bits; ties go to
@@ -254,7 +277,7 @@ pub fn k_best_classes_each(
         if f > h[id] {
             continue;
         }
-        for &(m, e, _) in adj(id) {
+        for &(m, e, _) in adjacency.of(id) {
             let d = f + cost[e];
             if d < h[m] {
                 h[m] = d;
@@ -262,105 +285,174 @@ pub fn k_best_classes_each(
             }
         }
     }
-    // Edge words, forward, computed when the search first walks the edge: a map's graph has
-    // tens of thousands of edges (60,000 on random512-20-0, 70 ms for all their words), of
-    // which a search walks a few hundred.
-    let mut words: Vec<Option<Signature>> = vec![None; graph.edges.len()];
-    let mut arena = vec![Partial {
-        parent: usize::MAX,
-        node: start,
-        edge: (usize::MAX, true),
-        g: 0.0,
-        word: Signature::identity(),
-    }];
-    let mut queue = BinaryHeap::new();
-    let mut order = 0;
-    // With the exact heuristic every partial path on a shortest path has f = h(start), up to
-    // rounding: g sums forward, h backward. On a lattice of equally short paths (a random
-    // field of one-cell obstacles) those rounding differences decide between thousands of
-    // ties and send the search breadth first, past its budget before any class is found
-    // (random512-20-0). f is therefore compared in units of 1e-9 of h(start), and ties go
-    // to the deeper path.
-    let quantum = 1e-9 * (1.0 + h[start].abs());
-    let key = |f: Real| (f / quantum).round() as i64;
-    if h[start].is_finite() {
-        queue.push(Entry {
-            key: key(h[start]),
+    h
+}
+
+/// The best-first search over partial paths: every partial path made so far (each with its
+/// parent, in `arena`), the queue of those not yet expanded, and the edge words computed so
+/// far; `h` is the exact distance to the goal.
+struct Frontier<'a> {
+    graph: &'a VoronoiGraph,
+    rays: &'a Rays,
+    adjacency: &'a Adjacency,
+    cost: &'a [Real],
+    h: &'a [Real],
+    /// Edge words, forward, computed when the search first walks the edge: a map's graph
+    /// has tens of thousands of edges (60,000 on random512-20-0, 70 ms for all their words),
+    /// of which a search walks a few hundred.
+    words: Vec<Option<Signature>>,
+    arena: Vec<Partial>,
+    queue: BinaryHeap<Entry>,
+    /// Entries pushed so far, the start's not counted.
+    order: usize,
+    /// The unit in which `f` is compared ([`Frontier::key`]).
+    quantum: Real,
+}
+
+impl<'a> Frontier<'a> {
+    /// The search with the empty path at `start` queued, if the goal can be reached.
+    fn new(
+        graph: &'a VoronoiGraph,
+        rays: &'a Rays,
+        adjacency: &'a Adjacency,
+        cost: &'a [Real],
+        h: &'a [Real],
+        start: usize,
+    ) -> Self {
+        let arena = vec![Partial {
+            parent: usize::MAX,
+            node: start,
+            edge: (usize::MAX, true),
             g: 0.0,
-            order,
-            id: 0,
-        });
+            word: Signature::identity(),
+        }];
+        // With the exact heuristic every partial path on a shortest path has f = h(start), up
+        // to rounding: g sums forward, h backward. On a lattice of equally short paths (a
+        // random field of one-cell obstacles) those rounding differences decide between
+        // thousands of ties and send the search breadth first, past its budget before any
+        // class is found (random512-20-0). f is therefore compared in units of 1e-9 of
+        // h(start), and ties go to the deeper path.
+        let quantum = 1e-9 * (1.0 + h[start].abs());
+        let mut frontier = Self {
+            graph,
+            rays,
+            adjacency,
+            cost,
+            h,
+            words: vec![None; graph.edges.len()],
+            arena,
+            queue: BinaryHeap::new(),
+            order: 0,
+            quantum,
+        };
+        if h[start].is_finite() {
+            let key = frontier.key(h[start]);
+            frontier.queue.push(Entry {
+                key,
+                g: 0.0,
+                order: 0,
+                id: 0,
+            });
+        }
+        frontier
     }
-    let mut seen: HashSet<Signature> = HashSet::new();
-    let mut expanded: HashSet<(usize, Signature)> = HashSet::new();
-    let mut classes = Vec::new();
-    let mut expansions = 0;
-    let mut complete = true;
-    // The expansion that last stamped each node as on its partial path (0: none yet).
-    let mut on_path = vec![0usize; n];
-    while let Some(Entry { id, .. }) = queue.pop() {
-        if classes.len() >= cfg.k {
-            break;
-        }
-        if expansions >= cfg.max_expansions {
-            complete = false;
-            break;
-        }
-        let node = arena[id].node;
-        if cfg.one_path_per_state
-            && node != goal
-            && !expanded.insert((node, arena[id].word.clone()))
-        {
-            continue;
-        }
-        expansions += 1;
-        if node == goal {
-            if seen.insert(arena[id].word.clone()) {
-                classes.push(assemble(graph, &arena, id));
-                found(&classes[classes.len() - 1]);
+
+    /// The order key of `f`: `f` in units of the quantum.
+    fn key(&self, f: Real) -> i64 {
+        (f / self.quantum).round() as i64
+    }
+
+    /// Expands partial paths best first until `cfg.k` classes are found, the queue is empty
+    /// or the expansion budget is spent; hands each class to `found` as it is found.
+    fn search(
+        mut self,
+        cfg: &SearchConfig,
+        goal: usize,
+        mut found: impl FnMut(&ClassPath),
+    ) -> SearchResult {
+        let mut seen: HashSet<Signature> = HashSet::new();
+        let mut expanded: HashSet<(usize, Signature)> = HashSet::new();
+        let mut classes = Vec::new();
+        let mut expansions = 0;
+        let mut complete = true;
+        // The expansion that last stamped each node as on its partial path (0: none yet).
+        let mut on_path = vec![0usize; self.graph.nodes.len()];
+        while let Some(Entry { id, .. }) = self.queue.pop() {
+            if classes.len() >= cfg.k {
+                break;
             }
-            continue;
-        }
-        // Nodes on this partial path (for simplicity): stamped with this expansion's number
-        // (an array write per node, where a hash set cost most of an expansion on deep paths).
-        let mut p = id;
-        while p != usize::MAX {
-            on_path[arena[p].node] = expansions;
-            p = arena[p].parent;
-        }
-        for &(m, e, fwd) in adj(node) {
-            if on_path[m] == expansions || !h[m].is_finite() {
+            if expansions >= cfg.max_expansions {
+                complete = false;
+                break;
+            }
+            let node = self.arena[id].node;
+            if cfg.one_path_per_state
+                && node != goal
+                && !expanded.insert((node, self.arena[id].word.clone()))
+            {
                 continue;
             }
-            let g = arena[id].g + cost[e];
+            expansions += 1;
+            if node == goal {
+                if seen.insert(self.arena[id].word.clone()) {
+                    classes.push(assemble(self.graph, &self.arena, id));
+                    found(&classes[classes.len() - 1]);
+                }
+                continue;
+            }
+            self.stamp_path(id, &mut on_path, expansions);
+            self.expand(id, &on_path, expansions);
+        }
+        SearchResult {
+            classes,
+            complete,
+            expansions,
+        }
+    }
+
+    /// Stamps the nodes on partial path `id` with `stamp` in `on_path` (for simplicity: an
+    /// array write per node, where a hash set cost most of an expansion on deep paths).
+    fn stamp_path(&self, id: usize, on_path: &mut [usize], stamp: usize) {
+        let mut p = id;
+        while p != usize::MAX {
+            on_path[self.arena[p].node] = stamp;
+            p = self.arena[p].parent;
+        }
+    }
+
+    /// Queues partial path `id` extended by each allowed edge to a node not stamped `stamp`
+    /// (off the path) from which the goal can be reached.
+    fn expand(&mut self, id: usize, on_path: &[usize], stamp: usize) {
+        let (graph, rays, adjacency) = (self.graph, self.rays, self.adjacency);
+        for &(m, e, fwd) in adjacency.of(self.arena[id].node) {
+            if on_path[m] == stamp || !self.h[m].is_finite() {
+                continue;
+            }
+            let g = self.arena[id].g + self.cost[e];
             let edge_word =
-                words[e].get_or_insert_with(|| rays.signature(&edge_polyline(graph, e, true)));
+                self.words[e].get_or_insert_with(|| rays.signature(&edge_polyline(graph, e, true)));
             let word = if fwd {
-                arena[id].word.concat(edge_word)
+                self.arena[id].word.concat(edge_word)
             } else {
-                arena[id].word.concat(&edge_word.inverse())
+                self.arena[id].word.concat(&edge_word.inverse())
             };
-            arena.push(Partial {
+            self.arena.push(Partial {
                 parent: id,
                 node: m,
                 edge: (e, fwd),
                 g,
                 word,
             });
-            order += 1;
-            queue.push(Entry {
-                key: key(g + h[m]),
+            self.order += 1;
+            let key = self.key(g + self.h[m]);
+            self.queue.push(Entry {
+                key,
                 g,
-                order,
-                id: arena.len() - 1,
+                order: self.order,
+                id: self.arena.len() - 1,
             });
         }
     }
-    Ok(SearchResult {
-        classes,
-        complete,
-        expansions,
-    })
 }
 
 fn assemble(graph: &VoronoiGraph, arena: &[Partial], id: usize) -> ClassPath {

@@ -148,130 +148,12 @@ impl Row {
     /// compared within the rounding of 4 decimals (see `ratio_agrees`): `inf` and `NaN`
     /// only where length / optimal is infinite or has no value.
     pub fn from_csv(text: &str, source: &str, line: usize) -> Result<Self, MapError> {
-        let at = |problem: String| MapError::Format {
-            source_name: source.to_owned(),
-            line: Some(line),
-            problem,
-        };
-        let raw: Vec<&str> = text.split(',').collect();
-        if raw.len() != COLUMNS.len() {
-            return Err(at(format!(
-                "expected {} fields ({CSV_HEADER}), got {}",
-                COLUMNS.len(),
-                raw.len()
-            )));
-        }
-        let f: Vec<&str> = raw.iter().map(|x| x.trim()).collect();
-        let err = |i: usize, problem: String| at(format!("{}: {problem}", COLUMNS[i]));
-        let number = |i: usize| -> Result<f64, MapError> {
-            f[i].parse::<f64>()
-                .map_err(|_| err(i, format!("'{}' is not a number", f[i])))
-        };
-        // A finite number >= 0.
-        let amount = |i: usize| -> Result<f64, MapError> {
-            let v = number(i)?;
-            if v.is_finite() && v >= 0.0 {
-                Ok(v)
-            } else {
-                Err(err(
-                    i,
-                    format!("'{}' is not a finite non-negative number", f[i]),
-                ))
-            }
-        };
-        // No value: `NaN`, as the writer writes it.
-        let nothing = |i: usize, why: &str| -> Result<(), MapError> {
-            if number(i)?.is_nan() {
-                Ok(())
-            } else {
-                Err(err(
-                    i,
-                    format!("'{}' given, but {why} (the writer writes NaN)", f[i]),
-                ))
-            }
-        };
-        let count = |i: usize| -> Result<usize, MapError> {
-            f[i].parse::<usize>()
-                .map_err(|_| err(i, format!("'{}' is not a count", f[i])))
-        };
-        let file = raw[0];
-        if f[0].is_empty() {
-            return Err(err(0, "empty: a scenario file is needed".into()));
-        }
-        let index = count(1)?;
-        let at_line = count(2)?;
-        if at_line <= index {
-            return Err(err(
-                2,
-                format!(
-                    "{at_line} cannot hold scenario {index} (1-based lines, one scenario a line: the line is more than the index)"
-                ),
-            ));
-        }
-        let bucket = f[3]
-            .parse::<u32>()
-            .map_err(|_| err(3, format!("'{}' is not a bucket number", f[3])))?;
-        let start = Point::new(amount(4)?, amount(5)?);
-        let goal = Point::new(amount(6)?, amount(7)?);
-        let optimal = amount(8)?;
-        let what = f[15];
-        let zero_classes = || -> Result<(), MapError> {
-            match count(12)? {
-                0 => Ok(()),
-                n => Err(err(
-                    12,
-                    format!(
-                        "{n} given, but the outcome is '{what}' (the writer writes 0 unless no class is collision-free)"
-                    ),
-                )),
-            }
-        };
-        let no_path = "there is no path";
-        let outcome = if what == "ok" {
-            let length = amount(9)?;
-            let clearance = number(11)?;
-            if clearance.is_nan() || clearance <= 0.0 {
-                return Err(err(
-                    11,
-                    format!(
-                        "'{}' is not a positive clearance (an `ok` plan is collision-free)",
-                        f[11]
-                    ),
-                ));
-            }
-            zero_classes()?;
-            Outcome::Planned { length, clearance }
-        } else if what == "timeout" {
-            let length = amount(9)?;
-            nothing(11, "the clearance is written for `ok` only")?;
-            zero_classes()?;
-            Outcome::Timeout { length }
-        } else if let Some(n) = what.strip_prefix("no collision-free class among ") {
-            let classes = n
-                .parse::<usize>()
-                .map_err(|_| err(15, format!("'{what}': '{n}' is not a count of classes")))?;
-            nothing(9, no_path)?;
-            nothing(11, no_path)?;
-            if count(12)? != classes {
-                return Err(err(
-                    12,
-                    format!("'{}' given, but the outcome says {classes}", f[12]),
-                ));
-            }
-            Outcome::NoPlan { classes }
-        } else if let Some(e) = what.strip_prefix("error: ") {
-            nothing(9, no_path)?;
-            nothing(11, no_path)?;
-            zero_classes()?;
-            Outcome::Error(e.to_owned())
-        } else {
-            return Err(err(
-                15,
-                format!(
-                    "'{what}' is not one this program writes (ok, timeout, no collision-free class among N, error: ...)"
-                ),
-            ));
-        };
+        let f = Fields::split(text, source, line)?;
+        let (file, index, at_line, bucket) = f.scenario()?;
+        let start = Point::new(f.amount(4)?, f.amount(5)?);
+        let goal = Point::new(f.amount(6)?, f.amount(7)?);
+        let optimal = f.amount(8)?;
+        let outcome = f.outcome()?;
         let row = Self {
             file: file.to_owned(),
             index,
@@ -281,13 +163,196 @@ impl Row {
             goal,
             optimal,
             outcome,
-            time_ms: amount(14)?,
+            time_ms: f.amount(14)?,
         };
         // The columns computed from others.
-        let (given, ratio) = (number(10)?, row.ratio());
+        f.check_ratio(&row)?;
+        f.check_success(&row)?;
+        Ok(row)
+    }
+}
+
+/// The fields of one CSV line of [`Row::to_csv`], as written and trimmed, with the source
+/// and line that name it in errors.
+struct Fields<'a> {
+    raw: Vec<&'a str>,
+    f: Vec<&'a str>,
+    source: &'a str,
+    line: usize,
+}
+
+impl<'a> Fields<'a> {
+    /// The fields of `text`, which must be one per column.
+    fn split(text: &'a str, source: &'a str, line: usize) -> Result<Self, MapError> {
+        let raw: Vec<&str> = text.split(',').collect();
+        let fields = Self {
+            f: raw.iter().map(|x| x.trim()).collect(),
+            raw,
+            source,
+            line,
+        };
+        if fields.raw.len() != COLUMNS.len() {
+            return Err(fields.at(format!(
+                "expected {} fields ({CSV_HEADER}), got {}",
+                COLUMNS.len(),
+                fields.raw.len()
+            )));
+        }
+        Ok(fields)
+    }
+
+    /// `problem` at this line.
+    fn at(&self, problem: String) -> MapError {
+        MapError::Format {
+            source_name: self.source.to_owned(),
+            line: Some(self.line),
+            problem,
+        }
+    }
+
+    /// `problem` in column `i`.
+    fn err(&self, i: usize, problem: String) -> MapError {
+        self.at(format!("{}: {problem}", COLUMNS[i]))
+    }
+
+    /// Column `i` as a number.
+    fn number(&self, i: usize) -> Result<f64, MapError> {
+        let f = &self.f;
+        f[i].parse::<f64>()
+            .map_err(|_| self.err(i, format!("'{}' is not a number", f[i])))
+    }
+
+    /// Column `i` as a finite number >= 0.
+    fn amount(&self, i: usize) -> Result<f64, MapError> {
+        let v = self.number(i)?;
+        if v.is_finite() && v >= 0.0 {
+            Ok(v)
+        } else {
+            Err(self.err(
+                i,
+                format!("'{}' is not a finite non-negative number", self.f[i]),
+            ))
+        }
+    }
+
+    /// Column `i` holds no value: `NaN`, as the writer writes it.
+    fn nothing(&self, i: usize, why: &str) -> Result<(), MapError> {
+        if self.number(i)?.is_nan() {
+            Ok(())
+        } else {
+            Err(self.err(
+                i,
+                format!("'{}' given, but {why} (the writer writes NaN)", self.f[i]),
+            ))
+        }
+    }
+
+    /// Column `i` as a count.
+    fn count(&self, i: usize) -> Result<usize, MapError> {
+        let f = &self.f;
+        f[i].parse::<usize>()
+            .map_err(|_| self.err(i, format!("'{}' is not a count", f[i])))
+    }
+
+    /// The scenario's file (as written), index, line and bucket.
+    fn scenario(&self) -> Result<(&'a str, usize, usize, u32), MapError> {
+        let f = &self.f;
+        let file = self.raw[0];
+        if f[0].is_empty() {
+            return Err(self.err(0, "empty: a scenario file is needed".into()));
+        }
+        let index = self.count(1)?;
+        let at_line = self.count(2)?;
+        if at_line <= index {
+            return Err(self.err(
+                2,
+                format!(
+                    "{at_line} cannot hold scenario {index} (1-based lines, one scenario a line: the line is more than the index)"
+                ),
+            ));
+        }
+        let bucket = f[3]
+            .parse::<u32>()
+            .map_err(|_| self.err(3, format!("'{}' is not a bucket number", f[3])))?;
+        Ok((file, index, at_line, bucket))
+    }
+
+    /// The `classes` column is 0, as for every outcome but [`Outcome::NoPlan`].
+    fn zero_classes(&self) -> Result<(), MapError> {
+        let what = self.f[15];
+        match self.count(12)? {
+            0 => Ok(()),
+            n => Err(self.err(
+                12,
+                format!(
+                    "{n} given, but the outcome is '{what}' (the writer writes 0 unless no class is collision-free)"
+                ),
+            )),
+        }
+    }
+
+    /// The outcome, from its text with the length, clearance and classes columns it
+    /// implies.
+    fn outcome(&self) -> Result<Outcome, MapError> {
+        let f = &self.f;
+        let what = f[15];
+        let no_path = "there is no path";
+        let outcome = if what == "ok" {
+            let length = self.amount(9)?;
+            let clearance = self.number(11)?;
+            if clearance.is_nan() || clearance <= 0.0 {
+                return Err(self.err(
+                    11,
+                    format!(
+                        "'{}' is not a positive clearance (an `ok` plan is collision-free)",
+                        f[11]
+                    ),
+                ));
+            }
+            self.zero_classes()?;
+            Outcome::Planned { length, clearance }
+        } else if what == "timeout" {
+            let length = self.amount(9)?;
+            self.nothing(11, "the clearance is written for `ok` only")?;
+            self.zero_classes()?;
+            Outcome::Timeout { length }
+        } else if let Some(n) = what.strip_prefix("no collision-free class among ") {
+            let classes = n
+                .parse::<usize>()
+                .map_err(|_| self.err(15, format!("'{what}': '{n}' is not a count of classes")))?;
+            self.nothing(9, no_path)?;
+            self.nothing(11, no_path)?;
+            if self.count(12)? != classes {
+                return Err(self.err(
+                    12,
+                    format!("'{}' given, but the outcome says {classes}", f[12]),
+                ));
+            }
+            Outcome::NoPlan { classes }
+        } else if let Some(e) = what.strip_prefix("error: ") {
+            self.nothing(9, no_path)?;
+            self.nothing(11, no_path)?;
+            self.zero_classes()?;
+            Outcome::Error(e.to_owned())
+        } else {
+            return Err(self.err(
+                15,
+                format!(
+                    "'{what}' is not one this program writes (ok, timeout, no collision-free class among N, error: ...)"
+                ),
+            ));
+        };
+        Ok(outcome)
+    }
+
+    /// The `ratio` column agrees with `row`'s length / optimal ([`ratio_agrees`]); `NaN`
+    /// where that has no value.
+    fn check_ratio(&self, row: &Row) -> Result<(), MapError> {
+        let f = &self.f;
+        let (given, ratio) = (self.number(10)?, row.ratio());
         if ratio.is_nan() {
             if !given.is_nan() {
-                return Err(err(
+                return Err(self.err(
                     10,
                     format!(
                         "'{}' given, but there is no length / optimal (no path, or optimal 0: the writer writes NaN)",
@@ -295,32 +360,32 @@ impl Row {
                     ),
                 ));
             }
-        } else if !ratio_agrees(given, ratio, optimal) {
-            return Err(err(
-                10,
-                format!("'{}' is not length / optimal = {ratio}", f[10]),
-            ));
+        } else if !ratio_agrees(given, ratio, row.optimal) {
+            return Err(self.err(10, format!("'{}' is not length / optimal = {ratio}", f[10])));
         }
+        Ok(())
+    }
+
+    /// The `success` column is a boolean, `true` for `ok` only.
+    fn check_success(&self, row: &Row) -> Result<(), MapError> {
+        let f = &self.f;
         let success = match f[13] {
             "true" => true,
             "false" => false,
             other => {
-                return Err(err(
-                    13,
-                    format!("'{other}' is not a boolean (true or false)"),
-                ));
+                return Err(self.err(13, format!("'{other}' is not a boolean (true or false)")));
             }
         };
         if success != row.success() {
-            return Err(err(
+            return Err(self.err(
                 13,
                 format!(
-                    "'{}' given, but the outcome is '{what}' (success is true for `ok` only)",
-                    f[13]
+                    "'{}' given, but the outcome is '{}' (success is true for `ok` only)",
+                    f[13], f[15]
                 ),
             ));
         }
-        Ok(row)
+        Ok(())
     }
 }
 

@@ -19,8 +19,8 @@ use thiserror::Error;
 
 use rayon::prelude::*;
 
-use crate::find_root;
 use crate::grid::Grid;
+use crate::union_find::find_root;
 
 /// `K` of the packed value: keys are raster indices below `2^25`.
 pub const KEY_BITS: u32 = 25;

@@ -1,23 +1,22 @@
 //! The graph a query searches, [`VoronoiGraph`]: nodes, edges and the obstacles inside the
 //! wall; MessagePack (versioned) and the JSON of `docs/formats.md`; cycle rank and
-//! connectivity.
+//! connectivity. Plain data with its checks: the algorithms that make a graph build on this
+//! module and it uses none of them.
 //!
-//! [`VoronoiGraph::build`] makes the crack graph of a rasterised scene (the paper's GVG), in
-//! steps that each have a module: the cracks between the nearest-obstacle regions (`crack`,
-//! with `regions` cleaning up stray cells), traced into nodes and chains (`trace`), the
-//! chains' polylines (`simplify`), then start and goal joined to it ([`crate::attach`]).
-//! Pruning is in `prune`; the complete graph of a map is [`crate::skeleton`] and
-//! [`crate::attach::MapGraph`].
+//! [`VoronoiGraph::build`] (module `assemble`) makes the crack graph of a rasterised scene
+//! (the paper's GVG), in steps that each have a module: the cracks between the
+//! nearest-obstacle regions (`crack`, with `regions` cleaning up stray cells), traced into
+//! nodes and chains (`trace`), the chains' polylines (`simplify`), then start and goal joined
+//! to it ([`crate::attach`]). Pruning is in `prune`; the complete graph of a map is
+//! [`crate::skeleton`] and [`crate::attach::MapGraph`].
 
-use homospline_geom::{Point, Real};
+use homospline_geom::Real;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::attach::{attach_to_cracks, join_directly};
-use crate::crack::CrackGraph;
 use crate::field::DistanceField;
-use crate::find_root;
 use crate::grid::Grid;
+use crate::union_find::find_root;
 
 /// Edge polylines stay within this many cells of their crack chains (Douglas-Peucker): a
 /// chain along an obstacle's side must not be simplified into the obstacle.
@@ -193,60 +192,6 @@ impl Adjacency {
 }
 
 impl VoronoiGraph {
-    /// The graph of `field` over `grid`; start and goal attached when given.
-    pub fn build(
-        grid: &Grid,
-        field: &DistanceField,
-        start: Option<Point>,
-        goal: Option<Point>,
-    ) -> Result<Self, GraphError> {
-        let mut cg = CrackGraph::build(grid, field);
-        let mut g = VoronoiGraph {
-            resolution: grid.resolution(),
-            nodes: cg.nodes(),
-            edges: Vec::new(),
-            start: None,
-            goal: None,
-            obstacles: GridObstacle::of_field(grid, field),
-            built_for: None,
-        };
-        if let (Some(s), Some(t)) = (start, goal)
-            && let Some(connector) = join_directly(&cg, &mut g, s, t)?
-        {
-            g.edges = cg.edges();
-            g.edges.push(connector);
-            return Ok(g);
-        }
-        if let Some(s) = start {
-            g.start = Some(attach_to_cracks(
-                &mut cg,
-                &mut g,
-                s,
-                "start",
-                NodeKind::Start,
-            )?);
-        }
-        if let Some(t) = goal {
-            g.goal = Some(attach_to_cracks(
-                &mut cg,
-                &mut g,
-                t,
-                "goal",
-                NodeKind::Goal,
-            )?);
-        }
-        // The chains' edges first, then the connectors.
-        let connectors = std::mem::take(&mut g.edges);
-        g.edges = cg.edges();
-        g.edges.extend(connectors);
-        if let (Some(s), Some(t)) = (g.start, g.goal)
-            && !g.connected(s, t)
-        {
-            return Err(GraphError::DifferentRegions);
-        }
-        Ok(g)
-    }
-
     /// Whether nodes `a` and `b` are joined by edges.
     pub fn connected(&self, a: usize, b: usize) -> bool {
         let mut parent: Vec<usize> = (0..self.nodes.len()).collect();

@@ -6,10 +6,13 @@
 //! - [`field`]: [`DistanceField`], the exact Euclidean brushfire with the nearest obstacle of
 //!   every cell, and its local updates.
 //! - [`graph`]: [`VoronoiGraph`], the generalized Voronoi graph with start and goal attached:
-//!   the format (nodes, edges, MessagePack, JSON) and [`VoronoiGraph::build`], the crack graph
-//!   of a scene.
+//!   the format (nodes, edges, MessagePack, JSON), its checks and connectivity; the data
+//!   every algorithm below builds on.
+//! - `assemble` (private): [`VoronoiGraph::build`], the crack graph of a scene with start and
+//!   goal attached.
 //! - `crack` (private): the cracks between the nearest-obstacle regions, the crack graph's
-//!   network; `regions` (private): stray cells of a region joined to a neighbour first.
+//!   network; `crack_bits` (private): the cracks of a labelling as bitsets; `regions`
+//!   (private): stray cells of a region joined to a neighbour first.
 //! - `trace` (private): one tracer of a network into nodes and chains, for both graphs.
 //! - `simplify` (private): chains into edge polylines (geom's Douglas-Peucker) with lengths
 //!   and clearances.
@@ -19,11 +22,15 @@
 //! - [`attach`]: start and goal joined to a graph: [`MapGraph`], a complete graph prepared
 //!   once, joined along maximum-clearance routes for each query; and the crack graph's
 //!   breadth-first joins.
+//! - `union_find` (private): the union-find root shared by the field, the regions and the
+//!   graph.
 //!
 //! [`build`] does grid, field and graph for a scene.
 
+mod assemble;
 pub mod attach;
 mod crack;
+mod crack_bits;
 mod exact;
 pub mod field;
 pub mod graph;
@@ -33,6 +40,7 @@ mod regions;
 mod simplify;
 pub mod skeleton;
 mod trace;
+mod union_find;
 
 pub use attach::{MapGraph, build_complete, complete_graph};
 pub use field::{DistanceField, UpdateError};
@@ -43,15 +51,6 @@ pub use grid::{Grid, GridError};
 
 use homospline_geom::{Real, Scene};
 use thiserror::Error;
-
-/// Union-find: the root of `i` in the forest `parent`, halving the path on the way.
-pub(crate) fn find_root(parent: &mut [usize], mut i: usize) -> usize {
-    while parent[i] != i {
-        parent[i] = parent[parent[i]];
-        i = parent[i];
-    }
-    i
-}
 
 /// Why [`build`] failed.
 #[derive(Debug, Error, PartialEq)]

@@ -4,10 +4,10 @@
 //! the cracks have one independent cycle per obstacle. Two ways: bounded fills from the cracks
 //! for small strays ([`local_strays`]), and a full labelling as the fallback ([`regions`]).
 
-use crate::crack::Cracks;
+use crate::crack_bits::Cracks;
 use crate::field::DistanceField;
-use crate::find_root;
 use crate::grid::Grid;
+use crate::union_find::find_root;
 
 /// Largest stray component [`local_strays`] looks for.
 const STRAY_LIMIT: usize = 16;
