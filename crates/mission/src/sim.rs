@@ -22,8 +22,10 @@ mod scouts;
 mod sense;
 mod simulate;
 
-pub use config::{MAX_SCOUTS, MAX_STEPS, MIN_DT, MissionConfig, MissionError, Policy, time_step};
+pub use config::{
+    MAX_SCOUTS, MAX_STEPS, MIN_DT, MissionConfig, MissionError, Policy, TURN_ANGLE_DEG, time_step,
+};
 pub use record::{Adopted, Event, EventKind, MissionResult, Robot, Track};
-pub use replan::{TURN_ANGLE_DEG, should_switch};
+pub use replan::should_switch;
 pub use scene::replan_scene;
 pub use simulate::{simulate, simulate_map};

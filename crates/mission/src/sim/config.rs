@@ -33,7 +33,7 @@ impl Policy {
     }
 }
 
-/// Settings of [`simulate`].
+/// Settings of [`simulate`](crate::sim::simulate).
 #[derive(Clone, Debug, PartialEq)]
 pub struct MissionConfig {
     /// The planner, offline and for every re-plan. Defaults to 5 classes and L-BFGS (re-plans
@@ -154,6 +154,9 @@ pub const MAX_STEPS: Real = 1e6;
 
 /// Most scouts.
 pub const MAX_SCOUTS: usize = 64;
+
+/// The most a new path may leave off the UGV's heading without a turn on the spot, degrees.
+pub const TURN_ANGLE_DEG: Real = 25.0;
 
 /// The time step a mission runs at: `requested` (`--dt`), refined where a robot would travel
 /// more than half its sensor range between two looks. The robots sense once per step, so a

@@ -62,6 +62,8 @@ pub enum EventKind {
     },
     /// The new path leaves more than [`TURN_ANGLE_DEG`] off the heading (it starts backwards
     /// or sideways): the UGV turns on the spot.
+    ///
+    /// [`TURN_ANGLE_DEG`]: crate::sim::TURN_ANGLE_DEG
     TurnedAround,
     /// The goal is reached.
     Reached,
@@ -118,6 +120,9 @@ pub struct MissionResult {
     pub time: Real,
     /// The time step the mission ran at: [`MissionConfig::dt`], or less where a robot would
     /// travel more than half its sensor range between two looks ([`time_step`]).
+    ///
+    /// [`MissionConfig::dt`]: crate::sim::MissionConfig::dt
+    /// [`time_step`]: crate::sim::time_step
     pub dt: Real,
     /// Distance the UGV drove.
     pub ugv_distance: Real,

@@ -4,14 +4,11 @@
 
 use homospline_geom::{Point, Real, Vector};
 
-use super::config::MissionConfig;
+use super::config::{MissionConfig, TURN_ANGLE_DEG};
 use super::planner::Planner;
 use super::record::{EventKind, Record};
 use super::route::{Drive, Polyline, Route};
 use crate::known::Known;
-
-/// The most a new path may leave off the UGV's heading without a turn on the spot, degrees.
-pub const TURN_ANGLE_DEG: Real = 25.0;
 
 /// The hysteresis: whether a plan of cost `current` that is still valid is given up for
 /// another class of cost `candidate`, `since_last_switch` seconds after the last switch. Only
