@@ -482,18 +482,9 @@ fn mean(v: &[f64]) -> f64 {
 
 /// Every scout policy on `count` generated worlds, and the limited-overlap measurement.
 fn missions(count: usize) -> Result<()> {
-    use homospline_mission::{MissionConfig, Policy, simulate};
-    use homospline_spline::{CircleModel, ClearanceModel};
-    let mut worlds = Vec::new();
-    let mut seed = 0;
-    while worlds.len() < count && seed < 20 * count as u64 {
-        if let Some(w) = homospline_testkit::random_world(seed, 2) {
-            worlds.push(w);
-        }
-        seed += 1;
-    }
+    let (worlds, seeds) = generated_worlds(count);
     println!(
-        "{} generated worlds (seeds 0..{seed}; every other one with its second class blocked too), 2 scouts",
+        "{} generated worlds (seeds 0..{seeds}; every other one with its second class blocked too), 2 scouts",
         worlds.len()
     );
     println!(
@@ -508,113 +499,185 @@ fn missions(count: usize) -> Result<()> {
         "UAV dist",
         "worse than none"
     );
+    let mut clearance = TrackClearance {
+        least: f64::INFINITY,
+        missions: 0,
+    };
     let mut baseline: Vec<f64> = Vec::new();
-    // The least clearance of any UGV track, segment by segment, to the true obstacles
-    // (inflated by the robot radius: a track keeps the radius where it is positive).
-    let (mut track_clearance, mut missions_run) = (f64::INFINITY, 0);
-    for policy in Policy::ALL {
-        let cfg = MissionConfig {
-            policy,
-            ..MissionConfig::default()
-        };
-        let (mut reached, mut solvable) = (0, 0);
-        let (mut dist, mut time, mut rep, mut sw, mut ab, mut uav) =
-            (vec![], vec![], vec![], vec![], vec![], vec![]);
-        let mut times = Vec::new();
-        for w in &worlds {
-            let r = simulate(w, &cfg)?;
-            let track: Vec<homospline_geom::Point> = r.ugv.samples.iter().map(|s| s.1).collect();
-            let truth = CircleModel::new(w.truth.circles());
-            track_clearance = track_clearance.min(truth.polyline_clearance(&track));
-            missions_run += 1;
-            if r.truth_plan_length.is_some() {
-                solvable += 1;
-                reached += usize::from(r.reached);
-            }
-            if let (Some(d), Some(t)) = (r.distance_ratio(), r.time_ratio(w.team.ugv.speed)) {
-                dist.push(d);
-                time.push(t);
-            }
-            times.push(r.time_ratio(w.team.ugv.speed).unwrap_or(f64::NAN));
-            rep.push(r.replans as f64);
-            sw.push(r.switches as f64);
-            ab.push(r.abandoned_distance);
-            uav.push(r.uav_distance);
-        }
-        let worse = if policy == Policy::None {
-            baseline = times.clone();
-            "-".to_owned()
-        } else {
-            let n = times
-                .iter()
-                .zip(&baseline)
-                .filter(|(a, b)| **a > **b + 1e-9)
-                .count();
-            format!("{n}/{}", times.len())
-        };
-        println!(
-            "{:<13} {:>8} {:>10.3} {:>10.3} {:>8.2} {:>9.2} {:>10.2} {:>9.1} {:>10}",
-            policy.name(),
-            format!("{reached}/{solvable}"),
-            mean(&dist),
-            mean(&time),
-            mean(&rep),
-            mean(&sw),
-            mean(&ab),
-            mean(&uav),
-            worse
-        );
+    for policy in homospline_mission::Policy::ALL {
+        let figures = policy_figures(&worlds, policy, &mut clearance)?;
+        print_policy_row(policy, &figures, &mut baseline);
     }
     println!(
-        "UGV tracks: least clearance to the true obstacles, robot radius included, segment by segment: {track_clearance:.4} over {missions_run} missions{}",
-        if track_clearance > 0.0 {
+        "UGV tracks: least clearance to the true obstacles, robot radius included, segment by segment: {:.4} over {} missions{}",
+        clearance.least,
+        clearance.missions,
+        if clearance.least > 0.0 {
             ""
         } else {
             "  TRACK ENTERS AN OBSTACLE"
         }
     );
     // Limited overlap: single random blockages on the chosen path.
-    use homospline_optim::{PlanConfig, plan};
     for diverse in [None, Some(0.8), Some(0.5)] {
-        // The same blockage positions (as fractions of the chosen path) for every variant.
-        let mut rng = homospline_testkit::SplitMix(42);
-        let (mut open, mut trials, mut classes, mut plans) = (0, 0, 0, 0);
-        for w in &worlds {
-            let cfg = PlanConfig {
-                diverse,
-                ..MissionConfig::default().plan
-            };
-            let Ok(p) = plan(&w.prior, &cfg) else {
-                continue;
-            };
-            let Some(b) = p.best else { continue };
-            let chosen = &p.classes[b - 1];
-            plans += 1;
-            classes += p.classes.iter().filter(|c| c.collision_free).count();
-            let model = CircleModel::new(w.prior.circles());
-            for _ in 0..10 {
-                let i = 1 + (rng.next_unit() * (chosen.path.len() - 2) as f64) as usize;
-                let at = chosen.path[i];
-                let r = model.clearance(&at).0 + 0.5;
-                let blocked = CircleModel::new(vec![homospline_geom::Circle::new(at.x, at.y, r)]);
-                trials += 1;
-                let other_open = p.classes.iter().any(|c| {
-                    c.rank != chosen.rank
-                        && c.collision_free
-                        && blocked.polyline_clearance(&c.path) > 0.0
-                });
-                open += usize::from(other_open);
-            }
-        }
-        println!(
-            "single blockage on the chosen path, {}: another class open in {open}/{trials} ({:.1} %), {:.2} collision-free classes per plan",
-            match diverse {
-                None => "k best classes".to_owned(),
-                Some(f) => format!("--diverse {f}"),
-            },
-            100.0 * open as f64 / trials.max(1) as f64,
-            classes as f64 / plans.max(1) as f64
-        );
+        print_single_blockages(&worlds, diverse);
     }
     Ok(())
+}
+
+/// The first `count` worlds of the seeded generator (2 scouts each) within `20 * count`
+/// seeds, and the end of the seeds tried.
+fn generated_worlds(count: usize) -> (Vec<homospline_mission::MissionWorld>, u64) {
+    let mut worlds = Vec::new();
+    let mut seed = 0;
+    while worlds.len() < count && seed < 20 * count as u64 {
+        if let Some(w) = homospline_testkit::random_world(seed, 2) {
+            worlds.push(w);
+        }
+        seed += 1;
+    }
+    (worlds, seed)
+}
+
+/// The least clearance of any UGV track, segment by segment, to the true obstacles
+/// (inflated by the robot radius: a track keeps the radius where it is positive), over the
+/// missions run.
+struct TrackClearance {
+    least: f64,
+    missions: usize,
+}
+
+/// One policy's figures over the generated worlds.
+#[derive(Default)]
+struct PolicyFigures {
+    /// Worlds whose goal was reached, of those the truth plan reaches.
+    reached: usize,
+    solvable: usize,
+    /// Distance and time over the truth plan's, where both exist.
+    dist: Vec<f64>,
+    time: Vec<f64>,
+    replans: Vec<f64>,
+    switches: Vec<f64>,
+    abandoned: Vec<f64>,
+    uav: Vec<f64>,
+    /// Time over the truth plan's for every world (NaN where there is none).
+    times: Vec<f64>,
+}
+
+/// Runs `policy` on every world; each UGV track's clearance goes to `clearance`.
+fn policy_figures(
+    worlds: &[homospline_mission::MissionWorld],
+    policy: homospline_mission::Policy,
+    clearance: &mut TrackClearance,
+) -> Result<PolicyFigures> {
+    use homospline_mission::{MissionConfig, simulate};
+    use homospline_spline::{CircleModel, ClearanceModel};
+    let cfg = MissionConfig {
+        policy,
+        ..MissionConfig::default()
+    };
+    let mut f = PolicyFigures::default();
+    for w in worlds {
+        let r = simulate(w, &cfg)?;
+        let track: Vec<homospline_geom::Point> = r.ugv.samples.iter().map(|s| s.1).collect();
+        let truth = CircleModel::new(w.truth.circles());
+        clearance.least = clearance.least.min(truth.polyline_clearance(&track));
+        clearance.missions += 1;
+        if r.truth_plan_length.is_some() {
+            f.solvable += 1;
+            f.reached += usize::from(r.reached);
+        }
+        if let (Some(d), Some(t)) = (r.distance_ratio(), r.time_ratio(w.team.ugv.speed)) {
+            f.dist.push(d);
+            f.time.push(t);
+        }
+        f.times
+            .push(r.time_ratio(w.team.ugv.speed).unwrap_or(f64::NAN));
+        f.replans.push(r.replans as f64);
+        f.switches.push(r.switches as f64);
+        f.abandoned.push(r.abandoned_distance);
+        f.uav.push(r.uav_distance);
+    }
+    Ok(f)
+}
+
+/// Prints `policy`'s row: means, and in how many worlds it took longer than the policy
+/// `none`, whose times are kept in `baseline`.
+fn print_policy_row(
+    policy: homospline_mission::Policy,
+    f: &PolicyFigures,
+    baseline: &mut Vec<f64>,
+) {
+    let worse = if policy == homospline_mission::Policy::None {
+        *baseline = f.times.clone();
+        "-".to_owned()
+    } else {
+        let n = f
+            .times
+            .iter()
+            .zip(baseline.iter())
+            .filter(|(a, b)| **a > **b + 1e-9)
+            .count();
+        format!("{n}/{}", f.times.len())
+    };
+    println!(
+        "{:<13} {:>8} {:>10.3} {:>10.3} {:>8.2} {:>9.2} {:>10.2} {:>9.1} {:>10}",
+        policy.name(),
+        format!("{}/{}", f.reached, f.solvable),
+        mean(&f.dist),
+        mean(&f.time),
+        mean(&f.replans),
+        mean(&f.switches),
+        mean(&f.abandoned),
+        mean(&f.uav),
+        worse
+    );
+}
+
+/// Prints how often a single random blockage on the chosen path (10 per world, at the same
+/// places for every variant) leaves another collision-free class open, planning with
+/// `diverse`.
+fn print_single_blockages(worlds: &[homospline_mission::MissionWorld], diverse: Option<f64>) {
+    use homospline_mission::MissionConfig;
+    use homospline_optim::plan;
+    use homospline_spline::{CircleModel, ClearanceModel};
+    // The same blockage positions (as fractions of the chosen path) for every variant.
+    let mut rng = homospline_testkit::SplitMix(42);
+    let (mut open, mut trials, mut classes, mut plans) = (0, 0, 0, 0);
+    for w in worlds {
+        let cfg = PlanConfig {
+            diverse,
+            ..MissionConfig::default().plan
+        };
+        let Ok(p) = plan(&w.prior, &cfg) else {
+            continue;
+        };
+        let Some(b) = p.best else { continue };
+        let chosen = &p.classes[b - 1];
+        plans += 1;
+        classes += p.classes.iter().filter(|c| c.collision_free).count();
+        let model = CircleModel::new(w.prior.circles());
+        for _ in 0..10 {
+            let i = 1 + (rng.next_unit() * (chosen.path.len() - 2) as f64) as usize;
+            let at = chosen.path[i];
+            let r = model.clearance(&at).0 + 0.5;
+            let blocked = CircleModel::new(vec![homospline_geom::Circle::new(at.x, at.y, r)]);
+            trials += 1;
+            let other_open = p.classes.iter().any(|c| {
+                c.rank != chosen.rank
+                    && c.collision_free
+                    && blocked.polyline_clearance(&c.path) > 0.0
+            });
+            open += usize::from(other_open);
+        }
+    }
+    println!(
+        "single blockage on the chosen path, {}: another class open in {open}/{trials} ({:.1} %), {:.2} collision-free classes per plan",
+        match diverse {
+            None => "k best classes".to_owned(),
+            Some(f) => format!("--diverse {f}"),
+        },
+        100.0 * open as f64 / trials.max(1) as f64,
+        classes as f64 / plans.max(1) as f64
+    );
 }

@@ -17,6 +17,7 @@
 //!
 //! This crate reads no files: front ends load the world file and its scene.
 
+mod known;
 pub mod map;
 pub mod sim;
 pub mod world;

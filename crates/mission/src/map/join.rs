@@ -1,0 +1,219 @@
+//! Joining a map world file with its prior and truth maps: the checks of the two maps
+//! together, the robot's radius, and the changes between them.
+
+use homospline_geom::{Point, SceneError};
+use homospline_maps::OccupancyMap;
+
+use super::changes::changes;
+use crate::world::types::{MapSpec, MapWorld, Team, WorldFile};
+
+impl MapWorld {
+    /// A world built in code or from a file: checks that the maps have the same size, cell
+    /// and origin, that start and goal are free on both, and that the scouts start on the
+    /// map. `name` names the world in errors.
+    pub fn new(
+        name: &str,
+        prior: OccupancyMap,
+        truth: OccupancyMap,
+        start: Point,
+        goal: Point,
+        team: Team,
+    ) -> Result<Self, SceneError> {
+        WorldFile::unread(name, String::new(), team).with_maps(
+            prior,
+            truth,
+            &MapSpec {
+                map: String::new(),
+                truth_map: String::new(),
+                start,
+                goal,
+            },
+        )
+    }
+}
+
+/// ` (FILE)`, or nothing for a map built in code.
+fn named(f: &str) -> String {
+    if f.is_empty() {
+        String::new()
+    } else {
+        format!(" ({f})")
+    }
+}
+
+impl WorldFile {
+    /// Joins the file with its prior and truth maps and checks them together.
+    pub fn with_maps(
+        self,
+        prior: OccupancyMap,
+        truth: OccupancyMap,
+        spec: &MapSpec,
+    ) -> Result<MapWorld, SceneError> {
+        self.check_same_grid(&prior, &truth, spec)?;
+        self.check_ends_free(&prior, &truth, spec)?;
+        let (prior, truth) = self.keep_radius(prior, truth, spec)?;
+        self.check_scouts_on(&prior)?;
+        let changes = changes(&prior, &truth);
+        Ok(MapWorld {
+            name: self.name,
+            prior,
+            truth,
+            start: spec.start,
+            goal: spec.goal,
+            team: self.team,
+            changes,
+        })
+    }
+
+    /// The truth map has the prior's size, cell size, origin and axis.
+    fn check_same_grid(
+        &self,
+        prior: &OccupancyMap,
+        truth: &OccupancyMap,
+        spec: &MapSpec,
+    ) -> Result<(), SceneError> {
+        if (truth.width, truth.height) != (prior.width, prior.height) {
+            return Err(self.field_error(
+                "truth_map",
+                format!(
+                    "the truth map{} is {} x {} cells; the prior map{} is {} x {}: they must be the same size",
+                    named(&spec.truth_map),
+                    truth.width,
+                    truth.height,
+                    named(&spec.map),
+                    prior.width,
+                    prior.height
+                ),
+            ));
+        }
+        if (truth.cell - prior.cell).abs() > 1e-9 * prior.cell
+            || (truth.origin - prior.origin).norm() > 1e-9 * prior.cell
+            || truth.y_down != prior.y_down
+        {
+            return Err(self.field_error(
+                "truth_map",
+                format!(
+                    "the truth map{} has another cell size, origin or axis than the prior map{}",
+                    named(&spec.truth_map),
+                    named(&spec.map)
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The start and the goal are on both maps, in free cells that touch no obstacle.
+    fn check_ends_free(
+        &self,
+        prior: &OccupancyMap,
+        truth: &OccupancyMap,
+        spec: &MapSpec,
+    ) -> Result<(), SceneError> {
+        for (field, p) in [("start", spec.start), ("goal", spec.goal)] {
+            for (which, m) in [("prior map", prior), ("truth map", truth)] {
+                let problem = match m.free_at(&p) {
+                    None => format!("({}, {}) is outside the map {}", p.x, p.y, m.bounds()),
+                    Some(false) => {
+                        format!("({}, {}) is in an occupied cell of the {which}", p.x, p.y)
+                    }
+                    Some(true) => match m.touches_obstacle(&p) {
+                        Some(why) => format!("({}, {}) {why} of the {which}", p.x, p.y),
+                        None => continue,
+                    },
+                };
+                return Err(self.field_error(field, problem));
+            }
+        }
+        Ok(())
+    }
+
+    /// Both maps as the robot's centre sees them (inflated by `team.ugv.radius` when it is
+    /// positive); the start and the goal must keep the radius, and their cells too.
+    fn keep_radius(
+        &self,
+        mut prior: OccupancyMap,
+        mut truth: OccupancyMap,
+        spec: &MapSpec,
+    ) -> Result<(OccupancyMap, OccupancyMap), SceneError> {
+        let r = self.team.ugv.radius;
+        if !(r.is_finite() && r >= 0.0) {
+            return Err(self.field_error(
+                "team.ugv.radius",
+                format!("{r} must be a finite number >= 0"),
+            ));
+        }
+        if r > 0.0 {
+            self.check_ends_clear(&prior, &truth, spec)?;
+            let inflate = |m: &OccupancyMap| {
+                m.inflated(r)
+                    .map_err(|e| self.field_error("team.ugv.radius", format!("{r}: {e}")))
+            };
+            prior = inflate(&prior)?;
+            truth = inflate(&truth)?;
+            self.check_end_cells_clear(&prior, &truth, spec)?;
+        }
+        Ok((prior, truth))
+    }
+
+    /// The start and the goal have more clearance than the robot's radius on both maps.
+    fn check_ends_clear(
+        &self,
+        prior: &OccupancyMap,
+        truth: &OccupancyMap,
+        spec: &MapSpec,
+    ) -> Result<(), SceneError> {
+        let r = self.team.ugv.radius;
+        for (field, p) in [("start", spec.start), ("goal", spec.goal)] {
+            for (which, m) in [("prior map", prior), ("truth map", truth)] {
+                let c = m.clearance_within(&p, r + 2.0 * m.cell);
+                if c <= r {
+                    return Err(self.field_error(
+                        field,
+                        format!(
+                            "({}, {}) has clearance {c:.4} on the {which}, not more than team.ugv.radius {r}",
+                            p.x, p.y
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// On the inflated maps, the start's and the goal's cells are free and touch no obstacle.
+    fn check_end_cells_clear(
+        &self,
+        prior: &OccupancyMap,
+        truth: &OccupancyMap,
+        spec: &MapSpec,
+    ) -> Result<(), SceneError> {
+        let r = self.team.ugv.radius;
+        for (field, p) in [("start", spec.start), ("goal", spec.goal)] {
+            for (which, m) in [("prior map", prior), ("truth map", truth)] {
+                if m.free_at(&p) != Some(true) || m.touches_obstacle(&p).is_some() {
+                    return Err(self.field_error(
+                        field,
+                        format!(
+                            "({}, {}) keeps team.ugv.radius {r} on the {which}, but its cell does not (free space is the cells all of whose points keep the radius): move it up to one cell away from the wall",
+                            p.x, p.y
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Every scout starts on the map.
+    fn check_scouts_on(&self, prior: &OccupancyMap) -> Result<(), SceneError> {
+        for (i, u) in self.team.uavs.iter().enumerate() {
+            if !prior.bounds().contains(&u.start) {
+                return Err(self.field_error(
+                    &format!("team.uavs[{i}]"),
+                    format!("start ({}, {}) is outside the map", u.start.x, u.start.y),
+                ));
+            }
+        }
+        Ok(())
+    }
+}

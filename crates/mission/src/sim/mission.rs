@@ -1,0 +1,259 @@
+//! The mission: its state, one tick of it ([`Mission::step`]), and the loop that runs it
+//! from the offline plan to the goal, a dead end or the time limit.
+
+use homospline_geom::{Point, Real};
+use homospline_homotopy::Rays;
+
+use super::config::{MissionConfig, MissionError, check_steps, time_step};
+use super::planner::Planner;
+use super::record::{EventKind, MissionResult, Record};
+use super::replan::replan;
+use super::route::{Drive, Route};
+use super::scouts::{Scout, assign, assign_idle, launch};
+use super::sense::{discover, look};
+use crate::known::Known;
+use crate::world::types::{Team, Ugv};
+
+/// A mission in progress, on any known world.
+pub(super) struct Mission<'a, K: Known> {
+    cfg: &'a MissionConfig,
+    /// The known world and the planner on it.
+    planner: Planner<'a, K>,
+    /// The ground robot.
+    ugv: Ugv,
+    /// The UGV's route and its progress.
+    drive: Drive,
+    scouts: Vec<Scout>,
+    /// Events, the UGV's track, the adopted paths, the counts.
+    record: Record,
+    /// Seconds from the start.
+    t: Real,
+    /// The time step.
+    dt: Real,
+    /// The time limit.
+    max_time: Real,
+    truth_plan_length: Option<Real>,
+    reached: bool,
+    /// The goal is reached, the UGV is stuck, or the time is up.
+    done: bool,
+}
+
+impl<'a, K: Known> Mission<'a, K> {
+    /// The mission on `known` with `team`, planned offline: the classes are named on
+    /// `rays`; `truth_plan_length` is the best plan's on the true world.
+    pub(super) fn new(
+        known: K,
+        rays: Rays,
+        team: &Team,
+        truth_plan_length: Option<Real>,
+        cfg: &'a MissionConfig,
+    ) -> Result<Self, MissionError> {
+        let (start, goal) = (known.start(), known.goal());
+        let scouts = launch(team, cfg, start);
+        let max_time = cfg
+            .max_time
+            .unwrap_or_else(|| 20.0 * (goal - start).norm() / team.ugv.speed + 60.0);
+        let dt = time_step(cfg.dt, &team.ugv, scouts.iter().map(|sc| &sc.uav));
+        check_steps(cfg, max_time, dt)?;
+        let mut mission = Self {
+            cfg,
+            planner: Planner {
+                cfg,
+                known,
+                rays,
+                pending_ms: 0.0,
+            },
+            ugv: team.ugv.clone(),
+            drive: Drive::new(Route::standing(start), Vec::new()),
+            scouts,
+            record: Record::new(start),
+            t: 0.0,
+            dt,
+            max_time,
+            // Start and goal at one point: the best path is to stay (a plan's curve through
+            // them has a length of rounding, and time over it read 166463).
+            truth_plan_length: if start == goal {
+                Some(0.0)
+            } else {
+                truth_plan_length
+            },
+            reached: false,
+            done: false,
+        };
+        mission.plan_offline(start, goal);
+        Ok(mission)
+    }
+
+    /// The offline plan on the prior map: the best class is driven, the others are its
+    /// alternatives, the scouts take their jobs. Done at once if there is no class, or if
+    /// the UGV starts at the goal.
+    fn plan_offline(&mut self, start: Point, goal: Point) {
+        let offline = self
+            .planner
+            .routes_from(start, None, false, &mut self.record);
+        self.record.replan_ms.clear();
+        let Some(first) = offline.first().cloned() else {
+            self.record.event(
+                0.0,
+                start,
+                EventKind::Stuck {
+                    reason: "no collision-free class on the prior map".into(),
+                },
+            );
+            self.done = true;
+            return;
+        };
+        self.record.event(
+            0.0,
+            start,
+            EventKind::Planned {
+                classes: offline.len(),
+                class: first.class.clone(),
+            },
+        );
+        self.drive
+            .take(first, offline[1..].to_vec(), 0.0, &mut self.record.adopted);
+        assign(
+            &mut self.scouts,
+            self.cfg.policy,
+            &self.drive,
+            self.ugv.sensor_range,
+        );
+        if start == goal {
+            // Already there: reached before anything moves.
+            self.record.event(0.0, start, EventKind::Reached);
+            self.reached = true;
+            self.done = true;
+        }
+    }
+
+    /// Whether the mission is over.
+    pub(super) fn done(&self) -> bool {
+        self.done
+    }
+
+    /// One tick. The robots look around (sense); what they found updates the known world
+    /// (discover) and may make the UGV re-plan (re-plan), after which the scouts take new
+    /// jobs (assign scouts); a scout done with its job takes the next. Then, unless the
+    /// time is up, every robot moves one time step (move) and the tracks record it
+    /// (record). The robots look around before anyone moves: a blockage within sensor range
+    /// of the start is known before the UGV drives into it.
+    pub(super) fn step(&mut self) {
+        let at = self.drive.position();
+        let found = look(
+            &mut self.planner.known,
+            (at, self.ugv.sensor_range),
+            &self.scouts,
+            &mut self.record,
+            self.t,
+        );
+        if found.any() {
+            let (planner, drive, record) = (&mut self.planner, &mut self.drive, &mut self.record);
+            discover(planner, drive, record, &found, (self.t, at));
+            if !replan(planner, drive, record, self.t) {
+                self.done = true;
+                return;
+            }
+            assign(
+                &mut self.scouts,
+                self.cfg.policy,
+                &self.drive,
+                self.ugv.sensor_range,
+            );
+        } else if self.scouts.iter().any(|sc| sc.route.is_empty()) {
+            assign_idle(
+                &mut self.scouts,
+                self.cfg.policy,
+                &self.drive,
+                self.ugv.sensor_range,
+            );
+        }
+        if self.t >= self.max_time {
+            self.time_out();
+        } else {
+            self.move_robots();
+        }
+    }
+
+    /// The time is up: the mission stops where the UGV is.
+    fn time_out(&mut self) {
+        self.record.event(
+            self.t,
+            self.drive.position(),
+            EventKind::Stuck {
+                reason: format!("time limit {:.0} s", self.max_time),
+            },
+        );
+        self.done = true;
+    }
+
+    /// Every robot moves one time step, its track recording it; done if the UGV reaches
+    /// the goal.
+    fn move_robots(&mut self) {
+        self.t += self.dt;
+        let step = self.ugv.speed * self.dt;
+        let arrived = self
+            .drive
+            .advance(step, self.dt, self.t, &mut self.record.ugv);
+        for sc in &mut self.scouts {
+            sc.step(self.dt, self.t);
+        }
+        if arrived {
+            self.reached = true;
+            self.record
+                .event(self.t, self.drive.position(), EventKind::Reached);
+            self.done = true;
+        }
+    }
+
+    /// The outcome of world `name` (each scout's track ends at the mission's end), and the
+    /// known world as the mission left it.
+    pub(super) fn result(mut self, name: &str) -> (MissionResult, K) {
+        let t = self.t;
+        for sc in &mut self.scouts {
+            let last = sc.track.samples.last().copied();
+            if last.is_none_or(|(lt, _)| lt < t) {
+                sc.track.samples.push((t, sc.pos));
+            }
+        }
+        let record = self.record;
+        let result = MissionResult {
+            world: name.to_owned(),
+            policy: self.cfg.policy,
+            scouts: self.scouts.len(),
+            reached: self.reached,
+            time: t,
+            dt: self.dt,
+            ugv_distance: self.drive.driven,
+            truth_plan_length: self.truth_plan_length,
+            replans: record.replans,
+            switches: record.switches,
+            abandoned_distance: record.abandoned,
+            uav_distance: self.scouts.iter().fold(0.0, |acc, s| acc + s.flown),
+            events: record.events,
+            ugv: record.ugv,
+            uavs: self.scouts.into_iter().map(|s| s.track).collect(),
+            adopted: record.adopted,
+            replan_ms: record.replan_ms,
+            map_updates: Vec::new(),
+        };
+        (result, self.planner.known)
+    }
+}
+
+/// The mission loop, on any known world: the offline plan, then time steps of sensing, map
+/// updates, re-checks, re-plans, driving and flying until the mission is done.
+pub(super) fn run_mission<K: Known>(
+    known: K,
+    rays: Rays,
+    name: &str,
+    team: &Team,
+    truth_plan_length: Option<Real>,
+    cfg: &MissionConfig,
+) -> Result<(MissionResult, K), MissionError> {
+    let mut mission = Mission::new(known, rays, team, truth_plan_length, cfg)?;
+    while !mission.done() {
+        mission.step();
+    }
+    Ok(mission.result(name))
+}

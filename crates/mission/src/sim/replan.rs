@@ -1,0 +1,216 @@
+//! Re-planning after a discovery: at once when the UGV's path is found blocked (keeping the
+//! current class if it is within the margin of the best), else a switch through the
+//! hysteresis if a better class opened.
+
+use homospline_geom::{Point, Real, Vector};
+
+use super::config::{MissionConfig, TURN_ANGLE_DEG};
+use super::planner::Planner;
+use super::record::{EventKind, Record};
+use super::route::{Drive, Polyline, Route};
+use crate::known::Known;
+
+/// The hysteresis: whether a plan of cost `current` that is still valid is given up for
+/// another class of cost `candidate`, `since_last_switch` seconds after the last switch. Only
+/// if the candidate is cheaper by the relative margin and the last switch is old enough.
+pub fn should_switch(
+    current: Real,
+    candidate: Real,
+    since_last_switch: Real,
+    cfg: &MissionConfig,
+) -> bool {
+    candidate < (1.0 - cfg.switch_margin) * current && since_last_switch >= cfg.min_switch_interval
+}
+
+/// Whether a path leaves its start more than [`TURN_ANGLE_DEG`] off `heading`: the UGV
+/// turns on the spot. A curve planned along the heading leaves exactly along it; one whose
+/// class starts backwards, or sideways, is planned from a standstill.
+fn turns_on_the_spot(line: &Polyline, heading: Vector) -> bool {
+    line.pts.len() > 1 && {
+        let d = line.pts[1] - line.pts[0];
+        d.dot(&heading) < TURN_ANGLE_DEG.to_radians().cos() * d.norm() * heading.norm()
+    }
+}
+
+/// Re-plans from where the UGV is at time `t` after the known world changed: at once if
+/// its path is blocked, else only to switch to a better class. Whether the mission goes on
+/// (`false`: the UGV is stuck, no collision-free class left on the known map).
+pub(super) fn replan<K: Known>(
+    planner: &mut Planner<'_, K>,
+    drive: &mut Drive,
+    record: &mut Record,
+    t: Real,
+) -> bool {
+    let at = drive.position();
+    let heading = drive.route.line.heading(drive.s);
+    let remaining = drive.route.line.slice(drive.s, drive.route.line.length());
+    let mut replan = Replan {
+        planner,
+        drive,
+        record,
+        t,
+        at,
+        heading,
+    };
+    if replan.planner.clear(&remaining) {
+        replan.maybe_switch();
+        true
+    } else {
+        replan.blocked()
+    }
+}
+
+/// A re-plan at time `t`, the UGV at `at` along `heading`.
+struct Replan<'m, 'a, K: Known> {
+    planner: &'m mut Planner<'a, K>,
+    drive: &'m mut Drive,
+    record: &'m mut Record,
+    t: Real,
+    at: Point,
+    heading: Vector,
+}
+
+impl<K: Known> Replan<'_, '_, K> {
+    fn event(&mut self, kind: EventKind) {
+        self.record.event(self.t, self.at, kind);
+    }
+
+    /// The routes from the UGV's position (on the move, or `from_standstill`).
+    fn routes(&mut self, from_standstill: bool) -> Vec<Route> {
+        let heading = (!from_standstill).then_some(self.heading);
+        self.planner
+            .routes_from(self.at, heading, true, &mut *self.record)
+    }
+
+    /// The events of driving `next` instead of the current route: a class switch if the
+    /// class changes, and a turn on the spot if `next` leaves off the heading. Whether the
+    /// class changed.
+    fn switch_events(&mut self, next: &Route) -> bool {
+        let switched = next.class != self.drive.route.class;
+        if switched {
+            let from = self.drive.route.class.clone();
+            self.event(EventKind::Switched {
+                from,
+                to: next.class.clone(),
+            });
+        }
+        if turns_on_the_spot(&next.line, self.heading) {
+            self.event(EventKind::TurnedAround);
+        }
+        switched
+    }
+
+    /// Drives `next` from here, the route driven so far abandoned, `alternatives` beside it.
+    fn take(&mut self, next: Route, alternatives: Vec<Route>) {
+        self.record.abandoned += self.drive.on_route();
+        self.drive
+            .take(next, alternatives, self.t, &mut self.record.adopted);
+    }
+
+    /// The UGV's path is blocked: it re-plans from here and drives the best class, or its
+    /// current class if that costs at most the switch margin more. Whether it has a class.
+    fn blocked(&mut self) -> bool {
+        self.event(EventKind::Blocked {
+            class: self.drive.route.class.clone(),
+        });
+        self.record.replans += 1;
+        let mut routes = self.routes(false);
+        if routes.is_empty() {
+            // No curve leaving along the heading clears what was just found (a blockage
+            // close ahead): the UGV stops and plans from a standstill, turning on the spot.
+            routes = self.routes(true);
+            // One re-plan, one time: both tries count in it.
+            let replan_ms = &mut self.record.replan_ms;
+            if let (Some(second), Some(first)) = (replan_ms.pop(), replan_ms.last_mut()) {
+                *first += second;
+            }
+        }
+        let Some(best) = routes.first() else {
+            self.event(EventKind::Stuck {
+                reason: "no collision-free class on the known map".into(),
+            });
+            self.record.abandoned += self.drive.on_route();
+            return false;
+        };
+        // Bonus for the current class: kept if within the margin of the best.
+        let margin = self.planner.cfg.switch_margin;
+        let pick = routes
+            .iter()
+            .position(|r| r.class == self.drive.route.class && r.cost <= (1.0 + margin) * best.cost)
+            .unwrap_or(0);
+        let next = routes[pick].clone();
+        self.event(EventKind::Replanned {
+            forced: true,
+            classes: routes.len(),
+            class: next.class.clone(),
+        });
+        if self.switch_events(&next) {
+            self.record.switches += 1;
+            self.drive.last_switch = self.t;
+        }
+        let alternatives = routes
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| i != pick)
+            .map(|(_, r)| r.clone())
+            .collect();
+        self.take(next, alternatives);
+        true
+    }
+
+    /// The map changed but the path is still clear: a better class may have opened (a
+    /// mapped obstacle gone) or the current one may have become worse (a new obstacle near
+    /// it). Switch only through the hysteresis. (A re-plan that finds no class leaves the
+    /// valid path as it is and is not counted.)
+    fn maybe_switch(&mut self) {
+        let routes = self.routes(false);
+        if routes.is_empty() {
+            // Not a re-plan (below), and so not timed as one.
+            self.record.replan_ms.pop();
+        }
+        let Some(best) = routes.first() else {
+            return;
+        };
+        self.record.replans += 1;
+        // The price of staying: the rest of the current path, or the current class as
+        // re-planned from here if that is cheaper. A re-plan alone can land in a worse local
+        // optimum of the same class than the path being driven (its cost moves by up to 2x
+        // between decisions on a tempting world), and switching on that noise is the
+        // oscillation the hysteresis is there to prevent.
+        let route = &self.drive.route;
+        let driving = self
+            .planner
+            .remaining_cost(route, self.drive.s, self.heading);
+        let current = routes
+            .iter()
+            .find(|r| r.class == route.class)
+            .map_or(driving, |r| r.cost.min(driving));
+        let better = best.class != route.class
+            && should_switch(
+                current,
+                best.cost,
+                self.t - self.drive.last_switch,
+                self.planner.cfg,
+            );
+        let class = if better {
+            best.class.clone()
+        } else {
+            route.class.clone()
+        };
+        self.event(EventKind::Replanned {
+            forced: false,
+            classes: routes.len(),
+            class,
+        });
+        if better {
+            let best = best.clone();
+            self.switch_events(&best);
+            self.record.switches += 1;
+            self.drive.last_switch = self.t;
+            self.take(best, routes[1..].to_vec());
+        } else {
+            let class = &self.drive.route.class;
+            self.drive.alternatives = routes.into_iter().filter(|r| &r.class != class).collect();
+        }
+    }
+}

@@ -1,0 +1,103 @@
+//! Sensing: every robot looks around, and what it finds updates the known world.
+
+use homospline_geom::{Point, Real};
+
+use super::planner::Planner;
+use super::record::{EventKind, Record, Robot};
+use super::route::Drive;
+use super::scouts::Scout;
+use crate::known::Known;
+
+/// What one look found.
+pub(super) struct Found {
+    /// Something the known world lacks.
+    hidden: bool,
+    /// A mapped obstacle gone.
+    cleared: bool,
+}
+
+impl Found {
+    /// Whether anything was found.
+    pub(super) fn any(&self) -> bool {
+        self.hidden || self.cleared
+    }
+}
+
+/// Every robot looks around at time `t`: the UGV at `at` seeing `range`, then each scout
+/// where it is. Each difference between the known world and the truth that comes within
+/// range is an event `Discovered` at the UGV's position.
+pub(super) fn look<K: Known>(
+    known: &mut K,
+    (at, range): (Point, Real),
+    scouts: &[Scout],
+    record: &mut Record,
+    t: Real,
+) -> Found {
+    let mut found = Found {
+        hidden: false,
+        cleared: false,
+    };
+    let observers: Vec<(Robot, Point, Real)> = std::iter::once((Robot::Ugv, at, range))
+        .chain(
+            scouts
+                .iter()
+                .enumerate()
+                .map(|(i, sc)| (Robot::Uav(i), sc.pos, sc.uav.sensor_range)),
+        )
+        .collect();
+    for (by, p, range) in observers {
+        for (obstacle, hidden) in known.sense(&p, range) {
+            record.event(
+                t,
+                at,
+                EventKind::Discovered {
+                    obstacle,
+                    hidden,
+                    by,
+                },
+            );
+            if hidden {
+                found.hidden = true;
+            } else {
+                found.cleared = true;
+            }
+        }
+    }
+    found
+}
+
+/// Applies what was `found` to the known world (the update's wall time waits for the next
+/// re-plan): mapped obstacles found gone may rename the classes of the route and its
+/// alternatives; alternatives now blocked are closed (events at `t`, the UGV at `at`).
+pub(super) fn discover<K: Known>(
+    planner: &mut Planner<'_, K>,
+    drive: &mut Drive,
+    record: &mut Record,
+    found: &Found,
+    (t, at): (Real, Point),
+) {
+    planner.pending_ms += planner.known.update();
+    if found.cleared
+        && let Some(rays) = planner.known.renamed()
+    {
+        planner.rays = rays;
+        let track = &record.ugv.samples;
+        drive.route.class = drive.route.class_on(&planner.rays, track);
+        for a in &mut drive.alternatives {
+            a.class = a.class_on(&planner.rays, track);
+        }
+    }
+    drive.alternatives.retain(|a| {
+        let ok = planner.clear(&a.line.pts);
+        if !ok {
+            record.event(
+                t,
+                at,
+                EventKind::ClassClosed {
+                    class: a.class.clone(),
+                },
+            );
+        }
+        ok
+    });
+}

@@ -1,0 +1,87 @@
+//! The entry points: a mission on a scene world ([`simulate`]) or on an occupancy map world
+//! ([`simulate_map`]), with the truth plan to compare against.
+
+use homospline_homotopy::Rays;
+use homospline_optim::{GrowthConfig, PlanConfig, plan};
+
+use super::config::{MissionConfig, MissionError, check_config};
+use super::mission::run_mission;
+use super::record::MissionResult;
+use super::scene::SceneKnown;
+use crate::map::known::MapKnown;
+use crate::world::types::{MapWorld, MissionWorld};
+
+/// Simulates the mission in `world` with `cfg`. Deterministic: the same world and settings
+/// give the same events and tracks (only `replan_ms` varies).
+pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResult, MissionError> {
+    check_config(cfg)?;
+    // The scene's danger points, critical points and hazards join the cost of every plan.
+    let plan_cfg = PlanConfig {
+        growth: GrowthConfig {
+            cost: cfg.plan.growth.cost.clone().with_scene_points(&world.prior),
+            ..cfg.plan.growth.clone()
+        },
+        ..cfg.plan.clone()
+    };
+    let cfg = &MissionConfig {
+        plan: plan_cfg,
+        ..cfg.clone()
+    };
+    // The truth plan: the best-cost plan on the true world.
+    let truth_plan_length = plan(&world.truth, &cfg.plan)
+        .ok()
+        .and_then(|p| p.chosen().map(|c| c.length));
+    let known = SceneKnown::new(world, cfg);
+    let rays = Rays::for_scene(&world.prior);
+    let (result, _) = run_mission(
+        known,
+        rays,
+        &world.name,
+        &world.team,
+        truth_plan_length,
+        cfg,
+    )?;
+    Ok(result)
+}
+
+/// Simulates the mission on an occupancy map world: the same loop as [`simulate`], with the
+/// known map updated locally at each discovery (`MissionResult::map_updates`). The planner
+/// takes the map defaults of `homospline_maps::map_config` for via-points, the class search
+/// and the evaluation budget (rounds on long curves stop at 40 evaluations: the seeds are
+/// pulled taut, and the chosen costs are then within 0.6 % of those at 80).
+pub fn simulate_map(world: &MapWorld, cfg: &MissionConfig) -> Result<MissionResult, MissionError> {
+    check_config(cfg)?;
+    let defaults = homospline_maps::map_config();
+    let mut plan_cfg = cfg.plan.clone();
+    plan_cfg.growth.max_via_points = defaults.growth.max_via_points;
+    plan_cfg.growth.max_evaluations_per_round = defaults.growth.max_evaluations_per_round;
+    plan_cfg.growth.budget_segments = defaults.growth.budget_segments;
+    plan_cfg.growth.min_evaluations_per_round = defaults.growth.min_evaluations_per_round;
+    plan_cfg.search.one_path_per_state = defaults.search.one_path_per_state;
+    plan_cfg.search.max_expansions = defaults.search.max_expansions;
+    plan_cfg.growth.cost.safety_along = defaults.growth.cost.safety_along;
+    plan_cfg.growth.cost.dm = defaults.growth.cost.dm;
+    plan_cfg.growth.cost.omega = defaults.growth.cost.omega;
+    let cfg = &MissionConfig {
+        plan: plan_cfg,
+        ..cfg.clone()
+    };
+    // The truth plan: the best-cost plan on the true map.
+    let truth_plan_length = homospline_maps::PreparedMap::new(&world.truth)
+        .ok()
+        .and_then(|m| m.plan(world.start, world.goal, &cfg.plan).ok())
+        .and_then(|p| p.chosen().map(|c| c.length));
+    let known =
+        MapKnown::new(world).map_err(|e| MissionError::Config(format!("{}: {e}", world.name)))?;
+    let rays = known.naming_rays();
+    let (mut result, known) = run_mission(
+        known,
+        rays,
+        &world.name,
+        &world.team,
+        truth_plan_length,
+        cfg,
+    )?;
+    result.map_updates = known.updates;
+    Ok(result)
+}
