@@ -141,21 +141,14 @@ fn deserialize(text: &str, reader: &Reader) -> Result<RawWorld, SceneError> {
     if text.trim().is_empty() {
         return Err(reader.error(None, None, "the file is empty (expected a world)".into()));
     }
-    serde_saphyr::from_str(text).map_err(|e| {
+    homospline_geom::scene::from_yaml(text).map_err(|e| {
         let loc = e.location().filter(|l| l.line() > 0);
-        let msg = e.to_string();
-        let first = msg.lines().next().unwrap_or("malformed world").trim();
-        let first = first.strip_prefix("error:").unwrap_or(first).trim_start();
-        let first = match first.strip_prefix("line ").and_then(|r| r.split_once(": ")) {
-            Some((_, tail)) => tail,
-            None => first,
-        };
         SceneError {
             source_name: reader.source.to_owned(),
             line: loc.map(|l| l.line()),
             column: loc.map(|l| l.column()).filter(|&c| c > 0),
             field: None,
-            problem: first.to_owned(),
+            problem: homospline_geom::scene::yaml_problem(&e, "malformed world"),
         }
     })
 }
