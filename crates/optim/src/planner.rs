@@ -148,11 +148,7 @@ pub fn plan_world(
     let seeded = seed::seed_classes(world, graph, cfg, pool.as_ref(), &mut timing)?;
     let graph_cell = seeded.graph.as_ref().map(|g| 1.0 / g.resolution);
     let to = Instant::now();
-    let seed_signatures: Vec<String> = seeded
-        .seeds
-        .iter()
-        .map(|(_, s, _)| s.as_ref().map(|s| s.to_string()).unwrap_or_default())
-        .collect();
+    let seed_signatures = seeded.signatures();
     let (done, optimise_ms) = match seeded.streamed {
         Some((done, after_search)) => (done, Some(after_search)),
         None => {

@@ -42,6 +42,16 @@ pub(super) struct Seeds {
     pub streamed: Option<(Vec<(usize, ClassPlan)>, Real)>,
 }
 
+impl Seeds {
+    /// Each seed's class as text, in seed order (empty for the straight seed).
+    pub(super) fn signatures(&self) -> Vec<String> {
+        self.seeds
+            .iter()
+            .map(|(_, s, _)| s.as_ref().map(|s| s.to_string()).unwrap_or_default())
+            .collect()
+    }
+}
+
 /// The seeds `cfg.seed` asks for; `graph` gives the Voronoi graph. The Voronoi stage's and
 /// the class search's times go to `timing`.
 pub(super) fn seed_classes(
