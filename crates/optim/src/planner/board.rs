@@ -13,7 +13,12 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use homospline_geom::Real;
 
-use super::{ClassRun, ClassTask, Growth, PlanConfig, Pruning, Score, SeedPath, World};
+use super::class::{ClassRun, ClassTask, start_class};
+use super::config::PlanConfig;
+use super::rank::{Pruning, Score, outclassed};
+use super::seed::{SeedPath, class_seed};
+use super::world::World;
+use crate::growth::Growth;
 
 /// A class's place on the board between jobs.
 struct Slot<'w> {
@@ -87,7 +92,7 @@ struct Shop<'w> {
 
 /// The classes `order` (seed indices, longest first) run to their ends and reported, on the
 /// current thread pool, stopped after their first rounds by `cfg.prune`; with `raw`, each
-/// seed is first made from its class path ([`super::class_seed`]) in the class's first job.
+/// seed is first made from its class path ([`class_seed`]) in the class's first job.
 pub(super) fn run_classes<'w>(
     world: &'w World<'w>,
     cfg: &'w PlanConfig,
@@ -272,12 +277,12 @@ fn execute<'w>(shop: &Shop<'w>, pos: usize, job: Job<'w>) -> (ClassTask<'w>, Don
             let made;
             let poly = match (shop.raw, sig) {
                 (Some(cell), Some(sig)) => {
-                    made = super::class_seed(shop.world, cell, poly, sig);
+                    made = class_seed(shop.world, cell, poly, sig);
                     &made
                 }
                 _ => poly,
             };
-            let mut task = super::start_class(
+            let mut task = start_class(
                 shop.world,
                 shop.cfg,
                 poly,
@@ -322,10 +327,7 @@ fn finish<'w>(b: &mut Board<'w>, shop: &Shop<'w>, pos: usize, (task, done): (Cla
     }
     if !b.decided && b.slots.iter().all(|s| s.started) {
         let scores: Vec<Option<Score>> = b.slots.iter().map(|s| s.score).collect();
-        b.pruning = shop
-            .cfg
-            .prune
-            .and_then(|ratio| super::outclassed(&scores, ratio));
+        b.pruning = shop.cfg.prune.and_then(|ratio| outclassed(&scores, ratio));
         if let Some(p) = &b.pruning {
             for ((slot, &stop), flag) in b.slots.iter_mut().zip(&p.stop).zip(&shop.stops) {
                 slot.pruned = stop;

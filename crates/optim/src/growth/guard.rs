@@ -1,0 +1,196 @@
+//! What keeps a growth loop's candidates in place ([`Guard`]): the class, the bounds, the
+//! collision check, the clearance floor and the dm rule's target, and the checks behind it.
+
+use std::cell::RefCell;
+
+use homospline_geom::{Bounds, Point, Real};
+use homospline_homotopy::{Rays, Signature};
+use homospline_spline::{
+    ClearanceModel, CostTerms, Spline, evaluate_weighted_unless, is_clear_by, is_collision_free,
+};
+
+use super::config::GrowthConfig;
+
+/// What keeps candidates in place: the class to stay in and the bounds.
+#[derive(Clone, Debug)]
+pub struct Guard<'a> {
+    /// Ray system and the class's signature; `None` lets the curve change class.
+    pub class: Option<(&'a Rays, &'a Signature)>,
+    /// The robot stays inside.
+    pub bounds: Bounds,
+    /// Reject candidates whose clearance (at the quadrature nodes, refined near the minimum)
+    /// is not positive: a seed that is collision-free stays so. Off for the straight seed,
+    /// which starts in collision.
+    pub collision_free: bool,
+    /// Reject candidates whose clearance is below this (`-inf`: no floor). [`grow`](super::grow) applies
+    /// it as a ratchet: while the current curve is below the floor, a candidate may not fall
+    /// below the current curve's clearance, so a seed below the floor can still climb to it.
+    pub clearance_floor: Real,
+    /// A clearance to reach and keep (the dm rule; `-inf`: none). A candidate below it is
+    /// not rejected: it ranks after every candidate that keeps it, by how far it falls short
+    /// (then by its cost). From a seed below it the optimiser first climbs to it, then keeps
+    /// it while it lowers the cost: the cost is minimised under the constraint
+    /// `m(C) >= target` (an extreme barrier once it holds). Nelder-Mead compares values
+    /// only, so the ranking is all it needs; L-BFGS takes it as a ratchet like the floor.
+    pub clearance_target: Real,
+    /// The guard's own memory: the samples of the last candidate found in the class (start
+    /// with `Default::default()`). A candidate whose straight-line sweep from it meets no
+    /// obstacle's representative is in the class without its signature being computed
+    /// ([`Rays::sweep_is_clear`]): on a map with thousands of obstacles the signature of every
+    /// candidate was most of the optimisation's time.
+    pub proven: RefCell<Option<Vec<Point>>>,
+}
+
+impl Guard<'_> {
+    /// The cost of a candidate, or `+inf` when the guard rejects it.
+    pub fn cost(&self, spline: &Spline, model: &dyn ClearanceModel, cfg: &GrowthConfig) -> Real {
+        self.cost_below(spline, model, cfg, Real::INFINITY)
+    }
+
+    /// [`Guard::cost`] for an optimiser that needs the value only below `bound`
+    /// ([`crate::nelder_mead::BoundedObjective`]): the exact value below it, else a value at
+    /// or above it. The cost comes first, and stops early once terms bounding it reach the
+    /// bound ([`homospline_spline::cost::evaluate_weighted_unless`]: [`Guard::value`] falls
+    /// as the clearance rises and rises with the total); the class and bounds checks
+    /// run only for a candidate whose value is below the bound, since a rejected candidate's
+    /// `+inf` is at or above it too. Whether a candidate is in its class does not depend on
+    /// which candidates were checked before it (the guard's memory only speeds the check).
+    pub fn cost_below(
+        &self,
+        spline: &Spline,
+        model: &dyn ClearanceModel,
+        cfg: &GrowthConfig,
+        bound: Real,
+    ) -> Real {
+        let enough = |low: &CostTerms| self.value(low) >= bound;
+        let value = match evaluate_weighted_unless(spline, model, &cfg.cost, &enough) {
+            Ok(terms) => self.value(&terms),
+            Err(low) => return self.value(&low),
+        };
+        if value >= bound {
+            return value;
+        }
+        if admissible(spline, self, cfg.guard_samples) {
+            value
+        } else {
+            Real::INFINITY
+        }
+    }
+
+    /// The value of a candidate of cost terms `terms`: `+inf` when rejected, above
+    /// [`SHORT_OF_TARGET`] when below the clearance target, else its cost.
+    pub fn value(&self, terms: &CostTerms) -> Real {
+        let m = terms.min_clearance;
+        if self.rejects(m) {
+            Real::INFINITY
+        } else if m < self.clearance_target {
+            SHORT_OF_TARGET * (1.0 + (self.clearance_target - m)) + terms.total
+        } else {
+            terms.total
+        }
+    }
+
+    /// Whether the curve is certified collision-free where the guard asks for it (samples
+    /// can miss a thin overlap) and stays inside the bounds between the guard's samples:
+    /// what a round's result, a grown curve and a finish's stage must pass.
+    pub fn certifies(&self, spline: &Spline, model: &dyn ClearanceModel) -> bool {
+        (!self.collision_free || is_collision_free(spline, model))
+            && stays_in_bounds(spline, &self.bounds)
+    }
+
+    /// Whether a candidate of minimum clearance `m` is rejected.
+    pub fn rejects(&self, m: Real) -> bool {
+        (self.collision_free && m <= 0.0) || m < self.clearance_floor
+    }
+
+    /// This guard with its floor lowered to `current` when the current curve is below it.
+    pub(super) fn ratchet(&self, current: Real) -> Self {
+        let mut g = self.clone();
+        if g.clearance_floor.is_finite() {
+            g.clearance_floor = g.clearance_floor.min(current);
+        }
+        g
+    }
+}
+
+/// How far below its clearance target a growth loop's final curve may be proven clear
+/// before the loop takes its `m(C)` to have missed a dip ([`Growth::needs_repair`](super::Growth::needs_repair)): a
+/// curve held at the target by the default search, whose least clearance Brent's method
+/// finds to `1e-10` in `t`, passes.
+pub const STRICT_SLACK: Real = 1e-9;
+
+/// Whether `spline` is proven at least `clearance` clear ([`is_clear_by`], less
+/// [`STRICT_SLACK`]); any curve is, against a clearance of `-inf`.
+pub(super) fn proven_at(spline: &Spline, model: &dyn ClearanceModel, clearance: Real) -> bool {
+    !clearance.is_finite() || is_clear_by(spline, model, clearance - STRICT_SLACK)
+}
+
+/// The value of a candidate below the clearance target is more than this; every cost is
+/// far less (the largest seen, on maps, are in the tens of thousands).
+pub const SHORT_OF_TARGET: Real = 1e9;
+
+/// Up to this many obstacles (rays), the class check computes the samples' signature
+/// directly; beyond, it first tries the sweep's proof ([`Rays::sweep_is_clear`]). The answer
+/// is the same either way. On the paper scenes (3 to 6 obstacles) the direct signature is
+/// cheaper (plan bench, one noisy run each: convex 6.5 -> 5.8 ms, two-homotopies 10.2 -> 9.6
+/// ms); on a map's thousands of wall pieces the sweep is.
+pub const DIRECT_SIGNATURE_RAYS: usize = 64;
+
+/// Whether the spline stays in bounds and (when asked) in its class, on dense samples. The
+/// class holds when the samples' signature is the class's: with more than
+/// [`DIRECT_SIGNATURE_RAYS`] obstacles, first tried by proving the sweep from the guard's
+/// last in-class samples clear ([`Rays::sweep_is_clear`]); the samples in the class become
+/// the guard's new reference. The collision test of a guarded candidate
+/// is the cost's own `m(C)` (every quadrature node, refined near the worst one), checked
+/// after the evaluation; a round's result is certified.
+pub fn admissible(spline: &Spline, guard: &Guard<'_>, samples_per_segment: usize) -> bool {
+    let pts = spline.sample_uniform(spline.segments() * samples_per_segment.max(2));
+    if !pts.iter().all(|p| guard.bounds.contains(p)) {
+        return false;
+    }
+    match guard.class {
+        Some((rays, sig)) => {
+            let mut proven = guard.proven.borrow_mut();
+            // With few obstacles the signature costs less than the sweep's proof.
+            let same = if rays.len() <= DIRECT_SIGNATURE_RAYS {
+                &rays.signature(&pts) == sig
+            } else {
+                proven
+                    .as_ref()
+                    .is_some_and(|before| rays.sweep_is_clear(before, &pts))
+                    || &rays.signature(&pts) == sig
+            };
+            if same {
+                *proven = Some(pts);
+            }
+            same
+        }
+        None => true,
+    }
+}
+
+/// Samples along a reported path, at most, before each segment's rounding up and the
+/// refinement around its least clearance ([`report_spacing`]; together below twice this).
+pub const MAX_REPORT_SAMPLES: Real = 100_000.0;
+
+/// Spacing of the reported path's samples along a curve of length `length`: a thousandth of
+/// it, at most half a unit (two samples per cell of a map), but no finer than
+/// [`MAX_REPORT_SAMPLES`] along the curve: a scene of kilometres in metres has paths
+/// of millions of half units (at 1e7 units across, 4.7 GB of samples and no end).
+pub fn report_spacing(length: Real) -> Real {
+    (length / 1000.0).min(0.5).max(length / MAX_REPORT_SAMPLES)
+}
+
+/// Whether the curve stays inside `bounds`: certified per segment by its Bezier control box,
+/// else checked at the samples of the reported path (`report_spacing`).
+pub fn stays_in_bounds(spline: &Spline, bounds: &Bounds) -> bool {
+    let boxed = (0..spline.segments()).all(|i| {
+        let (lo, hi) = spline.segment_box(i);
+        bounds.contains(&lo) && bounds.contains(&hi)
+    });
+    boxed
+        || spline
+            .sample_by_arc_length(report_spacing(spline.length()))
+            .iter()
+            .all(|(_, p)| bounds.contains(p))
+}

@@ -1,0 +1,368 @@
+//! One class's optimisation ([`ClassTask`]): its growth settings and guard (the dm rule's
+//! target), its seed's via-points, its growth loop run a round at a time, its repair, polish
+//! and finish, its report, and the dense second pass of a seed that stayed in collision.
+
+use std::borrow::Cow;
+use std::time::Instant;
+
+use homospline_geom::{Point, Real};
+use homospline_homotopy::Signature;
+use homospline_spline::{ClearanceModel, EndCondition, evaluate_weighted, is_collision_free};
+
+use super::clearance::bottleneck;
+use super::config::{DM_RULE_SHARE, PlanConfig};
+use super::pull::pull_taut;
+use super::rank::Score;
+use super::report::{ClassPlan, Origin, ms, report_class};
+use super::via::{last_resort, seed_points, subdivided_seed};
+use super::world::{World, keeps_dm};
+use crate::growth::{Growth, GrowthConfig, Guard, SHORT_OF_TARGET, grow};
+
+/// A scene's dense seed (a last resort that stayed in collision) has at most this many times
+/// the points of a normal one (`max_via_points` and the ends); past that it is not tried.
+pub const DENSE_SEED_SHARE: usize = 8;
+
+/// A class's task from its seed: on a map the seed is first pulled taut in its class.
+pub(super) fn start_class<'w>(
+    world: &'w World<'_>,
+    cfg: &'w PlanConfig,
+    poly: &[Point],
+    sig: Option<&'w Signature>,
+    gcost: Real,
+    cell: Option<Real>,
+) -> ClassTask<'w> {
+    let poly = match (sig, cell) {
+        (Some(s), Some(cell)) if world.grid_is_exact => {
+            pull_taut(poly, world.model, &world.rays, cell, s)
+        }
+        _ => poly.to_vec(),
+    };
+    ClassTask::new(world, poly, sig, gcost, cfg, cell)
+}
+
+/// A class's growth settings (with the robot's start heading, when it has one and the class
+/// does not start backwards) and its guard.
+fn class_setup<'w>(
+    world: &'w World<'_>,
+    seed_poly: &[Point],
+    signature: Option<&'w Signature>,
+    cfg: &'w PlanConfig,
+) -> (Cow<'w, GrowthConfig>, Guard<'w>) {
+    let growth = match cfg.start_heading {
+        Some(h) if seed_poly.len() > 1 && (seed_poly[1] - seed_poly[0]).dot(&h) > 0.0 => {
+            let mut g = cfg.growth.clone();
+            g.end = EndCondition::StartHeading { direction: h };
+            Cow::Owned(g)
+        }
+        _ => Cow::Borrowed(&cfg.growth),
+    };
+    let guard = Guard {
+        class: signature.map(|s| (&world.rays, s)),
+        bounds: world.bounds,
+        collision_free: signature.is_some(),
+        clearance_floor: if cfg.clearance_floor > 0.0 {
+            cfg.clearance_floor
+        } else {
+            Real::NEG_INFINITY
+        },
+        // The target is `dm` plus the certification's tolerance: a curve held exactly at `dm`
+        // certifies up to that tolerance below it and would be reported unsafe (and ranked
+        // after costlier safe classes) by the tolerance's chance.
+        clearance_target: match signature {
+            Some(sig) if cfg.dm_rule => {
+                let dm = growth.cost.dm + cfg.certify_tolerance.max(0.0);
+                let share = DM_RULE_SHARE * bottleneck(seed_poly, world.model);
+                if share >= dm
+                    || world
+                        .circles
+                        .is_some_and(|c| keeps_dm(world, c, seed_poly, sig, dm))
+                {
+                    dm
+                } else {
+                    share
+                }
+            }
+            _ => Real::NEG_INFINITY,
+        },
+        proven: Default::default(),
+    };
+    (growth, guard)
+}
+
+/// A guard that only keeps candidates in the class, in bounds and clear: a seed need only be
+/// collision-free (the growth loop's ratchet raises it to the floor).
+fn without_floor<'w>(guard: &Guard<'w>) -> Guard<'w> {
+    Guard {
+        clearance_floor: Real::NEG_INFINITY,
+        ..guard.clone()
+    }
+}
+
+/// One class optimised, and whether it is worth the dense second pass
+/// ([`ClassTask::dense`]): its seed was a scene's last resort (no via-point set was
+/// admissible) and the curve it gave is not proven clear.
+pub(super) type ClassRun = (ClassPlan, bool);
+
+/// One class's work: its seed, its settings and guard, and its growth loop, which runs one
+/// round at a time so that the planner can stop a class that cannot win between rounds.
+pub(super) struct ClassTask<'w> {
+    /// The class path the seed came from (pulled taut on a map).
+    seed_poly: Vec<Point>,
+    signature: Option<&'w Signature>,
+    graph_cost: Real,
+    growth: GrowthConfig,
+    guard: Guard<'w>,
+    /// The via-points the growth loop started from.
+    seed: Vec<Point>,
+    /// The seed is the last resort of a scene's class.
+    resorted: bool,
+    /// `None` when the growth loop could not start.
+    pub(super) state: Option<Growth>,
+    /// Milliseconds spent so far.
+    pub(super) time_ms: Real,
+    /// Stopped after its first round by [`outclassed`](super::rank::outclassed).
+    pub(super) pruned: bool,
+}
+
+impl<'w> ClassTask<'w> {
+    /// The class's setup and seed; no round run yet.
+    fn new(
+        world: &'w World<'_>,
+        seed_poly: Vec<Point>,
+        signature: Option<&'w Signature>,
+        graph_cost: Real,
+        cfg: &'w PlanConfig,
+        graph_cell: Option<Real>,
+    ) -> Self {
+        let t = Instant::now();
+        let model = world.model;
+        let (growth, guard) = class_setup(world, &seed_poly, signature, cfg);
+        let mut growth = growth.into_owned();
+        // On scenes the first via-point set that already keeps the floor is preferred.
+        let seed_guard = without_floor(&guard);
+        let mut resorted = false;
+        let mut seed = match (signature, graph_cell) {
+            (Some(_), Some(cell)) if world.grid_is_exact => {
+                subdivided_seed(&seed_poly, model, &seed_guard, &growth, cell, None)
+                    .unwrap_or_else(|| seed_poly.clone())
+            }
+            (Some(_), _) => guard
+                .clearance_floor
+                .is_finite()
+                .then(|| seed_points(&seed_poly, model, &guard, &growth))
+                .flatten()
+                .or_else(|| seed_points(&seed_poly, model, &seed_guard, &growth))
+                .unwrap_or_else(|| {
+                    resorted = true;
+                    last_resort(&seed_poly, &growth)
+                }),
+            (None, _) => seed_poly.clone(),
+        };
+        // The ends are the start and goal to the bit: a map seed's interpolation ended a
+        // class's path at 1.9999999999999998 for a goal at 2.
+        if let (Some(first), Some(&s)) = (seed.first_mut(), seed_poly.first()) {
+            *first = s;
+        }
+        if let (Some(last), Some(&t)) = (seed.last_mut(), seed_poly.last()) {
+            *last = t;
+        }
+        // On a map the via-points follow the path (hundreds on a long one), and with uniform
+        // parameters over [0, 1] the roughness grows with a power of their number (the
+        // paper's form: the first; the energy: the third): it would swamp every other term.
+        // There it is measured with one unit of parameter per segment, which is the same
+        // integral divided by segments^power (`RoughnessForm::segment_power`).
+        if world.grid_is_exact && seed.len() > 2 {
+            growth.cost.w_roughness /=
+                ((seed.len() - 1) as Real).powf(growth.cost.roughness.segment_power());
+        }
+        let state = Growth::new(&seed, model, &growth, &guard).ok();
+        Self {
+            seed_poly,
+            signature,
+            graph_cost,
+            growth,
+            guard,
+            seed,
+            resorted,
+            state,
+            time_ms: ms(t),
+            pruned: false,
+        }
+    }
+
+    /// The class as [`outclassed`](super::rank::outclassed) weighs it, after its first round (`class`: its index).
+    pub(super) fn score(&self, class: usize, model: &dyn ClearanceModel) -> Score {
+        let Some(g) = self.state.as_ref() else {
+            return Score {
+                class,
+                standing: Real::INFINITY,
+                total: Real::INFINITY,
+                reference: false,
+                done: true,
+            };
+        };
+        let sp = g.curve(&self.guard);
+        let terms = evaluate_weighted(sp, model, &g.settings(&self.growth).cost);
+        let standing = self.guard.value(&terms);
+        let reference = standing < SHORT_OF_TARGET
+            && self.guard.clearance_target >= self.growth.cost.dm
+            && terms.total > 0.0
+            && self.signature.is_some()
+            && is_collision_free(sp, model);
+        Score {
+            class,
+            standing,
+            total: terms.total,
+            reference,
+            done: g.is_done(),
+        }
+    }
+
+    /// `f` on the class's loop, its time added to the class's; `none` when the loop could
+    /// not start.
+    fn timed<R>(
+        &mut self,
+        none: R,
+        f: impl FnOnce(&mut Growth, &GrowthConfig, &Guard<'w>) -> R,
+    ) -> R {
+        let t = Instant::now();
+        let out = match self.state.as_mut() {
+            Some(g) => f(g, &self.growth, &self.guard),
+            None => none,
+        };
+        self.time_ms += ms(t);
+        out
+    }
+
+    /// Runs one round; `false` when the loop has ended (or never started).
+    pub(super) fn step(&mut self, model: &dyn ClearanceModel) -> bool {
+        self.timed(false, |g, cfg, guard| g.step(model, cfg, guard))
+    }
+
+    /// The class's repair round, if its loop ended on a curve whose clearance its cost
+    /// overstated ([`Growth::repair`]); a class stopped by the pruning is not repaired.
+    /// Returns whether it ran.
+    pub(super) fn repair(&mut self, model: &dyn ClearanceModel) -> bool {
+        !self.pruned && self.timed(false, |g, cfg, guard| g.repair(model, cfg, guard))
+    }
+
+    /// The class's polish rounds ([`Growth::polish`]); a class stopped by the pruning is
+    /// not polished. Returns whether a round ran (kept or undone).
+    pub(super) fn polish(&mut self, model: &dyn ClearanceModel, rounds: usize) -> bool {
+        !self.pruned
+            && self.timed(false, |g, cfg, guard| {
+                let before = g.rounds().len();
+                g.polish(model, cfg, guard, rounds);
+                g.rounds().len() > before
+            })
+    }
+
+    /// The class's finish-only polish round ([`Growth::finish`]) of at most `cap`
+    /// evaluations; a class stopped by the pruning is not polished. Returns whether it ran.
+    pub(super) fn finish(&mut self, model: &dyn ClearanceModel, cap: usize) -> bool {
+        !self.pruned
+            && self.timed(false, |g, cfg, guard| {
+                let before = g.rounds().len();
+                g.finish(model, cfg, guard, cap);
+                g.rounds().len() > before
+            })
+    }
+
+    /// [`ClassTask::step`] that can be called off ([`Growth::step_unless`]).
+    pub(super) fn step_unless(
+        &mut self,
+        model: &dyn ClearanceModel,
+        stop: &dyn Fn() -> bool,
+    ) -> Option<bool> {
+        self.timed(Some(false), |g, cfg, guard| {
+            g.step_unless(model, cfg, guard, stop)
+        })
+    }
+
+    /// The evaluation budget of its rounds left ([`Growth::budget_left`]).
+    pub(super) fn budget_left(&self) -> usize {
+        self.state
+            .as_ref()
+            .map_or(0, |g| g.budget_left(&self.growth))
+    }
+
+    /// Runs the rounds left.
+    pub(super) fn run(&mut self, model: &dyn ClearanceModel) {
+        while self.step(model) {}
+    }
+
+    /// The task with every round run, for a caller that does not stop classes early.
+    pub(super) fn optimised(mut self, model: &dyn ClearanceModel) -> Self {
+        self.run(model);
+        self
+    }
+
+    /// Where the class came from, for its report.
+    fn origin(&self) -> Origin<'_> {
+        Origin {
+            seed_poly: &self.seed_poly,
+            signature: self.signature,
+            graph_cost: self.graph_cost,
+        }
+    }
+
+    /// The class's plan from its best curve so far, and whether it is worth the dense pass.
+    pub(super) fn report(&self, world: &World<'_>, cfg: &PlanConfig) -> ClassRun {
+        let t = Instant::now();
+        let model = world.model;
+        let grown = self
+            .state
+            .as_ref()
+            .map(|g| g.result(model, &self.growth, &self.guard));
+        let retry = self.resorted
+            && grown
+                .as_ref()
+                .is_none_or(|g| !is_collision_free(&g.spline, model));
+        let plan = report_class(world, self.origin(), cfg, grown, self.seed.clone());
+        (
+            ClassPlan {
+                time_ms: self.time_ms + ms(t),
+                pruned: self.pruned,
+                ..plan
+            },
+            retry,
+        )
+    }
+
+    /// The dense second pass of a class marked by [`ClassTask::report`] (it runs only when
+    /// no class of the plan came out clear): the via-points follow the graph's path, as on a
+    /// map, up to [`DENSE_SEED_SHARE`] times as many, if the path is clear (a winding passage
+    /// too narrow for a spline through `max_via_points` via-points; L-BFGS cannot even start
+    /// from a colliding seed). `Some` only if the curve comes out clear; its evaluations and
+    /// time include the first pass's.
+    pub(super) fn dense(
+        &self,
+        world: &World<'_>,
+        cfg: &PlanConfig,
+        graph_cell: Option<Real>,
+        first: &ClassPlan,
+    ) -> Option<ClassPlan> {
+        let t = Instant::now();
+        let model = world.model;
+        let (growth, guard) = (&self.growth, &self.guard);
+        let cell = graph_cell.filter(|_| model.polyline_clearance(&self.seed_poly) > 0.0)?;
+        let dense = subdivided_seed(
+            &self.seed_poly,
+            model,
+            &without_floor(guard),
+            growth,
+            cell,
+            Some(DENSE_SEED_SHARE * (growth.max_via_points + 2)),
+        )?;
+        let mut grown = grow(&dense, model, growth, guard).ok()?;
+        if !is_collision_free(&grown.spline, model) {
+            return None;
+        }
+        grown.evaluations += first.evaluations;
+        let plan = report_class(world, self.origin(), cfg, Some(grown), dense);
+        Some(ClassPlan {
+            time_ms: first.time_ms + ms(t),
+            ..plan
+        })
+    }
+}

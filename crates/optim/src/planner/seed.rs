@@ -1,0 +1,405 @@
+//! Seeding the classes: the straight seed (`S`, the midpoint, `T`), or the Voronoi graph's k
+//! best classes (avoided ones left out, optionally limited in overlap), each class path made
+//! into a seed ([`class_seed`]); on a map each class is optimised as soon as the search has
+//! it, while the search goes on.
+
+use std::sync::Mutex;
+use std::time::Instant;
+
+use homospline_geom::{Point, Real};
+use homospline_homotopy::{
+    ClassPath, Rays, SearchConfig, SearchError, SearchResult, Signature, k_best_classes,
+    k_best_classes_each,
+};
+use homospline_spline::ClearanceModel;
+use homospline_voronoi::{BuildError, VoronoiGraph};
+
+use super::class::start_class;
+use super::clearance::{clear_at_least, clearances_of};
+use super::config::{DIVERSE_CANDIDATES, PlanConfig, PlanError, Seed};
+use super::pool::in_pool;
+use super::rank::{EdgeLengths, limited_overlap};
+use super::report::{ClassPlan, Timing, ms};
+use super::via::resample;
+use super::world::World;
+
+/// A seed: the polyline, its class (none for the straight seed), its graph cost.
+pub(super) type SeedPath = (Vec<Point>, Option<Signature>, Real);
+
+/// A plan's seeds, and what the seeding did on the way.
+pub(super) struct Seeds {
+    /// Seeds: (seed polyline, class signature, graph cost).
+    pub seeds: Vec<SeedPath>,
+    /// The graph (Voronoi seeds).
+    pub graph: Option<VoronoiGraph>,
+    /// The seeds are class paths still to be made into seeds ([`class_seed`]), on the
+    /// graph's cell.
+    pub raw: Option<Real>,
+    /// Each seed's graph path by edge (for overlaps), in seed order.
+    pub edges: Vec<EdgeLengths>,
+    /// The classes optimised while the search ran (a map's: [`stream_classes`]), by seed
+    /// index, and the time spent after the search ended, ms.
+    pub streamed: Option<(Vec<(usize, ClassPlan)>, Real)>,
+}
+
+impl Seeds {
+    /// Each seed's class as text, in seed order (empty for the straight seed).
+    pub(super) fn signatures(&self) -> Vec<String> {
+        self.seeds
+            .iter()
+            .map(|(_, s, _)| s.as_ref().map(|s| s.to_string()).unwrap_or_default())
+            .collect()
+    }
+}
+
+/// The seeds `cfg.seed` asks for; `graph` gives the Voronoi graph. The Voronoi stage's and
+/// the class search's times go to `timing`.
+pub(super) fn seed_classes(
+    world: &World<'_>,
+    graph: impl FnOnce() -> Result<VoronoiGraph, BuildError>,
+    cfg: &PlanConfig,
+    pool: Option<&rayon::ThreadPool>,
+    timing: &mut Timing,
+) -> Result<Seeds, PlanError> {
+    match cfg.seed {
+        Seed::Straight => {
+            timing.voronoi = 0.0;
+            let mid = Point::from((world.start.coords + world.goal.coords) * 0.5);
+            Ok(Seeds {
+                seeds: vec![(vec![world.start, mid, world.goal], None, 0.0)],
+                graph: None,
+                raw: None,
+                edges: Vec::new(),
+                streamed: None,
+            })
+        }
+        Seed::Voronoi => {
+            let tv = Instant::now();
+            let graph = graph()?;
+            timing.voronoi = ms(tv);
+            voronoi_seeds(world, graph, cfg, pool, timing)
+        }
+    }
+}
+
+/// The Voronoi seed's classes of `graph`: searched, the avoided ones left out, selected
+/// ([`select`]), and made into seeds; on a map, optimised as the search finds them.
+fn voronoi_seeds(
+    world: &World<'_>,
+    graph: VoronoiGraph,
+    cfg: &PlanConfig,
+    pool: Option<&rayon::ThreadPool>,
+    timing: &mut Timing,
+) -> Result<Seeds, PlanError> {
+    let tc = Instant::now();
+    let cell = 1.0 / graph.resolution;
+    let (search, min_clearance) = search_config(world, cfg, cell);
+    let (result, streamed) = match cfg.diverse {
+        // On a map, without the limited-overlap selection, the classes to optimise are the
+        // first found: each is optimised as soon as the search has it, on another thread,
+        // while the search goes on (a map's search takes a tenth of a plan). Each class is
+        // independent of the others and of when it ran, so this changes no result. A scene's
+        // search takes microseconds: there the classes are better run longest first (the
+        // board's order).
+        None if world.grid_is_exact => {
+            let (r, streamed, end) = stream_classes(world, cfg, pool, &graph, &search, cell);
+            timing.classes = end.duration_since(tc).as_secs_f64() * 1e3;
+            (r, Some(streamed))
+        }
+        _ => (
+            search_classes(&graph, &world.rays, &search, min_clearance, cfg),
+            None,
+        ),
+    };
+    let mut found = result?.classes;
+    found.retain(|c| taken(cfg, c));
+    let (kept, edges) = select(&found, &graph, cfg);
+    let (seeds, raw, streamed) = match streamed {
+        Some((optimised, made, after_search)) => (made, None, Some((optimised, after_search))),
+        None => {
+            timing.classes = ms(tc);
+            // A scene's seeds are the class paths as found: each is made (its ends
+            // shortcut, centred: a tenth of a millisecond or two) in its class's first
+            // job, while the other classes run ([`class_seed`]).
+            let seeds = kept
+                .iter()
+                .map(|c| (c.polyline.clone(), Some(c.signature.clone()), c.cost))
+                .collect();
+            (seeds, Some(cell), None)
+        }
+    };
+    Ok(Seeds {
+        seeds,
+        graph: Some(graph),
+        raw,
+        edges,
+        streamed,
+    })
+}
+
+/// The class search's settings on a graph of cell `cell`, and the least clearance it asks
+/// of a class's path.
+fn search_config(world: &World<'_>, cfg: &PlanConfig, cell: Real) -> (SearchConfig, Real) {
+    // A passage narrower than one grid cell of a rasterised scene is below what the grid
+    // can tell apart from a wall: it is not offered, unless there is no other way
+    // ([`search_classes`]). On a map the cells are the truth, and a one-cell door is a door.
+    let floor = if world.grid_is_exact { 0.0 } else { cell };
+    let min_clearance = cfg.search.min_clearance.max(floor);
+    // Avoided classes and the limited-overlap selection need more candidates.
+    let extra = cfg.avoid.len();
+    let k = match cfg.diverse {
+        Some(_) => (cfg.classes + extra) * DIVERSE_CANDIDATES,
+        None => cfg.classes + extra,
+    };
+    let search = SearchConfig {
+        k,
+        min_clearance,
+        ..cfg.search.clone()
+    };
+    (search, min_clearance)
+}
+
+/// Whether the class is not one `cfg` avoids.
+fn taken(cfg: &PlanConfig, c: &ClassPath) -> bool {
+    !cfg.avoid.contains(&c.signature.to_string())
+}
+
+/// The classes of `graph` by `search`. When every way is narrower than a cell (a robot that
+/// has driven into a tight spot), those ways are offered after all: the certification of
+/// each curve decides whether it is clear.
+fn search_classes(
+    graph: &VoronoiGraph,
+    rays: &Rays,
+    search: &SearchConfig,
+    min_clearance: Real,
+    cfg: &PlanConfig,
+) -> Result<SearchResult, SearchError> {
+    k_best_classes(graph, rays, search).and_then(|r| {
+        if r.classes.is_empty() && min_clearance > cfg.search.min_clearance {
+            let below = SearchConfig {
+                min_clearance: cfg.search.min_clearance,
+                ..search.clone()
+            };
+            k_best_classes(graph, rays, &below)
+        } else {
+            Ok(r)
+        }
+    })
+}
+
+/// A map's classes searched and each optimised, on `pool`, as soon as the search has it
+/// (the first `cfg.classes` not avoided): the search's result, the classes optimised (by
+/// seed index), their seeds, and the time after the search ended, ms; with the instant
+/// the search ended.
+#[allow(clippy::type_complexity)]
+fn stream_classes(
+    world: &World<'_>,
+    cfg: &PlanConfig,
+    pool: Option<&rayon::ThreadPool>,
+    graph: &VoronoiGraph,
+    search: &SearchConfig,
+    cell: Real,
+) -> (
+    Result<SearchResult, SearchError>,
+    (Vec<(usize, ClassPlan)>, Vec<SeedPath>, Real),
+    Instant,
+) {
+    let done = Mutex::new(Vec::new());
+    // The search's result, the seeds it handed out, and when it ended.
+    let (r, made, end) = in_pool(pool, || {
+        rayon::scope(|s| {
+            let mut made = Vec::new();
+            let r = k_best_classes_each(graph, &world.rays, search, |c| {
+                if made.len() >= cfg.classes || !taken(cfg, c) {
+                    return;
+                }
+                let (i, seed, done) = (made.len(), made_seed(world, cell, c), &done);
+                made.push(seed.clone());
+                s.spawn(move |_| {
+                    let (poly, sig, gcost) = &seed;
+                    let task = start_class(world, cfg, poly, sig.as_ref(), *gcost, Some(cell))
+                        .optimised(world.model);
+                    let (plan, _) = task.report(world, cfg);
+                    done.lock()
+                        .unwrap_or_else(|e| e.into_inner())
+                        .push((i, plan));
+                });
+            });
+            (r, made, Instant::now())
+        })
+    });
+    let optimised = done.into_inner().unwrap_or_else(|e| e.into_inner());
+    (r, (optimised, made, ms(end)), end)
+}
+
+/// The seed of a class the search found: its class path made into a seed ([`class_seed`]).
+fn made_seed(world: &World<'_>, cell: Real, c: &ClassPath) -> SeedPath {
+    (
+        class_seed(world, cell, &c.polyline, &c.signature),
+        Some(c.signature.clone()),
+        c.cost,
+    )
+}
+
+/// The classes of `found` to optimise, in order, and each one's graph path by edge: with
+/// [`PlanConfig::diverse`], the limited-overlap selection ([`limited_overlap`]); else the
+/// first `cfg.classes`.
+fn select<'f>(
+    found: &'f [ClassPath],
+    graph: &VoronoiGraph,
+    cfg: &PlanConfig,
+) -> (Vec<&'f ClassPath>, Vec<EdgeLengths>) {
+    let edge_lengths: Vec<EdgeLengths> = found
+        .iter()
+        .map(|c| {
+            c.edges
+                .iter()
+                .map(|&(e, _)| (e, graph.edges[e].length))
+                .collect()
+        })
+        .collect();
+    let keep = match cfg.diverse {
+        Some(limit) => {
+            let lengths: Vec<Real> = found.iter().map(|c| c.length).collect();
+            limited_overlap(&edge_lengths, &lengths, limit, cfg.classes)
+        }
+        None => (0..found.len().min(cfg.classes)).collect(),
+    };
+    let kept: Vec<&ClassPath> = found
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| keep.contains(i))
+        .map(|(_, c)| c)
+        .collect();
+    let edges = (0..found.len())
+        .filter(|i| keep.contains(i))
+        .map(|i| edge_lengths[i].clone())
+        .collect();
+    (kept, edges)
+}
+
+/// A class path made into a seed: its ends at the start and the goal (the class path runs
+/// from the start node to the goal node, which sit there), shortcut where the attach route
+/// meets the ridge behind them ([`shortcut_ends`]), and on a scene centred ([`centre`]:
+/// a rasterised scene's class path runs along cell sides; a map's already runs along the
+/// ridge through free cells, and is pulled taut in its class's own task), each change kept
+/// only if the class stays.
+pub(super) fn class_seed(
+    world: &World<'_>,
+    cell: Real,
+    polyline: &[Point],
+    signature: &Signature,
+) -> Vec<Point> {
+    let rays = &world.rays;
+    let mut poly = polyline.to_vec();
+    poly[0] = world.start;
+    let last = poly.len() - 1;
+    poly[last] = world.goal;
+    let poly = shortcut_ends(&poly, world.model, cell, |p| {
+        rays.signature(p) == *signature
+    });
+    if world.grid_is_exact {
+        return poly;
+    }
+    let centred = centre(&poly, world.model, cell);
+    if rays.signature(&centred) == *signature {
+        centred
+    } else {
+        poly
+    }
+}
+
+/// Start and goal join the graph along their maximum-clearance route, which may meet the
+/// ridge behind them: the class path then runs away from its start and turns back (or passes
+/// its goal and curls into it), and the curve through it does too. This replaces each end's
+/// stretch, up to `4 clearance + 8 cells` of arc length from the start (goal), by the
+/// straight segment to the farthest point of it that the segment reaches with at least the
+/// stretch's least vertex clearance less half a cell (and at least half of it: a start next
+/// to a wall keeps its margin), as long as the class stays the same.
+fn shortcut_ends(
+    poly: &[Point],
+    model: &dyn ClearanceModel,
+    cell: Real,
+    same_class: impl Fn(&[Point]) -> bool,
+) -> Vec<Point> {
+    // The indices `k > 1` (within the window) of the points `poly[k]` that `poly[0]` joins.
+    let reachable = |poly: &[Point]| -> Vec<usize> {
+        let mut stretch = model.clearance_value(&poly[0]);
+        let window = 4.0 * stretch.max(cell) + 8.0 * cell;
+        let mut arc = 0.0;
+        let mut out = Vec::new();
+        for k in 1..poly.len() - 1 {
+            arc += (poly[k] - poly[k - 1]).norm();
+            if arc > window {
+                break;
+            }
+            stretch = stretch.min(model.clearance_value(&poly[k]));
+            let target = (stretch - 0.5 * cell).max(0.5 * stretch);
+            if k > 1 && clear_at_least(model, poly[0], poly[k], target, cell) {
+                out.push(k);
+            }
+        }
+        out
+    };
+    if poly.len() < 3 {
+        return poly.to_vec();
+    }
+    let mut out = poly.to_vec();
+    for pass in 0..2 {
+        // The farthest point whose shortcut keeps the class (a few tries: each is a
+        // signature of the whole path). The second pass works on the reversed path.
+        for &k in reachable(&out).iter().rev().take(SHORTCUT_TRIES) {
+            let mut cut = vec![out[0]];
+            cut.extend_from_slice(&out[k..]);
+            if pass == 1 {
+                cut.reverse();
+            }
+            if same_class(&cut) {
+                if pass == 1 {
+                    cut.reverse();
+                }
+                out = cut;
+                break;
+            }
+        }
+        out.reverse();
+    }
+    out
+}
+
+/// Shortcuts tried at each end of a seed, farthest first.
+const SHORTCUT_TRIES: usize = 32;
+
+/// The graph's edges run along cell sides, so in a passage one cell wide a class path can lie
+/// on an obstacle's boundary. This resamples the path every half cell and moves each inner
+/// point up the clearance gradient, a quarter cell at a time, until it is two cells clear or
+/// stops gaining: the seed runs down the middle of passages.
+fn centre(poly: &[Point], model: &dyn ClearanceModel, cell: Real) -> Vec<Point> {
+    let len: Real = poly.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    let n = ((len / (0.5 * cell)).ceil() as usize).clamp(2, 20_000);
+    let mut pts = resample(poly, n - 1);
+    if pts.len() < 3 {
+        // No inner point (a path of one point, start and goal at one node).
+        return pts;
+    }
+    let last = pts.len() - 1;
+    // Most points are already two cells clear: their clearances come in one batch.
+    let clear = clearances_of(model, &pts);
+    for (p, &c) in pts[1..last].iter_mut().zip(&clear[1..last]) {
+        if c >= 2.0 * cell {
+            continue;
+        }
+        for _ in 0..8 {
+            let (d, g) = model.clearance(p);
+            if d >= 2.0 * cell || g.norm() < 1e-9 {
+                break;
+            }
+            let q = *p + g.normalize() * (0.25 * cell);
+            if model.clearance_value(&q) <= d {
+                break;
+            }
+            *p = q;
+        }
+    }
+    pts
+}
