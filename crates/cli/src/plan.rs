@@ -27,7 +27,11 @@ pub fn plan(a: PlanArgs) -> anyhow::Result<u8> {
     // The input, the files it names (a ROS map's image) and the graph: none is overwritten.
     let inputs = reads.paths();
     check_outputs(
-        &inputs.iter().chain(&a.graph).map(PathBuf::as_path).collect::<Vec<_>>(),
+        &inputs
+            .iter()
+            .chain(&a.graph)
+            .map(PathBuf::as_path)
+            .collect::<Vec<_>>(),
         &[
             ("--json", "plan JSON", a.json.as_deref()),
             ("--svg", "picture", a.svg.as_deref()),
@@ -116,10 +120,7 @@ fn blocks(a: &PlanArgs) -> anyhow::Result<Vec<(Point, f64)>> {
 /// The input (the built-in example without one) with the command line's start, goal,
 /// radius and blocked discs applied (a scene is checked again after them); a map's start
 /// and goal, which it needs.
-fn edited_input(
-    a: &PlanArgs,
-    reads: &Reads,
-) -> anyhow::Result<(Input, Option<(Point, Point)>)> {
+fn edited_input(a: &PlanArgs, reads: &Reads) -> anyhow::Result<(Input, Option<(Point, Point)>)> {
     let input = match &a.scene {
         Some(p) => load_input(p, reads)?,
         None => Input::Scene(

@@ -16,8 +16,7 @@ use crate::out::{bad, check_outputs, write};
 /// `simulate`: exit 0 when the UGV reaches the goal, 1 when not.
 pub fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
     let reads = Reads::default();
-    let world =
-        homospline_mission::world::load_any(&a.world, |p| reads.read(p)).map_err(bad)?;
+    let world = homospline_mission::world::load_any(&a.world, |p| reads.read(p)).map_err(bad)?;
     // The world and the maps it names: none of them is overwritten.
     let inputs = reads.paths();
     check_outputs(

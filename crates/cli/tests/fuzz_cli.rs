@@ -44,7 +44,10 @@ fn run_bounded(mut cmd: Command, what: &str) {
     );
     assert!(!stderr.contains("panicked"), "{what}: {stderr}");
     if code == Some(2) {
-        assert!(stderr.starts_with("error: ") && stderr.len() > 10, "{what}: {stderr}");
+        assert!(
+            stderr.starts_with("error: ") && stderr.len() > 10,
+            "{what}: {stderr}"
+        );
     }
 }
 

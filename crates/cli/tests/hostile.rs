@@ -195,13 +195,22 @@ fn an_output_onto_a_file_an_input_names_is_refused() {
     let err = assert_refused_with(&plan, "is the input");
     assert!(err.contains("map.pgm"), "{err}");
     assert_refused(&["graph", y, "--json", i], "is the input");
-    assert_eq!(std::fs::read(&image).unwrap(), before, "the image was overwritten");
+    assert_eq!(
+        std::fs::read(&image).unwrap(),
+        before,
+        "the image was overwritten"
+    );
     // A map world names its prior and its true map.
     let world = root().join("fixtures/worlds/maps/room-blocked.yaml");
     let truth = root().join("fixtures/worlds/maps/room-32-32-4-truth.map");
     let before = std::fs::read(&truth).unwrap();
     assert_refused(
-        &["simulate", world.to_str().unwrap(), "--json", truth.to_str().unwrap()],
+        &[
+            "simulate",
+            world.to_str().unwrap(),
+            "--json",
+            truth.to_str().unwrap(),
+        ],
         "is the input",
     );
     assert_eq!(std::fs::read(&truth).unwrap(), before);
@@ -298,7 +307,14 @@ fn a_start_a_hair_from_a_wall_plans() {
     // Cell (i, j) covers [i, i + 1] x [j, j + 1] in map coordinates (y down).
     let start = format!("{},{}", i as f64 + 1e-7, j as f64 + 0.5);
     let out = homospline()
-        .args(["plan", map.to_str().unwrap(), "--start", &start, "--goal", "30.5,2.5"])
+        .args([
+            "plan",
+            map.to_str().unwrap(),
+            "--start",
+            &start,
+            "--goal",
+            "30.5,2.5",
+        ])
         .output()
         .unwrap();
     assert_ok(&out);
@@ -312,13 +328,23 @@ fn a_start_a_hair_from_a_wall_plans() {
 #[test]
 fn a_scene_grid_too_fine_is_refused_with_the_resolution_that_fits() {
     let err = assert_refused_with(
-        &["plan", "fixtures/scenes/convex.yaml", "--resolution", "1000"],
+        &[
+            "plan",
+            "fixtures/scenes/convex.yaml",
+            "--resolution",
+            "1000",
+        ],
         "a resolution of at most 96.5 cells per unit fits",
     );
     assert!(err.contains("3600000000 cells"), "{err}");
     // What it advises fits.
     let out = homospline()
-        .args(["graph", "fixtures/scenes/convex.yaml", "--resolution", "96.5"])
+        .args([
+            "graph",
+            "fixtures/scenes/convex.yaml",
+            "--resolution",
+            "96.5",
+        ])
         .output()
         .unwrap();
     assert_ok(&out);

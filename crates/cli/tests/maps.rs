@@ -495,3 +495,60 @@ fn a_saved_map_graph_is_reused_only_at_its_robot_radius() {
         "{err}"
     );
 }
+
+/// A map's classes print as short ids (a signature of up to 12 characters, else `#` and
+/// eight hex digits), told apart, and `--avoid` takes the id as printed; the JSON keeps the
+/// whole signature.
+#[test]
+fn map_classes_print_as_short_distinct_ids_that_avoid_takes() {
+    let args = [
+        "plan",
+        "fixtures/maps/movingai/room-32-32-4.map",
+        "--start",
+        "1.5,1.5",
+        "--goal",
+        "30.5,30.5",
+    ];
+    let json = tmp("ids.json");
+    let out = homospline()
+        .args(args)
+        .args(["--json", json.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let table = String::from_utf8(out.stdout).unwrap();
+    let ids: Vec<String> = table
+        .lines()
+        .skip(2)
+        .take_while(|l| !l.starts_with("chosen"))
+        .map(|l| l.split_whitespace().nth(1).unwrap().to_owned())
+        .collect();
+    assert!(ids.len() >= 3, "{table}");
+    let v = read_json(&json);
+    for (id, class) in ids.iter().zip(v["classes"].as_array().unwrap()) {
+        let signature = class["signature"].as_str().unwrap();
+        assert!(id.len() <= 12, "{id}");
+        if signature.len() > 12 {
+            assert!(id.starts_with('#') && id.len() == 9, "{id} for {signature}");
+        } else {
+            assert_eq!(id, signature);
+        }
+    }
+    let mut unique = ids.clone();
+    unique.sort();
+    unique.dedup();
+    assert_eq!(unique.len(), ids.len(), "ids told apart: {ids:?}");
+    let out = homospline()
+        .args(args)
+        .args(["--avoid", &ids[0]])
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let again = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        !again.contains(&ids[0]),
+        "{} still planned:\n{again}",
+        ids[0]
+    );
+    assert!(again.contains(&ids[1]), "{again}");
+}

@@ -124,4 +124,3 @@ pub fn mutate(base: &[u8], flips: &[(usize, u8)], cut: (usize, usize), number: u
     }
     v
 }
-

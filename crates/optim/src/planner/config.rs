@@ -174,19 +174,24 @@ pub enum PlanError {
 }
 
 /// Why `text` names no class of a scene or map with `rays` rays, if it does not: a class is
-/// written as its signature prints, `e` or ray crossings such as `-1+12` (rays from 1). A
-/// mistyped class was left out of nothing, silently.
+/// written as its signature prints, `e` or ray crossings such as `-1+12` (rays from 1), or as
+/// its short id (`#` and eight hex digits, [`homospline_homotopy::class_id`]). A mistyped
+/// class was left out of nothing, silently.
 pub(super) fn avoid_misfit(text: &str, rays: usize) -> Option<String> {
-    if text == "e" {
+    if text == "e" || homospline_homotopy::is_hashed_id(text) {
         return None;
     }
     let mut rest = text;
     if rest.is_empty() {
-        return Some("not a class: e, or ray crossings such as -1+2".into());
+        return Some(
+            "not a class: e, ray crossings such as -1+2, or an id such as #3f9a01c2".into(),
+        );
     }
     while let Some(sign) = rest.chars().next() {
         if sign != '+' && sign != '-' {
-            return Some("not a class: e, or ray crossings such as -1+2".into());
+            return Some(
+                "not a class: e, ray crossings such as -1+2, or an id such as #3f9a01c2".into(),
+            );
         }
         let digits = rest[1..]
             .find(['+', '-'])
@@ -196,7 +201,11 @@ pub(super) fn avoid_misfit(text: &str, rays: usize) -> Option<String> {
             Ok(k) if k >= 1 && !digits.starts_with('0') => {
                 return Some(format!("ray {k}: there are {rays} rays here"));
             }
-            _ => return Some("not a class: e, or ray crossings such as -1+2".into()),
+            _ => {
+                return Some(
+                    "not a class: e, ray crossings such as -1+2, or an id such as #3f9a01c2".into(),
+                );
+            }
         }
         rest = &rest[1 + digits.len()..];
     }

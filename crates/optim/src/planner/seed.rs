@@ -159,9 +159,11 @@ fn search_config(world: &World<'_>, cfg: &PlanConfig, cell: Real) -> (SearchConf
     (search, min_clearance)
 }
 
-/// Whether the class is not one `cfg` avoids.
+/// Whether the class is not one `cfg` avoids, by its signature or its short id.
 fn taken(cfg: &PlanConfig, c: &ClassPath) -> bool {
-    !cfg.avoid.contains(&c.signature.to_string())
+    let signature = c.signature.to_string();
+    let id = homospline_homotopy::class_id(&signature);
+    !cfg.avoid.iter().any(|a| *a == signature || *a == id)
 }
 
 /// The classes of `graph` by `search`. When every way is narrower than a cell (a robot that

@@ -13,7 +13,7 @@ use proptest::prelude::*;
 
 #[test]
 fn an_avoided_class_must_be_written_as_signatures_print() {
-    for ok in ["e", "-1", "+3-1+12", "-12"] {
+    for ok in ["e", "-1", "+3-1+12", "-12", "#3f9a01c2"] {
         assert_eq!(avoid_misfit(ok, 12), None, "{ok}");
     }
     for (bad, why) in [
@@ -26,6 +26,8 @@ fn an_avoided_class_must_be_written_as_signatures_print() {
         ("-01", "not a class"),
         ("-1x", "not a class"),
         ("E", "not a class"),
+        ("#3f9a01c", "not a class"),
+        ("#3f9a01cz", "not a class"),
         ("-13", "ray 13: there are 12 rays here"),
     ] {
         let got = avoid_misfit(bad, 12).unwrap_or_default();
