@@ -8,6 +8,8 @@ use homospline_geom::Bounds;
 use homospline_geom::{Point, Real};
 use homospline_mission::{EventKind, MapWorld, MissionResult, MissionWorld};
 
+use crate::picture::{View, label_at, text_width};
+
 /// Text safe inside an SVG element.
 fn xml_escape(text: &str) -> String {
     text.replace('&', "&amp;")
@@ -154,38 +156,6 @@ type Layers<'a> = dyn FnMut(
         &dyn Fn(&str) -> Option<Real>,
     ) + 'a;
 
-/// The mission's picture frame: where map coordinates land on the page.
-struct Frame {
-    min: Point,
-    max: Point,
-    scale: Real,
-    y_down: bool,
-}
-
-impl Frame {
-    fn x(&self, v: Real) -> Real {
-        (v - self.min.x) * self.scale
-    }
-    fn y(&self, v: Real) -> Real {
-        if self.y_down {
-            (v - self.min.y) * self.scale
-        } else {
-            (self.max.y - v) * self.scale
-        }
-    }
-    fn w(&self) -> Real {
-        (self.max.x - self.min.x) * self.scale
-    }
-    fn h(&self) -> Real {
-        (self.max.y - self.min.y) * self.scale
-    }
-    fn poly(&self, pts: &mut dyn Iterator<Item = Point>) -> String {
-        pts.map(|p| format!("{:.2},{:.2}", self.x(p.x), self.y(p.y)))
-            .collect::<Vec<_>>()
-            .join(" ")
-    }
-}
-
 /// The caption's font size.
 const CAPTION_FONT: Real = 13.0;
 /// A caption line's height.
@@ -196,9 +166,7 @@ fn wrap(text: &str, width: Real) -> Vec<String> {
     let mut lines: Vec<String> = Vec::new();
     for word in text.split(' ') {
         match lines.last_mut() {
-            Some(line)
-                if crate::picture::text_width(&format!("{line} {word}"), CAPTION_FONT) <= width =>
-            {
+            Some(line) if text_width(&format!("{line} {word}"), CAPTION_FONT) <= width => {
                 line.push(' ');
                 line.push_str(word);
             }
@@ -235,13 +203,7 @@ fn svg_with(
     r: &MissionResult,
     layers: &mut Layers<'_>,
 ) -> String {
-    let (w, h) = (b.max.x - b.min.x, b.max.y - b.min.y);
-    let f = Frame {
-        min: b.min,
-        max: b.max,
-        scale: 800.0 / w.max(h),
-        y_down,
-    };
+    let f = View::fit(b, y_down, 800.0);
     let (pw, ph) = (f.w(), f.h());
     let lines: Vec<String> = caption(r).iter().flat_map(|c| wrap(c, pw - 12.0)).collect();
     let total_h = ph + 12.0 + CAPTION_LINE * lines.len() as Real;
@@ -280,13 +242,13 @@ fn svg_with(
 }
 
 /// Every adopted plan (dashed), the scouts' and the UGV's tracks.
-fn plans_and_tracks(s: &mut String, f: &Frame, r: &MissionResult) {
+fn plans_and_tracks(s: &mut String, f: &View, r: &MissionResult) {
     s.push_str("<g id=\"plans\">\n");
     for a in &r.adopted {
         let _ = writeln!(
             s,
             r##"<polyline points="{}" fill="none" stroke="#1f77b4" stroke-opacity="0.45" stroke-width="1.2" stroke-dasharray="5 4"/>"##,
-            f.poly(&mut a.path.iter().copied())
+            f.points(&mut a.path.iter().copied())
         );
     }
     s.push_str("</g>\n<g id=\"tracks\">\n");
@@ -294,19 +256,19 @@ fn plans_and_tracks(s: &mut String, f: &Frame, r: &MissionResult) {
         let _ = writeln!(
             s,
             r##"<polyline points="{}" fill="none" stroke="#ff7f0e" stroke-width="1.3" stroke-opacity="0.8"/>"##,
-            f.poly(&mut t.samples.iter().map(|(_, p)| *p))
+            f.points(&mut t.samples.iter().map(|(_, p)| *p))
         );
     }
     let _ = writeln!(
         s,
         r##"<polyline points="{}" fill="none" stroke="#1f4e9c" stroke-width="2.4"/>"##,
-        f.poly(&mut r.ugv.samples.iter().map(|(_, p)| *p))
+        f.points(&mut r.ugv.samples.iter().map(|(_, p)| *p))
     );
     s.push_str("</g>\n");
 }
 
 /// Re-plan points (x) and the start and goal, their labels kept inside the drawing.
-fn events_and_ends(s: &mut String, f: &Frame, r: &MissionResult, (start, goal): (Point, Point)) {
+fn events_and_ends(s: &mut String, f: &View, r: &MissionResult, (start, goal): (Point, Point)) {
     s.push_str("<g id=\"events\">\n");
     for e in &r.events {
         if matches!(e.kind, EventKind::Replanned { .. }) {
@@ -322,16 +284,7 @@ fn events_and_ends(s: &mut String, f: &Frame, r: &MissionResult, (start, goal): 
     s.push_str("</g>\n<g id=\"endpoints\">\n");
     for (p, label) in [(start, "S"), (goal, "T")] {
         let (x, y) = (f.x(p.x), f.y(p.y));
-        let lx = if x + 7.0 + 10.0 <= f.w() {
-            x + 7.0
-        } else {
-            x - 17.0
-        };
-        let ly = if y - 7.0 - 14.0 >= 0.0 {
-            y - 7.0
-        } else {
-            y + 21.0
-        };
+        let (lx, ly) = label_at((x, y), text_width(label, 14.0), 14.0, (f.w(), f.h()));
         let _ = writeln!(
             s,
             r##"<circle cx="{x:.2}" cy="{y:.2}" r="5" fill="#2ca02c"/><text x="{lx:.2}" y="{ly:.2}" font-size="14" font-family="sans-serif">{label}</text>"##,
@@ -342,7 +295,7 @@ fn events_and_ends(s: &mut String, f: &Frame, r: &MissionResult, (start, goal): 
 
 /// The robots, each drawn at its start and moving along its track (the mission plays in
 /// [`ANIMATION_SECONDS`] and repeats); a static view shows them at their start.
-fn robots(s: &mut String, f: &Frame, r: &MissionResult) {
+fn robots(s: &mut String, f: &View, r: &MissionResult) {
     s.push_str("<g id=\"robots\">\n");
     for t in &r.uavs {
         mover(s, f, r.time, &t.samples, "#ff7f0e", 5.0);
@@ -354,7 +307,7 @@ fn robots(s: &mut String, f: &Frame, r: &MissionResult) {
 /// One robot: a circle at its first sample, moved by offsets from there.
 fn mover(
     s: &mut String,
-    f: &Frame,
+    f: &View,
     time: Real,
     samples: &[(Real, Point)],
     colour: &str,

@@ -90,39 +90,55 @@ struct GraphStyle {
     opacity: Option<Real>,
 }
 
-struct View {
+/// Where map coordinates land on the page: `bounds` scaled to a width, y up (ROS, scenes) or
+/// down (images, MovingAI).
+pub struct View {
     min: Point,
     max: Point,
-    scale: Real,
+    /// Pixels per map unit.
+    pub scale: Real,
     y_down: bool,
 }
 
 impl View {
     fn new(bg: &Background<'_>) -> Self {
-        let b = bg.bounds();
+        Self::fit(&bg.bounds(), bg.y_down(), WIDTH)
+    }
+    /// `b` with its longer side `width` pixels.
+    pub fn fit(b: &Bounds, y_down: bool, width: Real) -> Self {
         let e = b.extent();
         Self {
             min: b.min,
             max: b.max,
-            scale: WIDTH / e.x.max(e.y),
-            y_down: bg.y_down(),
+            scale: width / e.x.max(e.y),
+            y_down,
         }
     }
-    fn x(&self, x: Real) -> Real {
+    /// The page x of map x.
+    pub fn x(&self, x: Real) -> Real {
         (x - self.min.x) * self.scale
     }
-    fn y(&self, y: Real) -> Real {
+    /// The page y of map y.
+    pub fn y(&self, y: Real) -> Real {
         if self.y_down {
             (y - self.min.y) * self.scale
         } else {
             (self.max.y - y) * self.scale
         }
     }
-    fn w(&self) -> Real {
+    /// The drawing's width, pixels.
+    pub fn w(&self) -> Real {
         (self.max.x - self.min.x) * self.scale
     }
-    fn h(&self) -> Real {
+    /// The drawing's height, pixels.
+    pub fn h(&self) -> Real {
         (self.max.y - self.min.y) * self.scale
+    }
+    /// Points as a polyline's `points` text.
+    pub fn points(&self, pts: &mut dyn Iterator<Item = Point>) -> String {
+        pts.map(|p| format!("{:.2},{:.2}", self.x(p.x), self.y(p.y)))
+            .collect::<Vec<_>>()
+            .join(" ")
     }
     fn poly(&self, pts: &[Point]) -> Data {
         let mut d = Data::new();
@@ -381,7 +397,12 @@ pub fn text_width(text: &str, font_size: Real) -> Real {
 
 /// A label's anchor near a marker at `(x, y)`: up and to the right, or to the other side
 /// where that would leave the picture `w x h` (a label is `width` wide and `size` high).
-fn label_at((x, y): (Real, Real), width: Real, size: Real, (w, h): (Real, Real)) -> (Real, Real) {
+pub fn label_at(
+    (x, y): (Real, Real),
+    width: Real,
+    size: Real,
+    (w, h): (Real, Real),
+) -> (Real, Real) {
     let lx = if x + 8.0 + width <= w {
         x + 8.0
     } else {
