@@ -84,23 +84,24 @@ pub fn write(path: &Path, what: &str, bytes: &[u8]) -> anyhow::Result<()> {
     result.with_context(context)
 }
 
-/// The file `path` names, following symbolic links (one that dangles gives the path it
-/// points to); `path` itself when it is no link.
+/// The file `path` names, following symbolic links, also those that point to a file not
+/// there yet (at most 40 of them, as the kernel); `path` itself when it is no link.
 fn link_target(path: &Path) -> std::path::PathBuf {
-    let is_link = path
-        .symlink_metadata()
-        .is_ok_and(|m| m.file_type().is_symlink());
-    if !is_link {
-        return path.to_path_buf();
+    let mut p = path.to_path_buf();
+    for _ in 0..40 {
+        let is_link = p
+            .symlink_metadata()
+            .is_ok_and(|m| m.file_type().is_symlink());
+        if !is_link {
+            break;
+        }
+        match std::fs::read_link(&p) {
+            Ok(l) if l.is_relative() => p = p.parent().unwrap_or(Path::new(".")).join(l),
+            Ok(l) => p = l,
+            Err(_) => break,
+        }
     }
-    if let Ok(t) = path.canonicalize() {
-        return t;
-    }
-    match std::fs::read_link(path) {
-        Ok(l) if l.is_relative() => path.parent().unwrap_or(Path::new(".")).join(l),
-        Ok(l) => l,
-        Err(_) => path.to_path_buf(),
-    }
+    p
 }
 
 /// Refuses, before any work, an output path that is one of the inputs or another output,
@@ -110,8 +111,10 @@ pub fn check_outputs(
     inputs: &[&Path],
     outputs: &[(&str, &str, Option<&Path>)],
 ) -> anyhow::Result<()> {
-    // Outputs need not exist yet: their directory is resolved, and their name joined.
+    // Outputs need not exist yet: their directory is resolved, and their name joined. A
+    // link is followed first, as `write` follows it.
     let resolve = |p: &Path| {
+        let p = &link_target(p);
         p.canonicalize().ok().or_else(|| {
             let dir = match p.parent() {
                 Some(d) if !d.as_os_str().is_empty() => d,
@@ -143,7 +146,8 @@ pub fn check_outputs(
             )));
         }
         // Not the input's fault: like a write that fails, exit 3.
-        if let Some(d) = p
+        let target = link_target(p);
+        if let Some(d) = target
             .parent()
             .filter(|d| !d.as_os_str().is_empty() && !d.is_dir())
         {

@@ -441,20 +441,24 @@ fn endpoints(start: Point, goal: Point, v: &View) -> Group {
     g
 }
 
-/// Height of the strip under the drawing that holds the scale bar and the legend.
+/// Padding of the legend's box.
 const STRIP_PAD: Real = 12.0;
+/// Height of the scale bar's row, at the top of the strip under the drawing.
+const SCALE_ROW: Real = 40.0;
 /// A legend row's height.
 const ROW: Real = 20.0;
 /// The legend's font size.
 const LEGEND_FONT: Real = 13.0;
-/// Width kept for the scale bar at the strip's left.
-const SCALE_BAR_WIDTH: Real = 190.0;
 
-/// The legend's layout under the drawing: columns of rows, each column as wide as its
-/// longest label, as many columns as fit beside the scale bar.
+/// The strip under the drawing: the scale bar's row, then the legend in columns of rows,
+/// each column as wide as the longest label, as many columns as the page's width holds.
+/// The page is widened when one column is wider than the drawing (a tall, narrow map).
 struct LegendLayout {
     rows: usize,
+    columns: usize,
     column_width: Real,
+    /// The page's width.
+    width: Real,
 }
 
 impl LegendLayout {
@@ -464,22 +468,31 @@ impl LegendLayout {
             .map(|(_, l, _)| text_width(l, LEGEND_FONT))
             .fold(0.0, Real::max);
         let column_width = 36.0 + widest + 16.0;
-        let room = (v.w() - SCALE_BAR_WIDTH).max(column_width);
-        let columns = ((room / column_width).floor() as usize).clamp(1, items.len().max(1));
+        let width = v.w().max(column_width).ceil();
+        let columns = ((width / column_width).floor() as usize).clamp(1, items.len().max(1));
         Self {
             rows: items.len().div_ceil(columns).max(1),
+            columns,
             column_width,
+            width,
         }
+    }
+
+    /// The legend box's height.
+    fn box_height(&self) -> Real {
+        ROW * self.rows as Real + STRIP_PAD
     }
 
     /// The strip's height.
     fn height(&self) -> Real {
-        ROW * self.rows as Real + 2.0 * STRIP_PAD
+        SCALE_ROW + self.box_height() + STRIP_PAD
     }
 }
 
-fn scale_bar(v: &View) -> Group {
-    let target = (v.max.x - v.min.x) / 5.0;
+/// A scale bar at the left of the strip's first row, a round length of at most a fifth of
+/// the map's width that fits the page.
+fn scale_bar(v: &View, page_width: Real) -> Group {
+    let target = ((v.max.x - v.min.x) / 5.0).min((page_width - 60.0).max(40.0) / v.scale);
     let mag = 10f64.powf(target.log10().floor());
     let len = [1.0, 2.0, 5.0, 10.0]
         .iter()
@@ -487,15 +500,14 @@ fn scale_bar(v: &View) -> Group {
         .rfind(|l| *l <= target)
         .unwrap_or(mag);
     // Under the drawing, in the strip: never over a path or an endpoint.
-    let (x0, y0) = (20.0, v.h() + STRIP_PAD + 22.0);
-    let px = (len * v.scale).min(SCALE_BAR_WIDTH - 40.0);
+    let (x0, y0) = (20.0, v.h() + 30.0);
     Group::new()
         .set("id", "scale-bar")
         .add(
             Line::new()
                 .set("x1", x0)
                 .set("y1", y0)
-                .set("x2", x0 + px)
+                .set("x2", x0 + len * v.scale)
                 .set("y2", y0)
                 .set("stroke", "black")
                 .set("stroke-width", 3),
@@ -509,27 +521,23 @@ fn scale_bar(v: &View) -> Group {
         )
 }
 
-/// The legend, in the strip under the drawing (off the start, the goal and every curve),
-/// sized to its labels.
+/// The legend, in the strip under the drawing and the scale bar (off the start, the goal
+/// and every curve), sized to its labels.
 fn legend(items: &[(&str, String, bool)], layout: &LegendLayout, v: &View) -> Group {
     let mut g = Group::new().set("id", "legend");
-    let columns = items.len().div_ceil(layout.rows).max(1);
-    let x_left = SCALE_BAR_WIDTH
-        .min(v.w() - layout.column_width * columns as Real)
-        .max(0.0);
-    let top = v.h() + STRIP_PAD / 2.0;
+    let top = v.h() + SCALE_ROW;
     g = g.add(
         Rectangle::new()
-            .set("x", x_left)
+            .set("x", 0)
             .set("y", top)
-            .set("width", layout.column_width * columns as Real)
-            .set("height", layout.height() - STRIP_PAD)
+            .set("width", layout.column_width * layout.columns as Real)
+            .set("height", layout.box_height())
             .set("fill", "white")
             .set("stroke", "#333"),
     );
     for (k, (colour, label, dashed)) in items.iter().enumerate() {
         let (col, row) = (k / layout.rows, k % layout.rows);
-        let x0 = x_left + 8.0 + layout.column_width * col as Real;
+        let x0 = 8.0 + layout.column_width * col as Real;
         let y = top + STRIP_PAD + 4.0 + ROW * row as Real;
         let mut line = Line::new()
             .set("x1", x0)
@@ -552,12 +560,12 @@ fn legend(items: &[(&str, String, bool)], layout: &LegendLayout, v: &View) -> Gr
     g
 }
 
-/// The document: the drawing `v.w() x v.h()` and a strip of `strip` pixels under it.
-fn document(v: &View, strip: Real) -> Document {
-    let h = (v.h() + strip).ceil();
+/// The document: the drawing `v.w() x v.h()` and the strip under it, `layout.width` wide.
+fn document(v: &View, layout: &LegendLayout) -> Document {
+    let (w, h) = (layout.width, (v.h() + layout.height()).ceil());
     Document::new()
-        .set("viewBox", (0, 0, v.w().ceil(), h))
-        .set("width", v.w().ceil())
+        .set("viewBox", (0, 0, w, h))
+        .set("width", w)
         .set("height", h)
         .add(
             Rectangle::new()
@@ -574,7 +582,7 @@ pub fn plan_svg(bg: &Background<'_>, plan: &Plan) -> String {
     let style = bg.graph_style(&v);
     let items = plan_legend(plan, &style);
     let layout = LegendLayout::new(&items, &v);
-    let mut doc = bg.layers(&v, document(&v, layout.height()));
+    let mut doc = bg.layers(&v, document(&v, &layout));
     if let Some(g) = &plan.graph {
         doc = doc.add(voronoi(g, &v, &style));
     }
@@ -609,7 +617,7 @@ pub fn plan_svg(bg: &Background<'_>, plan: &Plan) -> String {
         .add(best)
         .add(endpoints(start, goal, &v))
         .add(legend(&items, &layout, &v))
-        .add(scale_bar(&v))
+        .add(scale_bar(&v, layout.width))
         .to_string()
 }
 
@@ -653,13 +661,13 @@ pub fn graph_svg(bg: &Background<'_>, graph: &VoronoiGraph) -> String {
     };
     let layout = LegendLayout::new(&items, &v);
     let mut doc = bg
-        .layers(&v, document(&v, layout.height()))
+        .layers(&v, document(&v, &layout))
         .add(voronoi(graph, &v, &style));
     if let (Some(s), Some(t)) = (at(graph.start), at(graph.goal)) {
         doc = doc.add(endpoints(s, t, &v));
     }
     doc.add(legend(&items, &layout, &v))
-        .add(scale_bar(&v))
+        .add(scale_bar(&v, layout.width))
         .to_string()
 }
 
@@ -847,6 +855,35 @@ mod tests {
             // The graph is thin (0.6 of a cell at most), light and half transparent.
             assert!(svg.contains("<g id=\"voronoi\" opacity=\"0.5\">"), "{svg}");
             assert!(svg.contains("stroke=\"#bbb\" stroke-width=\"1\""));
+        }
+    }
+
+    /// The scale bar's drawn length is its label's length at the picture's scale, on wide
+    /// and tall maps and on narrow pages (it once was cut to 150 px and kept its label).
+    #[test]
+    fn the_scale_bar_is_as_long_as_it_says() {
+        for (w, h) in [(21, 9), (200, 9), (9, 200), (3, 300)] {
+            let m = map(w, h, true);
+            let v = View::new(&Background::Map(&m));
+            // A page is at least a legend column wide (about 150 px).
+            for page in [v.w().max(150.0), v.w().max(400.0)] {
+                let text = scale_bar(&v, page).to_string();
+                let num = |key: &str| -> f64 {
+                    let at = text.find(&format!("{key}=\"")).unwrap() + key.len() + 2;
+                    text[at..].split('"').next().unwrap().parse().unwrap()
+                };
+                let label: f64 = text
+                    .split("map units")
+                    .next()
+                    .and_then(|t| t.rsplit('>').next())
+                    .unwrap()
+                    .trim()
+                    .parse()
+                    .unwrap();
+                let drawn = num("x2") - num("x1");
+                assert!((drawn - label * v.scale).abs() < 1e-6, "{w} x {h}: {text}");
+                assert!(num("x2") <= page, "{w} x {h}: the bar leaves the page");
+            }
         }
     }
 

@@ -245,6 +245,30 @@ fn an_output_through_a_link_replaces_the_file_it_names() {
     );
     let json = read_json(&target);
     assert!(json["classes"].is_array(), "the linked file holds the plan");
+    // A chain of links to a file not there yet: the file is made, both links stay.
+    let (first, second, file) = (dir.join("a.json"), dir.join("b.json"), dir.join("c.json"));
+    for p in [&first, &second, &file] {
+        let _ = std::fs::remove_file(p);
+    }
+    std::os::unix::fs::symlink("b.json", &first).unwrap();
+    std::os::unix::fs::symlink("c.json", &second).unwrap();
+    let out = homospline()
+        .args(["plan", "--json", first.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    assert!(second.symlink_metadata().unwrap().file_type().is_symlink());
+    assert!(read_json(&file)["classes"].is_array());
+    // A link into a directory that does not exist fails before the work (exit 3).
+    let into = dir.join("into-nowhere.json");
+    let _ = std::fs::remove_file(&into);
+    std::os::unix::fs::symlink("no/such/dir/plan.json", &into).unwrap();
+    let out = homospline()
+        .args(["plan", "--json", into.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(3));
+    assert!(out.stdout.is_empty(), "checked before the work");
 }
 
 /// 20,000 hidden obstacles far from every robot: sensing scans the pending ones by index

@@ -79,7 +79,7 @@ fn read_page(svg: &str) -> Page {
             Event::Empty(e) => (e, true),
             Event::Text(t) => {
                 if let Some((x, y, size)) = text.take() {
-                    let content = t.xml_content().unwrap().into_owned();
+                    let content = t.xml_content().unwrap().trim().to_owned();
                     let w = 0.6 * size * content.chars().count() as f64;
                     let b = Bbox {
                         x0: x,
@@ -215,6 +215,28 @@ fn plans_and_graphs_of_scenes_keep_their_text_inside_and_legend_off_the_ends() {
             assert!(out.status.code().is_some_and(|c| c <= 1), "{scene} {cmd}");
             check(&svg, &format!("{cmd} {scene}"));
         }
+    }
+}
+
+/// A tall, narrow scene: the legend's column is wider than the drawing, and the page is
+/// widened to hold it.
+#[test]
+fn a_tall_narrow_scene_keeps_its_legend_on_the_page() {
+    let scene = tmp("tall.yaml");
+    std::fs::write(
+        &scene,
+        "name: tall\nbounds: {min: [0, 0], max: [8, 120]}\nstart: [4, 2]\ngoal: [4, 118]\n\
+         obstacles:\n  - name: a\n    circles: [[2, 40, 1.2], [6, 80, 1.2]]\n",
+    )
+    .unwrap();
+    for cmd in ["plan", "graph"] {
+        let svg = tmp(&format!("tall.{cmd}.svg"));
+        let out = homospline()
+            .args([cmd, scene.to_str().unwrap(), "--svg", svg.to_str().unwrap()])
+            .output()
+            .unwrap();
+        assert_ok(&out);
+        check(&svg, &format!("{cmd} tall"));
     }
 }
 

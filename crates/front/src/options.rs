@@ -140,6 +140,11 @@ impl OptionError {
             problem = problem.replacen("{}", &spelling.name(*o), 1);
         }
         let name = spelling.name(self.option);
+        if let (Opt::Weight, Spelling::Keyword, Some(v)) = (self.option, spelling, &self.value)
+            && let Some((key, value)) = v.split_once('=')
+        {
+            return format!("{name}['{key}']={value}: {problem}");
+        }
         match (&self.value, spelling) {
             (Some(v), Spelling::Flag) => format!("{name} {v}: {problem}"),
             (Some(v), Spelling::Keyword) => format!("{name}={v}: {problem}"),
@@ -440,6 +445,22 @@ mod tests {
         assert_eq!(
             e.spelled(Spelling::Keyword),
             "clearance_floor=-1: must be a finite number >= 0"
+        );
+        let e = PlanOptions {
+            weights: vec![("safty".into(), 1.0)],
+            ..Default::default()
+        }
+        .validate(None)
+        .unwrap_err();
+        assert!(
+            e.spelled(Spelling::Keyword)
+                .starts_with("weights['safty']=1: unknown weight or parameter 'safty'"),
+            "{}",
+            e.spelled(Spelling::Keyword)
+        );
+        assert!(
+            e.to_string()
+                .starts_with("--weight safty=1: unknown weight")
         );
     }
 

@@ -639,8 +639,8 @@ fn parse_message(e: &serde_saphyr::Error) -> String {
     yaml_problem(e, "malformed scene")
 }
 
-/// Most YAML nodes (maps, sequences and scalars) an input may hold: about 1.8 million
-/// one-circle obstacles in a scene or a world (4.5 nodes each). The parser's own default
+/// Most YAML nodes (maps, sequences and scalars, keys included) an input may hold: about
+/// 0.9 million one-circle obstacles in a scene or a world (9 nodes each). The parser's own default
 /// (250,000) stopped scenes at about 55,000 circles; the limits on aliases and anchors that
 /// guard against expansion bombs stay at the parser's defaults.
 pub const MAX_YAML_NODES: usize = 8_000_000;
@@ -679,17 +679,27 @@ pub fn yaml_problem(e: &serde_saphyr::Error, fallback: &str) -> String {
     }
     if let Some(breach) = msg.strip_prefix("budget breached:") {
         // The parser names the limit in Rust's debug form ("Nodes { nodes: 250001 }"):
-        // only its kind is kept.
-        let kind = breach
+        // only its kind is kept, in words ("ScalarBytes": "scalar bytes").
+        let kind: String = breach
             .trim()
             .split(|c: char| !c.is_ascii_alphanumeric())
             .next()
             .unwrap_or("size")
-            .to_lowercase();
-        return format!(
-            "exceeds the YAML reader's limit on {kind} (at most {MAX_YAML_NODES} nodes, about \
-             1.8 million one-circle obstacles; nesting at most 64 deep)"
-        );
+            .chars()
+            .flat_map(|c| {
+                let space = c.is_ascii_uppercase().then_some(' ');
+                space.into_iter().chain(c.to_lowercase())
+            })
+            .collect();
+        let kind = kind.trim();
+        return if kind == "nodes" {
+            format!(
+                "exceeds the YAML reader's limit on nodes (at most {MAX_YAML_NODES}, about 0.9 \
+                 million one-circle obstacles)"
+            )
+        } else {
+            format!("exceeds the YAML reader's limit on {kind}")
+        };
     }
     msg.to_owned()
 }

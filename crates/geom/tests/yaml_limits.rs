@@ -19,7 +19,8 @@ fn scene_text(n: usize) -> String {
 
 #[test]
 fn a_scene_past_the_parsers_default_budget_reads() {
-    // 60,000 obstacles: about 270,000 nodes, over the parser's default of 250,000.
+    // 60,000 obstacles: about 540,000 nodes (9 each, keys included), over the parser's
+    // default of 250,000.
     let scene = Scene::from_str(&scene_text(60_000), "many.yaml").unwrap();
     assert_eq!(scene.obstacles.len(), 60_000);
 }

@@ -19,10 +19,14 @@ pub fn class_id(signature: &str) -> String {
     format!("#{:08x}", (h ^ (h >> 32)) as u32)
 }
 
-/// Whether `text` has the form of a hashed id (`#` and eight hex digits).
+/// Whether `text` has the form of a hashed id: `#` and eight lower-case hex digits, as
+/// [`class_id`] writes them (an upper-case id would match no class).
 pub fn is_hashed_id(text: &str) -> bool {
-    text.strip_prefix('#')
-        .is_some_and(|h| h.len() == 8 && h.bytes().all(|b| b.is_ascii_hexdigit()))
+    text.strip_prefix('#').is_some_and(|h| {
+        h.len() == 8
+            && h.bytes()
+                .all(|b| b.is_ascii_digit() || (b'a'..=b'f').contains(&b))
+    })
 }
 
 #[cfg(test)]
@@ -40,5 +44,9 @@ mod tests {
         assert_ne!(ia, ib);
         assert_eq!(ia, class_id(&a), "the same signature, the same id");
         assert!(!is_hashed_id("-1+2") && !is_hashed_id("#12345") && !is_hashed_id("#1234567g"));
+        assert!(
+            !is_hashed_id(&ia.to_uppercase()),
+            "ids are lower case, as printed"
+        );
     }
 }
