@@ -6,7 +6,8 @@ use std::str::FromStr;
 
 use homospline_spline::UnknownName;
 
-use crate::{Optimizer, Seed};
+use crate::growth::Optimizer;
+use crate::planner::Seed;
 
 impl FromStr for Seed {
     type Err = UnknownName;

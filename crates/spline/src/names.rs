@@ -5,7 +5,8 @@
 use std::fmt;
 use std::str::FromStr;
 
-use crate::{ClearanceSearch, CostConfig, RoughnessForm};
+use crate::cost::{ClearanceSearch, CostConfig};
+use crate::roughness::RoughnessForm;
 
 /// A name that is none of a choice's names.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
