@@ -9,7 +9,7 @@
 //! expansions bounds pathological graphs, and the result says whether it was reached.
 
 use std::cmp::{Ordering, Reverse};
-use std::collections::{BinaryHeap, HashSet};
+use std::collections::{BinaryHeap, HashMap, HashSet};
 
 use homospline_geom::{Point, Real};
 use homospline_voronoi::{Adjacency, Edge, VoronoiGraph};
@@ -147,8 +147,77 @@ struct Partial {
     node: usize,
     edge: (usize, bool),
     g: Real,
-    word: Signature,
+    /// Its reduced word, as an id of [`Words`].
+    word: WordId,
 }
+
+/// An interned reduced word ([`Words`]).
+type WordId = usize;
+
+/// The reduced words of the search's partial paths, interned as the nodes of a trie: a word
+/// is its last letter below the word before it, and equal words have equal ids. A partial
+/// path holds one id, and the states `(node, word)` compare in constant time. (Each partial
+/// path had held its word whole: on a map of 4096 x 4096 cells the words of long paths run to
+/// thousands of letters, and copying them at every step took gigabytes.)
+struct Words {
+    /// `(parent, letter)` of each word; word 0 is the empty word.
+    nodes: Vec<(WordId, i32)>,
+    /// The word `parent` followed by `letter`, for each `(parent, letter)` made so far.
+    children: HashMap<(WordId, i32), WordId>,
+}
+
+impl Words {
+    /// The empty word, alone.
+    fn new() -> Self {
+        Self {
+            nodes: vec![(EMPTY_WORD, 0)],
+            children: HashMap::new(),
+        }
+    }
+
+    /// Word `w` followed by `letter`, reduced: a letter that undoes `w`'s last one cancels it.
+    fn push(&mut self, w: WordId, letter: i32) -> WordId {
+        let (parent, last) = self.nodes[w];
+        if w != EMPTY_WORD && last == -letter {
+            return parent;
+        }
+        let next = self.nodes.len();
+        let nodes = &mut self.nodes;
+        *self.children.entry((w, letter)).or_insert_with(|| {
+            nodes.push((w, letter));
+            next
+        })
+    }
+
+    /// Word `w` followed by `edge`'s word, walked forward or backward (its inverse).
+    fn concat(&mut self, mut w: WordId, edge: &Signature, forward: bool) -> WordId {
+        if forward {
+            for &l in &edge.0 {
+                w = self.push(w, l);
+            }
+        } else {
+            for &l in edge.0.iter().rev() {
+                w = self.push(w, -l);
+            }
+        }
+        w
+    }
+
+    /// Word `w` written out.
+    fn signature(&self, mut w: WordId) -> Signature {
+        let mut letters = Vec::new();
+        while w != EMPTY_WORD {
+            let (parent, letter) = self.nodes[w];
+            letters.push(letter);
+            w = parent;
+        }
+        letters.reverse();
+        Signature(letters)
+    }
+}
+
+/// The id of the empty word in [`Words`].
+const EMPTY_WORD: WordId = 0;
 
 fn edge_polyline(g: &VoronoiGraph, e: usize, forward: bool) -> Vec<Point> {
     let mut pts: Vec<Point> = g.edges[e]
@@ -301,6 +370,8 @@ struct Frontier<'a> {
     /// has tens of thousands of edges (60,000 on random512-20-0, 70 ms for all their words),
     /// of which a search walks a few hundred.
     words: Vec<Option<Signature>>,
+    /// The partial paths' words, interned.
+    path_words: Words,
     arena: Vec<Partial>,
     queue: BinaryHeap<Entry>,
     /// Entries pushed so far, the start's not counted.
@@ -324,7 +395,7 @@ impl<'a> Frontier<'a> {
             node: start,
             edge: (usize::MAX, true),
             g: 0.0,
-            word: Signature::identity(),
+            word: EMPTY_WORD,
         }];
         // With the exact heuristic every partial path on a shortest path has f = h(start), up
         // to rounding: g sums forward, h backward. On a lattice of equally short paths (a
@@ -340,6 +411,7 @@ impl<'a> Frontier<'a> {
             cost,
             h,
             words: vec![None; graph.edges.len()],
+            path_words: Words::new(),
             arena,
             queue: BinaryHeap::new(),
             order: 0,
@@ -370,8 +442,8 @@ impl<'a> Frontier<'a> {
         goal: usize,
         mut found: impl FnMut(&ClassPath),
     ) -> SearchResult {
-        let mut seen: HashSet<Signature> = HashSet::new();
-        let mut expanded: HashSet<(usize, Signature)> = HashSet::new();
+        let mut seen: HashSet<WordId> = HashSet::new();
+        let mut expanded: HashSet<(usize, WordId)> = HashSet::new();
         let mut classes = Vec::new();
         let mut expansions = 0;
         let mut complete = true;
@@ -388,14 +460,15 @@ impl<'a> Frontier<'a> {
             let node = self.arena[id].node;
             if cfg.one_path_per_state
                 && node != goal
-                && !expanded.insert((node, self.arena[id].word.clone()))
+                && !expanded.insert((node, self.arena[id].word))
             {
                 continue;
             }
             expansions += 1;
             if node == goal {
-                if seen.insert(self.arena[id].word.clone()) {
-                    classes.push(assemble(self.graph, &self.arena, id));
+                if seen.insert(self.arena[id].word) {
+                    let signature = self.path_words.signature(self.arena[id].word);
+                    classes.push(assemble(self.graph, &self.arena, id, signature));
                     found(&classes[classes.len() - 1]);
                 }
                 continue;
@@ -431,11 +504,7 @@ impl<'a> Frontier<'a> {
             let g = self.arena[id].g + self.cost[e];
             let edge_word =
                 self.words[e].get_or_insert_with(|| rays.signature(&edge_polyline(graph, e, true)));
-            let word = if fwd {
-                self.arena[id].word.concat(edge_word)
-            } else {
-                self.arena[id].word.concat(&edge_word.inverse())
-            };
+            let word = self.path_words.concat(self.arena[id].word, edge_word, fwd);
             self.arena.push(Partial {
                 parent: id,
                 node: m,
@@ -455,7 +524,8 @@ impl<'a> Frontier<'a> {
     }
 }
 
-fn assemble(graph: &VoronoiGraph, arena: &[Partial], id: usize) -> ClassPath {
+/// The class of partial path `id`, which reached the goal with word `signature`.
+fn assemble(graph: &VoronoiGraph, arena: &[Partial], id: usize, signature: Signature) -> ClassPath {
     let mut chain = Vec::new();
     let mut p = id;
     while p != usize::MAX {
@@ -480,7 +550,7 @@ fn assemble(graph: &VoronoiGraph, arena: &[Partial], id: usize) -> ClassPath {
             .map(|&(e, _)| graph.edges[e].min_clearance)
             .fold(Real::INFINITY, Real::min),
         cost: arena[id].g,
-        signature: arena[id].word.clone(),
+        signature,
         nodes,
         edges,
         polyline,
@@ -501,4 +571,39 @@ pub fn classes_through_edge(classes: &[ClassPath], edge: usize) -> Vec<usize> {
 /// Whether a dense polyline with the same ends is in the class `signature`.
 pub fn in_class(rays: &Rays, polyline: &[Point], signature: &Signature) -> bool {
     &rays.signature(polyline) == signature
+}
+
+#[cfg(test)]
+mod tests {
+    use proptest::prelude::*;
+
+    use super::{EMPTY_WORD, Signature, Words};
+
+    /// Edge words over three rays, walked forward or backward.
+    fn steps() -> impl Strategy<Value = Vec<(Vec<i32>, bool)>> {
+        let letter = prop_oneof![-3..=-1i32, 1..=3i32];
+        prop::collection::vec((prop::collection::vec(letter, 0..4), any::<bool>()), 0..12)
+    }
+
+    proptest! {
+        /// The interned words are the reduced words `Signature::concat` makes, and two
+        /// walks reach one id exactly when their words are equal.
+        #[test]
+        fn interned_words_are_the_reduced_words(a in steps(), b in steps()) {
+            let mut words = Words::new();
+            let mut walk = |steps: &[(Vec<i32>, bool)]| {
+                let (mut id, mut word) = (EMPTY_WORD, Signature::identity());
+                for (letters, forward) in steps {
+                    let edge = Signature(letters.clone());
+                    id = words.concat(id, &edge, *forward);
+                    word = word.concat(&if *forward { edge } else { edge.inverse() });
+                }
+                (id, word)
+            };
+            let ((ia, wa), (ib, wb)) = (walk(&a), walk(&b));
+            prop_assert_eq!(words.signature(ia), wa.clone());
+            prop_assert_eq!(words.signature(ib), wb.clone());
+            prop_assert_eq!(ia == ib, wa == wb);
+        }
+    }
 }
