@@ -3,11 +3,30 @@
 //! their cells occupied, the hardest case (a cycle every 14 cells), at 1024 x 1024 and
 //! 4096 x 4096 cells: time per cell (throughput in cells; the prepared map is dropped
 //! outside the timing). Peak memory per cell is
-//! `cargo xtask map-memory`'s.
+//! `cargo xtask map-memory`'s. Then a plan on the prepared 4096 x 4096 map, corner to
+//! corner, 2 classes, the map defaults: the per-query graph, the class search over its
+//! 3.95 M edges and the optimisation.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use homospline_maps::PreparedMap;
+use homospline_geom::Point;
+use homospline_maps::{OccupancyMap, PreparedMap, map_config};
 use std::hint::black_box;
+use std::time::Duration;
+
+/// The centre of the first cell on the diagonal from `(at, at)` whose 3 x 3 block is free.
+fn free_centre(map: &OccupancyMap, at: usize, step: isize) -> Point {
+    let n = map.width;
+    let free = |x: usize, y: usize| {
+        (y - 1..=y + 1).all(|yy| (x - 1..=x + 1).all(|xx| !map.occupied[yy * n + xx]))
+    };
+    let mut k = at;
+    while !free(k, k) {
+        k = k
+            .checked_add_signed(step)
+            .expect("a free block on the diagonal");
+    }
+    Point::new(k as f64 + 0.5, k as f64 + 0.5)
+}
 
 fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("map_size");
@@ -21,6 +40,18 @@ fn bench(c: &mut Criterion) {
             b.iter_with_large_drop(|| PreparedMap::new(black_box(&map)).unwrap())
         });
     }
+    g.finish();
+
+    let map = homospline_testkit::random_map(4096);
+    let prepared = PreparedMap::new(&map).unwrap();
+    let (s, t) = (free_centre(&map, 10, 1), free_centre(&map, 4000, -1));
+    let mut cfg = map_config();
+    cfg.classes = 2;
+    let mut g = c.benchmark_group("map_size");
+    g.sample_size(10).measurement_time(Duration::from_secs(40));
+    g.bench_function("plan_prepared_random20_2_classes/4096", |b| {
+        b.iter(|| prepared.plan(black_box(s), black_box(t), &cfg).unwrap())
+    });
     g.finish();
 }
 
