@@ -19,6 +19,8 @@ const COST: &str = "Cost";
 const OUTPUT: &str = "Output";
 /// ... how the optimiser works.
 const ADVANCED: &str = "Advanced";
+/// `simulate`: the scouts and how they are used.
+const TEAM: &str = "Team";
 
 /// How the splines are seeded.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -305,13 +307,14 @@ pub struct GraphArgs {
 /// The options of `simulate`.
 #[derive(Args, Debug)]
 pub struct SimulateArgs {
-    /// The world file (YAML or JSON): a prior scene, hidden and cleared obstacles, the team.
+    /// The world file (YAML or JSON): a prior scene or map, what it hides (obstacles or a true
+    /// map), what it no longer has, and the team.
     pub world: PathBuf,
     /// Scouts to fly [default: every UAV of the world; more are added at the start].
-    #[arg(long, help_heading = CLASSES)]
+    #[arg(long, help_heading = TEAM)]
     pub scouts: Option<usize>,
     /// How the scouts are used.
-    #[arg(long, value_enum, default_value = "ahead", help_heading = CLASSES)]
+    #[arg(long, value_enum, default_value = "ahead", help_heading = TEAM)]
     pub policy: PolicyArg,
     /// Homotopy classes per plan, 1 to 64.
     #[arg(long, default_value_t = 5, help_heading = CLASSES)]
@@ -319,7 +322,7 @@ pub struct SimulateArgs {
     /// Limited overlap between the classes (see `plan --diverse`).
     #[arg(long, value_name = "F", help_heading = CLASSES)]
     pub diverse: Option<f64>,
-    /// Time step, seconds.
+    /// Time step, seconds, 0.001 to 10.
     #[arg(long, default_value_t = 0.25, help_heading = ADVANCED)]
     pub dt: f64,
     /// Hysteresis: relative cost margin a class must win by to replace a valid plan.

@@ -168,6 +168,20 @@ fn graph_dir(
                 .join(", ")
         )));
     }
+    // Every input is a regular file, in this shard or not: a mistyped path must not pass on
+    // the shards that do not read it.
+    for f in &files {
+        match std::fs::metadata(f) {
+            Ok(m) if m.is_file() => {}
+            Ok(_) => {
+                return Err(bad(format!(
+                    "{}: cannot read: not a regular file (a directory, pipe or device)",
+                    f.display()
+                )));
+            }
+            Err(e) => return Err(bad(format!("{}: cannot read: {e}", f.display()))),
+        }
+    }
     // Every name is checked before anything is written: a clash found halfway left the
     // first inputs' graphs behind.
     let mut stems = std::collections::BTreeMap::new();
@@ -192,6 +206,16 @@ fn graph_dir(
         if shard.takes(i) {
             graph_input(f, grid, &Reads::default())?;
         }
+    }
+    let taken = (0..files.len()).filter(|&i| shard.takes(i)).count();
+    if taken == 0 {
+        say!(
+            "graph: shard {}/{} gets none of the {} inputs (there are more shards than inputs): nothing to build",
+            shard.k,
+            shard.n,
+            files.len()
+        );
+        return Ok(0);
     }
     std::fs::create_dir_all(dir)
         .with_context(|| format!("{}: cannot create the directory", dir.display()))?;

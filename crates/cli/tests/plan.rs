@@ -796,6 +796,38 @@ fn graph_out_dir_checks_its_inputs_before_writing_anything() {
         ],
         "no input to build a graph of",
     );
+    // A missing input is refused on every shard, not only on the one that reads it (shard
+    // 3 of 8 of one input had exited 0 without a word).
+    assert_refused(
+        &[
+            "graph",
+            "--out-dir",
+            out.to_str().unwrap(),
+            "--shard",
+            "3/8",
+            "no-such-maps/",
+        ],
+        "no-such-maps/: cannot read",
+    );
+    // A shard that gets no input says so and writes nothing.
+    let run = homospline()
+        .args([
+            "graph",
+            "--out-dir",
+            out.to_str().unwrap(),
+            "--shard",
+            "3/8",
+            map,
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(0));
+    let said = String::from_utf8(run.stdout).unwrap();
+    assert!(
+        said.contains("shard 3/8 gets none of the 1 inputs"),
+        "{said}"
+    );
+    assert!(!out.exists(), "nothing written");
 }
 
 #[test]
@@ -845,5 +877,34 @@ fn an_obstacle_smaller_than_a_cell_gets_a_note() {
             "{args:?}: {}",
             String::from_utf8_lossy(&out.stderr)
         );
+    }
+}
+
+/// The class table keeps its columns: `safe`, then `pareto`, then `pruned`, each at its own
+/// place whatever the others say (a pruned class that was not Pareto-optimal had its tag
+/// under `pareto`), and no row ends in blanks.
+#[test]
+fn the_class_table_keeps_its_columns() {
+    let out = homospline()
+        .args(["plan", "fixtures/scenes/field.yaml"])
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let text = String::from_utf8(out.stdout).unwrap();
+    let mut lines = text.lines().skip(1);
+    let safe = lines.next().unwrap().find("safe").unwrap();
+    let rows: Vec<&str> = lines.take_while(|l| !l.starts_with("chosen")).collect();
+    assert!(rows.iter().any(|r| r.contains("pruned")), "{text}");
+    assert!(rows.iter().any(|r| r.contains("pareto")), "{text}");
+    for row in rows {
+        let tail = &row[safe..];
+        assert!(tail.starts_with("yes") || tail.starts_with("no"), "{row}");
+        if let Some(at) = row.find("pareto") {
+            assert_eq!(at, safe + 6, "{row}");
+        }
+        if let Some(at) = row.find("pruned") {
+            assert_eq!(at, safe + 14, "{row}");
+        }
+        assert_eq!(row, row.trim_end(), "{row}");
     }
 }

@@ -164,9 +164,8 @@ pub fn plan_table(plan: &Plan) -> String {
         "rank", "class", "length", "clearance", "roughness", "cost", "rounds", "evals", "time ms"
     );
     for c in &plan.classes {
-        let _ = writeln!(
-            s,
-            "{:>4}  {:<12} {:>8.2} {:>9.3} {:>11.1} {:>11.2} {:>6} {:>6} {:>8.1}  {:<14}  {}{}",
+        let row = format!(
+            "{:>4}  {:<12} {:>8.2} {:>9.3} {:>11.1} {:>11.2} {:>6} {:>6} {:>8.1}  {:<14}  {:<4}  {}",
             c.rank,
             class_id(&c.signature),
             c.length,
@@ -177,14 +176,16 @@ pub fn plan_table(plan: &Plan) -> String {
             c.evaluations,
             c.time_ms,
             if c.collision_free { "yes" } else { "NO" },
-            match (c.safe, plan.pareto.contains(&c.rank)) {
-                (true, true) => "yes   pareto",
-                (false, true) => "no    pareto",
-                (true, false) => "yes",
-                (false, false) => "no",
-            },
-            if c.pruned { "   pruned" } else { "" }
+            if c.safe { "yes" } else { "no" },
+            // One column each; the row is trimmed, so a short one ends without blanks.
+            match (plan.pareto.contains(&c.rank), c.pruned) {
+                (true, true) => "pareto  pruned",
+                (true, false) => "pareto",
+                (false, true) => "        pruned",
+                (false, false) => "",
+            }
         );
+        let _ = writeln!(s, "{}", row.trim_end());
     }
     match plan.best {
         Some(b) => {
@@ -199,9 +200,13 @@ pub fn plan_table(plan: &Plan) -> String {
                 c.length,
                 c.min_clearance,
                 if c.safe {
-                    ""
+                    String::new()
                 } else {
-                    " (below dm: no collision-free class keeps the required clearance)"
+                    // On maps dm is the safety term's distance, not a requirement.
+                    format!(
+                        " (below dm = {}: no collision-free class keeps it)",
+                        plan.dm
+                    )
                 },
                 match after {
                     0 => String::new(),
