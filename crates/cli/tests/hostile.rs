@@ -373,3 +373,27 @@ fn a_scene_grid_too_fine_is_refused_with_the_resolution_that_fits() {
         .unwrap();
     assert_ok(&out);
 }
+
+/// Extreme numbers are named short in messages: `1e308`, not 309 digits.
+#[test]
+fn extreme_numbers_are_named_short() {
+    let map = "fixtures/maps/movingai/random-32-32-10.map";
+    for (args, needle) in [
+        (
+            ["--start", "1e308,1", "--goal", "30.5,2.5"],
+            "start [1e308, 1] is outside the map [0, 32] x [0, 32]",
+        ),
+        (
+            ["--start", "1.5,27.5", "--robot-radius", "1e300"],
+            "robot radius 1e300: must be",
+        ),
+    ] {
+        let mut all = vec!["plan", map];
+        all.extend(args);
+        if !all.contains(&"--goal") {
+            all.extend(["--goal", "30.5,2.5"]);
+        }
+        let err = assert_refused_with(&all, needle);
+        assert!(err.len() < 300, "{err}");
+    }
+}

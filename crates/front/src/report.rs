@@ -205,7 +205,7 @@ pub fn plan_table(plan: &Plan) -> String {
                     // On maps dm is the safety term's distance, not a requirement.
                     format!(
                         " (below dm = {}: no collision-free class keeps it)",
-                        plan.dm
+                        homospline_geom::math::Num(plan.dm)
                     )
                 },
                 match after {

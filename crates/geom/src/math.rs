@@ -7,6 +7,23 @@ pub type Point = nalgebra::Point2<Real>;
 /// A displacement in the plane.
 pub type Vector = nalgebra::Vector2<Real>;
 
+/// A number as messages print it: as written (`0.05`, `4096`) at ordinary magnitudes, in
+/// scientific notation (`1e308`, `1e-200`) beyond them, where Rust's `{}` would print
+/// hundreds of digits.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Num(pub Real);
+
+impl std::fmt::Display for Num {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let a = self.0.abs();
+        if a == 0.0 || !a.is_finite() || (1e-6..1e16).contains(&a) {
+            write!(f, "{}", self.0)
+        } else {
+            write!(f, "{:e}", self.0)
+        }
+    }
+}
+
 /// 2-D cross product (the z component of `a x b`).
 #[inline]
 pub fn cross(a: &Vector, b: &Vector) -> Real {
@@ -64,4 +81,26 @@ pub fn douglas_peucker(pts: &[Point], tol: Real, max_points: usize) -> Vec<Point
         .filter(|(_, k)| *k)
         .map(|(p, _)| *p)
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Num;
+
+    #[test]
+    fn numbers_print_short_at_every_magnitude() {
+        for (x, text) in [
+            (0.05, "0.05"),
+            (4096.0, "4096"),
+            (-2.5, "-2.5"),
+            (0.0, "0"),
+            (1e308, "1e308"),
+            (-1e300, "-1e300"),
+            (1e-200, "1e-200"),
+            (f64::NAN, "NaN"),
+            (f64::INFINITY, "inf"),
+        ] {
+            assert_eq!(Num(x).to_string(), text);
+        }
+    }
 }

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::math::{Point, Real, Vector};
+use crate::math::{Num, Point, Real, Vector};
 
 /// A closed disc: every obstacle is a union of these.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -70,7 +70,10 @@ impl std::fmt::Display for Bounds {
         write!(
             f,
             "[{}, {}] x [{}, {}]",
-            self.min.x, self.max.x, self.min.y, self.max.y
+            Num(self.min.x),
+            Num(self.max.x),
+            Num(self.min.y),
+            Num(self.max.y)
         )
     }
 }

@@ -86,6 +86,7 @@ pub fn map_config() -> PlanConfig {
     cfg
 }
 
+use homospline_geom::math::Num;
 use homospline_geom::{Bounds, Point, Real};
 use homospline_homotopy::Rays;
 use homospline_optim::{Plan, PlanConfig, PlanError, World, plan_world};
@@ -125,7 +126,7 @@ pub enum MapError {
         problem: String,
     },
     /// Start or goal unusable.
-    #[error("{what} [{x}, {y}] {problem}")]
+    #[error("{what} [{}, {}] {problem}", Num(*x), Num(*y))]
     Endpoint {
         /// `start` or `goal`.
         what: &'static str,
@@ -150,7 +151,8 @@ pub enum MapError {
     Graph(String),
     /// A robot radius that is not a finite number `>= 0`, or that no cell of the map keeps.
     #[error(
-        "robot radius {0}: must be a finite number >= 0 (map units; metres on a ROS map) that some cell of the map keeps"
+        "robot radius {}: must be a finite number >= 0 (map units; metres on a ROS map) that some cell of the map keeps",
+        Num(*.0)
     )]
     Radius(Real),
     /// More cells than a map may have ([`MAX_MAP_CELLS`]).
@@ -440,7 +442,10 @@ impl OccupancyMap {
                 what,
                 x: p.x,
                 y: p.y,
-                problem: format!("has clearance {c:.4}, {than} the robot radius {radius}"),
+                problem: format!(
+                    "has clearance {c:.4}, {than} the robot radius {}",
+                    Num(radius)
+                ),
             });
         }
         Ok(c)
@@ -564,9 +569,10 @@ impl PreparedMap {
             || fresh_obstacles != saved
         {
             return Err(MapError::Graph(format!(
-                "the graph was not built for map {} at robot radius {radius} (resolution, \
+                "the graph was not built for map {} at robot radius {} (resolution, \
                  obstacles or robot radius differ)",
-                map.name
+                map.name,
+                Num(radius)
             )));
         }
         // Every node and polyline point in a free cell of this map at this radius: a graph of
@@ -581,9 +587,12 @@ impl PreparedMap {
             .find(|p| map.free_at(&Point::new(p[0], p[1])) != Some(true));
         if let Some(p) = off {
             return Err(MapError::Graph(format!(
-                "the graph was not built for map {} at robot radius {radius}: its point [{}, {}] \
+                "the graph was not built for map {} at robot radius {}: its point [{}, {}] \
                  is not in a free cell",
-                map.name, p[0], p[1]
+                map.name,
+                Num(radius),
+                Num(p[0]),
+                Num(p[1])
             )));
         }
         let graph = MapGraph::from_graph(&grid, graph);

@@ -1,6 +1,7 @@
 //! Joining a map world file with its prior and truth maps: the checks of the two maps
 //! together, the robot's radius, and the changes between them.
 
+use homospline_geom::math::Num;
 use homospline_geom::{Point, SceneError};
 use homospline_maps::OccupancyMap;
 
@@ -112,9 +113,18 @@ impl WorldFile {
         for (field, p) in [("start", spec.start), ("goal", spec.goal)] {
             for (which, m) in [("prior map", prior), ("truth map", truth)] {
                 let problem = match m.free_at(&p) {
-                    None => format!("({}, {}) is outside the map {}", p.x, p.y, m.bounds()),
+                    None => format!(
+                        "({}, {}) is outside the map {}",
+                        Num(p.x),
+                        Num(p.y),
+                        m.bounds()
+                    ),
                     Some(false) => {
-                        format!("({}, {}) is in an occupied cell of the {which}", p.x, p.y)
+                        format!(
+                            "({}, {}) is in an occupied cell of the {which}",
+                            Num(p.x),
+                            Num(p.y)
+                        )
                     }
                     Some(true) => match m.touches_obstacle(&p) {
                         Some(why) => format!("({}, {}) {why} of the {which}", p.x, p.y),
@@ -210,7 +220,11 @@ impl WorldFile {
             if !prior.bounds().contains(&u.start) {
                 return Err(self.field_error(
                     &format!("team.uavs[{i}]"),
-                    format!("start ({}, {}) is outside the map", u.start.x, u.start.y),
+                    format!(
+                        "start ({}, {}) is outside the map",
+                        Num(u.start.x),
+                        Num(u.start.y)
+                    ),
                 ));
             }
         }
