@@ -8,6 +8,7 @@
 //! origin (yaw != 0) is refused rather than silently ignored.
 
 use homospline_geom::Point;
+use homospline_geom::math::Num;
 use serde::Deserialize;
 
 use crate::{MapError, OccupancyMap, stem};
@@ -139,12 +140,18 @@ pub fn read_map(
             yaml_source,
             None,
             format!(
-                "resolution: {:e} m per cell over {} x {} cells from origin [{}, {}] reaches {far:e}; coordinates must stay within {:e}",
-                yaml.resolution,
+                "{}: {} m per cell over {} x {} cells from origin [{}, {}] reaches {far:e}; coordinates must stay within {:e}",
+                // The field at fault: the origin when it alone is too far, else the resolution.
+                if far - extent > homospline_geom::scene::MAX_MAGNITUDE {
+                    "origin"
+                } else {
+                    "resolution"
+                },
+                Num(yaml.resolution),
                 w,
                 h,
-                yaml.origin[0],
-                yaml.origin[1],
+                Num(yaml.origin[0]),
+                Num(yaml.origin[1]),
                 homospline_geom::scene::MAX_MAGNITUDE
             ),
         ));
