@@ -1,6 +1,7 @@
 //! `homospline graph`: the Voronoi graph of a scene (start and goal attached) or the complete
 //! graph of a map, saved for `plan --graph`, as JSON or as a picture; `--out-dir` for many.
 
+use homospline_geom::math::Num;
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
@@ -45,7 +46,8 @@ fn graph_input(
         && !(r.is_finite() && r >= 0.0)
     {
         return Err(bad(format!(
-            "--robot-radius {r}: must be a finite number >= 0"
+            "--robot-radius {}: must be a finite number >= 0",
+            Num(r)
         )));
     }
     let input = load_input(path, reads)?;

@@ -3,6 +3,7 @@
 
 use homospline_front::mission;
 use homospline_front::options::{check_classes, check_diverse};
+use homospline_geom::math::Num;
 use homospline_mission::{AnyWorld, MissionConfig};
 use homospline_optim::PlanConfig;
 
@@ -33,13 +34,13 @@ pub fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
     if !(a.switch_margin.is_finite() && (0.0..1.0).contains(&a.switch_margin)) {
         return Err(bad(format!(
             "--switch-margin {}: must be in [0, 1)",
-            a.switch_margin
+            Num(a.switch_margin)
         )));
     }
     if !(a.min_switch_interval.is_finite() && a.min_switch_interval >= 0.0) {
         return Err(bad(format!(
             "--min-switch-interval {}: must be >= 0 seconds",
-            a.min_switch_interval
+            Num(a.min_switch_interval)
         )));
     }
     let base = MissionConfig::default();

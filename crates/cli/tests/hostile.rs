@@ -396,4 +396,26 @@ fn extreme_numbers_are_named_short() {
         let err = assert_refused_with(&all, needle);
         assert!(err.len() < 300, "{err}");
     }
+    for (args, needle) in [
+        (
+            vec!["plan", "--diverse", "1e300"],
+            "--diverse 1e300: must be",
+        ),
+        (
+            vec!["plan", "--weight", "omega=-1e300"],
+            "--weight omega=-1e300: parameter omega must be finite and > 0, got -1e300",
+        ),
+        (
+            vec![
+                "simulate",
+                "fixtures/worlds/narrow-pass-blocked.yaml",
+                "--dt",
+                "1e-300",
+            ],
+            "--dt 1e-300: must be between",
+        ),
+    ] {
+        let err = assert_refused_with(&args, needle);
+        assert!(err.len() < 300, "{err}");
+    }
 }

@@ -3,6 +3,7 @@
 //! read and checked (only its size kept), those the shard plans on prepared once, rows
 //! planned; CSV text to and from rows. This module reads files.
 
+use homospline_geom::math::Num;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -151,7 +152,7 @@ impl BenchJob {
         if !(self.robot_radius.is_finite() && self.robot_radius >= 0.0) {
             return Err(OptionError::new(
                 Opt::RobotRadius,
-                self.robot_radius,
+                Num(self.robot_radius),
                 "must be a finite number >= 0 (map units)",
             ));
         }
@@ -170,7 +171,7 @@ impl BenchJob {
         {
             return Err(OptionError::new(
                 Opt::TimeLimit,
-                t,
+                Num(t),
                 "must be a positive number of ms",
             ));
         }

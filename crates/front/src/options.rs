@@ -2,6 +2,7 @@
 //! package): typed values, checked once by [`PlanOptions::validate`], with errors that name
 //! the option as each front end spells it ([`Opt::flag`], [`Opt::keyword`]).
 
+use homospline_geom::math::Num;
 use std::fmt;
 use std::str::FromStr;
 
@@ -259,7 +260,7 @@ pub fn check_diverse(f: f64) -> Result<f64, OptionError> {
     } else {
         Err(OptionError::new(
             Opt::Diverse,
-            f,
+            Num(f),
             "must be a fraction in [0, 1]",
         ))
     }
@@ -292,8 +293,9 @@ impl PlanOptions {
             cost.omega = map.omega;
         }
         for (name, v) in &self.weights {
-            cost.set(name.trim(), *v)
-                .map_err(|e| OptionError::new(Opt::Weight, format!("{name}={v}"), e.to_string()))?;
+            cost.set(name.trim(), *v).map_err(|e| {
+                OptionError::new(Opt::Weight, format!("{name}={}", Num(*v)), e.to_string())
+            })?;
         }
         if let Some(form) = self.roughness {
             cost.roughness = form;
@@ -347,7 +349,11 @@ impl PlanOptions {
                 ));
             }
             if !(r.is_finite() && r > 0.0) {
-                return Err(OptionError::new(Opt::Resolution, r, "must be positive"));
+                return Err(OptionError::new(
+                    Opt::Resolution,
+                    Num(r),
+                    "must be positive",
+                ));
             }
         }
         if let Some(n) = self.threads {
@@ -356,7 +362,7 @@ impl PlanOptions {
         if !(self.clearance_floor.is_finite() && self.clearance_floor >= 0.0) {
             return Err(OptionError::new(
                 Opt::ClearanceFloor,
-                self.clearance_floor,
+                Num(self.clearance_floor),
                 "must be a finite number >= 0",
             ));
         }
@@ -368,7 +374,7 @@ impl PlanOptions {
         {
             return Err(OptionError::new(
                 Opt::Prune,
-                r,
+                Num(r),
                 "expected off or a ratio of at least 1",
             ));
         }

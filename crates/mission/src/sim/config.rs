@@ -1,6 +1,7 @@
 //! A mission's settings: the scout policy, the planner offline and on the move, the time
 //! step and the hysteresis, with their ranges.
 
+use homospline_geom::math::Num;
 use homospline_geom::{Real, Scene, Vector};
 use homospline_optim::{GrowthConfig, Optimizer, PlanConfig, default_resolution};
 use thiserror::Error;
@@ -182,7 +183,7 @@ pub(super) fn check_config(cfg: &MissionConfig) -> Result<(), MissionError> {
     if !(cfg.dt.is_finite() && (MIN_DT..=10.0).contains(&cfg.dt)) {
         return Err(MissionError::Config(format!(
             "--dt {}: must be between {MIN_DT} and 10 seconds",
-            cfg.dt
+            Num(cfg.dt)
         )));
     }
     if cfg.scouts.is_some_and(|n| n > MAX_SCOUTS) {
@@ -228,7 +229,7 @@ pub(super) fn check_steps(
         let hint = if dt < cfg.dt {
             format!(
                 "the step is refined from --dt {} so that no robot travels more than half its sensor range between two looks: give the robots sensor ranges that suit their speeds",
-                cfg.dt
+                Num(cfg.dt)
             )
         } else {
             "raise --dt or the UGV's speed".to_owned()

@@ -3,6 +3,7 @@
 //! the values of one evaluation; and the terms that bound an unfinished evaluation's.
 
 use homospline_geom::Real;
+use homospline_geom::math::Num;
 use thiserror::Error;
 
 use super::config::CostConfig;
@@ -168,10 +169,10 @@ pub enum CostConfigError {
     #[error("unknown weight or parameter '{0}' (weights: {weights}; parameters: {params})", weights = term_names(), params = parameter_names())]
     Unknown(String),
     /// A weight is negative, NaN or infinite.
-    #[error("weight {0} must be finite and >= 0, got {1}")]
+    #[error("weight {0} must be finite and >= 0, got {value}", value = Num(*.1))]
     Weight(&'static str, Real),
     /// A parameter is out of its range.
-    #[error("parameter {0} {1}, got {2}")]
+    #[error("parameter {0} {1}, got {value}", value = Num(*.2))]
     Parameter(&'static str, &'static str, Real),
 }
 
