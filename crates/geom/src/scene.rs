@@ -701,6 +701,12 @@ pub fn yaml_problem(e: &serde_saphyr::Error, fallback: &str) -> String {
             format!("exceeds the YAML reader's limit on {kind}")
         };
     }
+    // The parser's advice names its own options ("set DuplicateKeyPolicy in Options if
+    // acceptable"), which a user of a file cannot set.
+    if let Some(key) = msg.strip_prefix("duplicate mapping key:") {
+        let key = key.split(", set ").next().unwrap_or(key).trim();
+        return format!("the key '{key}' is given twice: give each key once");
+    }
     msg.to_owned()
 }
 

@@ -36,3 +36,14 @@ fn a_file_past_the_budget_is_refused_in_words() {
     );
     assert!(!msg.contains('{'), "no debug text: {msg}");
 }
+
+/// A key given twice is named in words, without the parser's advice about its own options.
+#[test]
+fn a_duplicate_key_is_named_without_the_parsers_advice() {
+    let text = "bounds: {min: [0, 0], max: [60, 60]}\nstart: [5, 30]\nstart: [6, 30]\ngoal: [55, 30]\nobstacles: []\n";
+    let e = homospline_geom::Scene::from_str(text, "dup.yaml")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("the key 'start' is given twice"), "{e}");
+    assert!(!e.contains("Options"), "{e}");
+}
