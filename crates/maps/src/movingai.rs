@@ -234,6 +234,19 @@ pub fn read_scen(text: &str, source: &str) -> Result<Vec<Scenario>, MapError> {
                     format!("optimal length {} is not a length", r.optimal_length),
                 ));
             }
+            // A cell off the map the line declares is no scenario (it had been planned and
+            // reported as a failed one).
+            for (what, (x, y)) in [("start", r.start_pos), ("goal", r.goal_pos)] {
+                if x >= r.map_width || y >= r.map_height {
+                    return Err(err(
+                        n + 1,
+                        format!(
+                            "{what} cell ({x}, {y}) is outside the {} x {} map the line declares",
+                            r.map_width, r.map_height
+                        ),
+                    ));
+                }
+            }
             let c = |(x, y): (usize, usize)| Point::new(x as f64 + 0.5, y as f64 + 0.5);
             out.push(Scenario {
                 bucket: r.bucket,
@@ -387,6 +400,25 @@ mod tests {
         ] {
             let e = scen_err(&text);
             assert!(e.starts_with(at), "{e}");
+        }
+    }
+
+    #[test]
+    fn a_start_or_goal_off_the_declared_map_is_refused() {
+        for (line, what) in [
+            (
+                "0\tm.map\t32\t32\t32\t1\t3\t1\t2",
+                "start cell (32, 1) is outside the 32 x 32 map",
+            ),
+            (
+                "0\tm.map\t32\t32\t1\t1\t3\t40\t2",
+                "goal cell (3, 40) is outside the 32 x 32 map",
+            ),
+        ] {
+            let e = read_scen(&format!("version 1\n{line}\n"), "s.scen")
+                .unwrap_err()
+                .to_string();
+            assert!(e.starts_with("s.scen:2: ") && e.contains(what), "{e}");
         }
     }
 
