@@ -63,7 +63,7 @@ fn a_bad_world_file_names_the_file_line_and_field() {
     .unwrap();
     assert_refused(
         &["simulate", bad.to_str().unwrap()],
-        "bad-world.yaml:3: team.ugv.speed: 0 must be finite and > 0",
+        "bad-world.yaml:3: team.ugv.speed: 0 must be finite, > 0 and at most 1e9",
     );
     let missing = tmp("missing-scene.yaml");
     std::fs::write(&missing, "scene: nowhere.yaml\n").unwrap();

@@ -210,7 +210,7 @@ fn world_error(text: &str) -> String {
 fn world_files_are_checked_with_file_line_field_and_problem() {
     assert_eq!(
         world_error("scene: s.yaml\nhidden_obstacles:\n  - circles: [[50, 30, -1]]\n"),
-        "w.yaml:3: hidden_obstacles[0].circles[0]: radius -1 must be finite and > 0"
+        "w.yaml:3: hidden_obstacles[0].circles[0]: radius -1 must be finite, > 0 and at most 1e9"
     );
     assert_eq!(
         world_error("scene: s.yaml\ncleared_obstacles: [nothing]\n"),
@@ -222,7 +222,7 @@ fn world_files_are_checked_with_file_line_field_and_problem() {
     );
     assert_eq!(
         world_error("scene: s.yaml\nteam:\n  ugv: {speed: -1, sensor_range: 5}\n"),
-        "w.yaml:3: team.ugv.speed: -1 must be finite and > 0"
+        "w.yaml:3: team.ugv.speed: -1 must be finite, > 0 and at most 1e9"
     );
     assert_eq!(
         world_error("version: 2\nscene: s.yaml\n"),

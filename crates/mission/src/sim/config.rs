@@ -235,8 +235,10 @@ pub(super) fn check_steps(
             "raise --dt or the UGV's speed".to_owned()
         };
         return Err(MissionError::Config(format!(
-            "the mission would take {:.0} time steps (time limit {max_time:.0} s over a step of {dt} s); at most {MAX_STEPS:.0}: {hint}",
-            max_time / dt,
+            "the mission would take {} time steps (time limit {} s over a step of {} s); at most {MAX_STEPS:.0}: {hint}",
+            Num((max_time / dt).round()),
+            Num(max_time.round()),
+            Num(dt),
         )));
     }
     Ok(())

@@ -2,6 +2,7 @@
 //! or a prior map with its truth map and the UGV's ends), the hidden and cleared obstacles,
 //! and the team. Every error names the file, the line where it can and the field.
 
+use homospline_geom::math::Num;
 use homospline_geom::{Circle, Obstacle, Point, Real, SceneError};
 use serde::Deserialize;
 use serde_saphyr::Spanned;
@@ -285,7 +286,11 @@ fn finite_point<T>(
     field: &str,
 ) -> Result<Point, SceneError> {
     if !(x.is_finite() && y.is_finite()) {
-        return Err(reader.at(at, field, format!("({x}, {y}) must be finite")));
+        return Err(reader.at(
+            at,
+            field,
+            format!("({}, {}) must be finite", Num(x), Num(y)),
+        ));
     }
     Ok(Point::new(x, y))
 }
@@ -329,11 +334,19 @@ fn circle(c: &Spanned<[Real; 3]>, field: &str, reader: &Reader) -> Result<Circle
         return Err(reader.at(
             c,
             field,
-            format!("centre ({x}, {y}) must be finite numbers within 1e9"),
+            format!(
+                "centre ({}, {}) must be finite numbers within 1e9",
+                Num(x),
+                Num(y)
+            ),
         ));
     }
     if !positive(r) {
-        return Err(reader.at(c, field, format!("radius {r} must be finite and > 0")));
+        return Err(reader.at(
+            c,
+            field,
+            format!("radius {} must be finite, > 0 and at most 1e9", Num(r)),
+        ));
     }
     Ok(Circle::new(x, y, r))
 }
@@ -370,7 +383,7 @@ fn ugv(u: &Spanned<RawUgv>, reader: &Reader) -> Result<Ugv, SceneError> {
             return Err(reader.at(
                 u,
                 &format!("team.ugv.{what}"),
-                format!("{v} must be finite and > 0"),
+                format!("{} must be finite, > 0 and at most 1e9", Num(v)),
             ));
         }
     }
@@ -401,7 +414,7 @@ fn uav(i: usize, a: &Spanned<RawUav>, reader: &mut Reader) -> Result<Uav, SceneE
             return Err(reader.at(
                 a,
                 &format!("{field}.{what}"),
-                format!("{v} must be finite and > 0"),
+                format!("{} must be finite, > 0 and at most 1e9", Num(v)),
             ));
         }
     }
