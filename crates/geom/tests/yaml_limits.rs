@@ -41,9 +41,7 @@ fn a_file_past_the_budget_is_refused_in_words() {
 #[test]
 fn a_duplicate_key_is_named_without_the_parsers_advice() {
     let text = "bounds: {min: [0, 0], max: [60, 60]}\nstart: [5, 30]\nstart: [6, 30]\ngoal: [55, 30]\nobstacles: []\n";
-    let e = homospline_geom::Scene::from_str(text, "dup.yaml")
-        .unwrap_err()
-        .to_string();
+    let e = Scene::from_str(text, "dup.yaml").unwrap_err().to_string();
     assert!(e.contains("the key 'start' is given twice"), "{e}");
     assert!(!e.contains("Options"), "{e}");
 }
