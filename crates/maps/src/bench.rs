@@ -57,6 +57,9 @@ pub struct Row {
     pub time_ms: f64,
 }
 
+/// The longest plan time a CSV row may hold, ms: 31 years.
+pub const MAX_TIME_MS: f64 = 1e12;
+
 /// The CSV header of [`Row::to_csv`].
 pub const CSV_HEADER: &str = "file,index,line,bucket,start_x,start_y,goal_x,goal_y,optimal,length,ratio,clearance,classes,success,time_ms,outcome";
 
@@ -163,7 +166,7 @@ impl Row {
             goal,
             optimal,
             outcome,
-            time_ms: f.amount(14)?,
+            time_ms: f.time(14)?,
         };
         // The columns computed from others.
         f.check_ratio(&row)?;
@@ -231,6 +234,23 @@ impl<'a> Fields<'a> {
             Err(self.err(
                 i,
                 format!("'{}' is not a finite non-negative number", self.f[i]),
+            ))
+        }
+    }
+
+    /// Column `i` is a plan's time in ms: an amount no run reaches past [`MAX_TIME_MS`] (a
+    /// time of 1e308 was taken, and the summary printed its mean in 309 digits).
+    fn time(&self, i: usize) -> Result<f64, MapError> {
+        let v = self.amount(i)?;
+        if v <= MAX_TIME_MS {
+            Ok(v)
+        } else {
+            Err(self.err(
+                i,
+                format!(
+                    "'{}' ms is beyond any run (at most 1e12 ms, 31 years)",
+                    self.f[i]
+                ),
             ))
         }
     }
@@ -761,6 +781,12 @@ mod tests {
             (&ok, "line", "0", "line: 0 cannot hold scenario 7"),
             (&ok, "line", "7", "line: 7 cannot hold scenario 7"),
             (&ok, "bucket", "x", "bucket: 'x' is not a bucket number"),
+            (
+                &ok,
+                "time_ms",
+                "1e308",
+                "time_ms: '1e308' ms is beyond any run",
+            ),
             (
                 &ok,
                 "start_x",
