@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use homospline_front::bench::{BenchJob, csv_text, rows_of_named, run_files};
+use homospline_front::bench::{BenchJob, csv_text, input_files, rows_of_named, run_files};
 use homospline_maps::bench::{self, Shard};
 
 use crate::args::BenchArgs;
@@ -23,8 +23,6 @@ pub fn shard_of(opt: Option<&str>) -> anyhow::Result<Shard> {
 
 /// `bench-scen`: plans this run's shard of the scenarios and prints the summary.
 pub fn bench_scen(a: BenchArgs) -> anyhow::Result<u8> {
-    let inputs: Vec<&Path> = a.scen.iter().map(PathBuf::as_path).collect();
-    check_outputs(&inputs, &[("--csv", "CSV", a.csv.as_deref())])?;
     let shard = shard_of(a.shard.as_deref())?;
     let job = BenchJob {
         files: a.scen.clone(),
@@ -36,6 +34,12 @@ pub fn bench_scen(a: BenchArgs) -> anyhow::Result<u8> {
         weights: parse_weights(&a.weights)?,
         robot_radius: a.robot_radius.unwrap_or(0.0),
     };
+    // The `.scen` files and the maps they name: the CSV overwrites none of them.
+    let inputs = input_files(&job).map_err(bad)?;
+    check_outputs(
+        &inputs.iter().map(PathBuf::as_path).collect::<Vec<_>>(),
+        &[("--csv", "CSV", a.csv.as_deref())],
+    )?;
     let bar = indicatif::ProgressBar::new(0);
     bar.set_style(
         indicatif::ProgressStyle::with_template(

@@ -204,9 +204,10 @@ fn graph_dir(
     // Every input of this shard is read, and dropped, before any graph is built: an
     // unreadable map found halfway left the first maps' graphs behind. Reading is a small
     // part of a graph's cost; a graph that cannot be built still stops the run where it is.
+    let reads = Reads::default();
     for (i, f) in files.iter().enumerate() {
         if shard.takes(i) {
-            graph_input(f, grid, &Reads::default())?;
+            graph_input(f, grid, &reads)?;
         }
     }
     let taken = (0..files.len()).filter(|&i| shard.takes(i)).count();
@@ -221,18 +222,37 @@ fn graph_dir(
     }
     std::fs::create_dir_all(dir)
         .with_context(|| format!("{}: cannot create the directory", dir.display()))?;
+    // No graph overwrites an input, this shard's or another's (a link in DIR to one of
+    // them), or a file an input reads (a ROS map's image).
+    let outputs: Vec<PathBuf> = files
+        .iter()
+        .enumerate()
+        .filter(|&(i, _)| shard.takes(i))
+        .map(|(_, f)| out_path(dir, f))
+        .collect();
+    let mut read = files.clone();
+    read.extend(reads.paths());
+    check_outputs(
+        &read.iter().map(PathBuf::as_path).collect::<Vec<_>>(),
+        &outputs
+            .iter()
+            .map(|p| ("--out-dir", "graph", Some(p.as_path())))
+            .collect::<Vec<_>>(),
+    )?;
     for (i, f) in files.iter().enumerate() {
         if !shard.takes(i) {
             continue;
         }
-        let stem = f.file_stem().and_then(|s| s.to_str()).unwrap_or("graph");
-        graph(
-            f,
-            grid,
-            Some(dir.join(format!("{stem}.msgpack"))),
-            None,
-            None,
-        )?;
+        graph(f, grid, Some(out_path(dir, f)), None, None)?;
     }
     Ok(0)
+}
+
+/// Where `graph --out-dir DIR` saves the graph of `input`: `DIR/STEM.msgpack`.
+fn out_path(dir: &Path, input: &Path) -> PathBuf {
+    let stem = input
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or("graph");
+    dir.join(format!("{stem}.msgpack"))
 }

@@ -74,14 +74,14 @@ fn main() -> ExitCode {
             return ExitCode::from(code);
         }
     };
-    let result = match cli.command {
+    let result = check_thread_env().and_then(|()| match cli.command {
         Command::Check { scene } => check(&scene),
         Command::Graph(args) => graph::run(args),
         Command::Plan(args) => plan::plan(*args),
         Command::BenchScen(args) => bench::bench_scen(args),
         Command::Simulate(args) => simulate::simulate(args),
         Command::BenchMerge { csv, out } => bench::bench_merge(&csv, out.as_deref()),
-    };
+    });
     match result {
         Ok(code) => ExitCode::from(code),
         Err(e) => {
@@ -95,6 +95,19 @@ fn main() -> ExitCode {
                 EXIT_FAILURE
             })
         }
+    }
+}
+
+/// Refuses a `RAYON_NUM_THREADS` (rayon's default thread count) above the `--threads`
+/// limit: 5,000 threads ran a plan of milliseconds past a minute on two cores. A value
+/// that is no number, or 0, is rayon's to ignore.
+fn check_thread_env() -> anyhow::Result<()> {
+    let max = homospline_optim::planner::MAX_THREADS;
+    match std::env::var("RAYON_NUM_THREADS").map(|v| v.trim().parse::<u64>()) {
+        Ok(Ok(n)) if n > max as u64 => Err(out::bad(format!(
+            "the environment's RAYON_NUM_THREADS={n}: at most {max} threads (as --threads)"
+        ))),
+        _ => Ok(()),
     }
 }
 

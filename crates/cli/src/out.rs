@@ -52,6 +52,9 @@ pub fn bad(msg: impl Into<String>) -> anyhow::Error {
 /// Writes `bytes` to `path` whole or not at all: into a temporary file beside it, then
 /// renamed over it. A full disk or a failed write leaves any file already at `path` as it
 /// was (no truncated output, no good file destroyed), and the temporary file is removed.
+/// What is no regular file (`/dev/null`, `/dev/stdout`, a named pipe, `>(jq .)`) is
+/// written to as it is, never replaced; so is a file the user may write in a directory
+/// where no temporary file can be made.
 pub fn write(path: &Path, what: &str, bytes: &[u8]) -> anyhow::Result<()> {
     let context = || match path
         .parent()
@@ -64,15 +67,27 @@ pub fn write(path: &Path, what: &str, bytes: &[u8]) -> anyhow::Result<()> {
         ),
         None => format!("{}: cannot write the {what}", path.display()),
     };
+    if is_device(path) {
+        return write_in_place(path, bytes, false).with_context(context);
+    }
     // A link is followed: the file it names is replaced, and the link stays.
     let target = link_target(path);
     let path = target.as_path();
-    let name = path
-        .file_name()
-        .map_or_else(|| "output".to_owned(), |n| n.to_string_lossy().into_owned());
-    let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
+    let result = match write_replacing(path, bytes) {
+        Err(e) if e.kind() == std::io::ErrorKind::PermissionDenied && writable(path) => {
+            write_in_place(path, bytes, true)
+        }
+        r => r,
+    };
+    result.with_context(context)
+}
+
+/// `bytes` into a temporary file beside `path`, renamed over it; the temporary file is
+/// removed when that fails.
+fn write_replacing(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    use std::io::Write;
+    let tmp = temporary(path);
     let result = (|| {
-        use std::io::Write;
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(bytes)?;
         f.sync_all()?;
@@ -81,7 +96,52 @@ pub fn write(path: &Path, what: &str, bytes: &[u8]) -> anyhow::Result<()> {
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
-    result.with_context(context)
+    result
+}
+
+/// `bytes` written into `path` as it is (emptied first when `truncate`).
+fn write_in_place(path: &Path, bytes: &[u8], truncate: bool) -> std::io::Result<()> {
+    use std::io::Write;
+    std::fs::OpenOptions::new()
+        .write(true)
+        .truncate(truncate)
+        .open(path)?
+        .write_all(bytes)
+}
+
+/// The temporary file beside `path` that [`write`] renames over it.
+fn temporary(path: &Path) -> std::path::PathBuf {
+    let name = path
+        .file_name()
+        .map_or_else(|| "output".to_owned(), |n| n.to_string_lossy().into_owned());
+    path.with_file_name(format!(".{name}.{}.tmp", std::process::id()))
+}
+
+/// Whether `path` is a regular file this process may write (opened without truncation).
+fn writable(path: &Path) -> bool {
+    path.metadata().is_ok_and(|m| m.is_file())
+        && std::fs::OpenOptions::new().write(true).open(path).is_ok()
+}
+
+/// Whether `path`, links followed, is there and is no regular file and no directory: a
+/// device, a pipe or a socket, which [`write`] writes to as it is.
+fn is_device(path: &Path) -> bool {
+    path.metadata().is_ok_and(|m| !m.is_file() && !m.is_dir())
+}
+
+/// Whether [`write`] can replace `path` (a link's target): a temporary file can be made
+/// beside it, or it is a file the user may write. Makes and removes the temporary file.
+fn can_write(path: &Path) -> std::io::Result<()> {
+    let tmp = temporary(path);
+    match std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&tmp)
+    {
+        Ok(_) => std::fs::remove_file(&tmp),
+        Err(_) if writable(path) => Ok(()),
+        Err(e) => Err(e),
+    }
 }
 
 /// The file `path` names, following symbolic links, also those that point to a file not
@@ -105,7 +165,7 @@ fn link_target(path: &Path) -> std::path::PathBuf {
 }
 
 /// Refuses, before any work, an output path that is one of the inputs or another output,
-/// or whose directory does not exist: a plan of minutes ended on a typo, and `--json`
+/// a directory, or one that cannot be written (its directory missing or not writable): a plan of minutes ended on a typo, and `--json`
 /// equal to the scene overwrote it.
 pub fn check_outputs(
     inputs: &[&Path],
@@ -139,14 +199,25 @@ pub fn check_outputs(
                 input.display()
             )));
         }
-        if let Some((other, _, _)) = given[..k].iter().find(|(_, _, q)| same(q, p)) {
+        // Two outputs may share a device (`--json /dev/null --svg /dev/null`), not a file.
+        let device = is_device(p);
+        if let Some((other, _, _)) = given[..k].iter().find(|(_, _, q)| !device && same(q, p)) {
             return Err(bad(format!(
                 "{flag} {}: is also the {other} output; give each output its own file",
                 p.display()
             )));
         }
-        // Not the input's fault: like a write that fails, exit 3.
+        if device {
+            continue;
+        }
         let target = link_target(p);
+        if target.is_dir() {
+            return Err(bad(format!(
+                "{flag} {}: is a directory; name a file",
+                p.display()
+            )));
+        }
+        // Not the input's fault: like a write that fails, exit 3.
         if let Some(d) = target
             .parent()
             .filter(|d| !d.as_os_str().is_empty() && !d.is_dir())
@@ -157,6 +228,7 @@ pub fn check_outputs(
                 d.display()
             ));
         }
+        can_write(&target).with_context(|| format!("{}: cannot write the {what}", p.display()))?;
     }
     Ok(())
 }

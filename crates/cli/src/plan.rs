@@ -182,17 +182,18 @@ fn plan_scene(
         Some(p) => Some(scene_graph(p, scene, cfg)?),
         None => None,
     };
-    if cfg.seed == Seed::Voronoi {
-        let resolution = saved.as_ref().map_or_else(
-            || cfg.resolution.unwrap_or_else(|| default_resolution(scene)),
-            |g| g.resolution,
-        );
-        if let Some(n) = homospline_front::unseen_obstacles(scene, resolution) {
-            let _ = writeln!(std::io::stderr().lock(), "{n}");
-        }
-    }
+    let resolution = saved.as_ref().map_or_else(
+        || cfg.resolution.unwrap_or_else(|| default_resolution(scene)),
+        |g| g.resolution,
+    );
     let result =
         plan_with_graph(scene, saved, cfg).map_err(|e| bad(format!("{}: {e}", scene.name)))?;
+    // Said once the grid is built: a grid refused (too coarse, too fine) is the message.
+    if cfg.seed == Seed::Voronoi
+        && let Some(n) = homospline_front::unseen_obstacles(scene, resolution)
+    {
+        let _ = writeln!(std::io::stderr().lock(), "{n}");
+    }
     let alpha = cfg.growth.cost.alpha;
     let pic = a
         .svg

@@ -189,6 +189,24 @@ struct Picked {
     picked: usize,
 }
 
+/// Every file the job reads: its `.scen` files (directories expanded) and each map they
+/// name, so that an output can be checked against them before any work. Reads only the
+/// `.scen` files.
+pub fn input_files(job: &BenchJob) -> Result<Vec<PathBuf>, String> {
+    let files = scen_files(&job.files)?;
+    let mut maps = std::collections::BTreeSet::new();
+    for path in &files {
+        let name = path.display().to_string();
+        let text =
+            crate::read_regular_string(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
+        let scen = movingai::read_scen(&text, &name).map_err(|e| e.to_string())?;
+        maps.extend(scen.iter().map(|s| map_beside(path, &s.map)));
+    }
+    let mut all = files;
+    all.extend(maps);
+    Ok(all)
+}
+
 /// Reads the job's `.scen` files and picks its scenarios: all, a sample spread over every
 /// bucket of each file, or the first of each; then this shard's slice of them.
 fn pick(job: &BenchJob) -> Result<Picked, String> {

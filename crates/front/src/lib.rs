@@ -39,12 +39,17 @@ pub fn unseen_obstacles(scene: &Scene, resolution: f64) -> Option<String> {
     (!small.is_empty()).then(|| {
         let shown: Vec<String> = small.iter().take(5).map(|n| format!("'{n}'")).collect();
         format!(
-            "note: {} obstacle{} ({}{}) {} smaller than the graph's cells ({cell:.3} units): the classes may not go round {}; a finer --resolution shows {}",
+            "note: {} obstacle{} ({}{}) {} smaller than the graph's cells ({} units): the classes may not go round {}; a finer --resolution shows {}",
             small.len(),
             if small.len() == 1 { "" } else { "s" },
             shown.join(", "),
             if small.len() > 5 { ", ..." } else { "" },
             if small.len() == 1 { "is" } else { "are" },
+            if (1e-3..1e6).contains(&cell) {
+                format!("{cell:.3}")
+            } else {
+                format!("{cell:.3e}")
+            },
             if small.len() == 1 { "it" } else { "them" },
             if small.len() == 1 { "it" } else { "them" },
         )

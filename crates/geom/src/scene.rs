@@ -276,20 +276,8 @@ impl Scene {
                 "the file is empty (expected a scene)".to_owned(),
             ));
         }
-        let raw: RawScene = from_yaml(text).map_err(|e| {
-            let loc = e.location().filter(|l| l.line() > 0);
-            SceneError {
-                source_name: source.to_owned(),
-                line: loc.map(|l| l.line()),
-                column: loc.map(|l| l.column()).filter(|&c| c > 0),
-                // A missing field is named by the message; any other error is blamed on
-                // the top-level key it sits under.
-                field: loc
-                    .filter(|_| !parse_message(&e).starts_with("missing field"))
-                    .and_then(|l| enclosing_key(text, l.line())),
-                problem: parse_message(&e),
-            }
-        })?;
+        let raw: RawScene =
+            from_yaml(text).map_err(|e| yaml_error(text, &e, source, "malformed scene"))?;
         let (scene, lines) = Self::from_raw(raw, source);
         if let Some(v) = lines.version
             && v.0 != SCENE_VERSION
@@ -409,6 +397,7 @@ impl Scene {
 
     /// Every rule of formats.md; returns the blamed field and the problem.
     fn check(&self) -> Result<(), (String, String)> {
+        check_name("name", &self.name)?;
         self.check_frame()?;
         self.check_obstacles()?;
         self.check_points()?;
@@ -447,11 +436,19 @@ impl Scene {
     fn check_obstacles(&self) -> Result<(), (String, String)> {
         let mut names: HashMap<&str, usize> = HashMap::new();
         for (i, o) in self.obstacles.iter().enumerate() {
+            check_name(&format!("obstacles[{i}].name"), &o.name)?;
             if let Some(first) = names.insert(&o.name, i) {
+                // An obstacle without a name is called after its index: say so, or the
+                // message blames a name the file does not hold.
+                let unnamed = if o.name == format!("obstacle-{i}") {
+                    format!("; obstacles[{i}] has no name and is called after its index")
+                } else {
+                    String::new()
+                };
                 return Err((
                     format!("obstacles[{i}].name"),
                     format!(
-                        "duplicate obstacle name '{}' (also obstacles[{first}])",
+                        "duplicate obstacle name '{}' (also obstacles[{first}]){unnamed}",
                         o.name
                     ),
                 ));
@@ -633,11 +630,60 @@ struct RawLines {
     lines: Lines,
 }
 
-/// The parser's message without its rendered snippet and its own position prefix (the
-/// error's header carries the position).
-fn parse_message(e: &serde_saphyr::Error) -> String {
-    yaml_problem(e, "malformed scene")
+/// A YAML parser's error on `text` (the file `source`) as a [`SceneError`]: its place, the
+/// key it sits under ([`key_at`]; none when the message names its field itself or concerns
+/// the whole file, and the parent's for an unknown field, which the message names), and the
+/// problem in words ([`yaml_problem`], with the text found where a number was expected).
+pub fn yaml_error(text: &str, e: &serde_saphyr::Error, source: &str, fallback: &str) -> SceneError {
+    let loc = e.location().filter(|l| l.line() > 0);
+    let mut problem = yaml_problem(e, fallback);
+    let field = loc.filter(|_| names_no_key(&problem)).and_then(|l| {
+        let key = key_at(text, l.line(), l.column())?;
+        if problem.starts_with("unknown field") {
+            key.rsplit_once('.').map(|(parent, _)| parent.to_owned())
+        } else {
+            Some(key)
+        }
+    });
+    if problem.starts_with("expected a")
+        && let Some(l) = loc
+        && let Some(found) = token_at(text, l.line(), l.column())
+    {
+        problem = format!("{problem}, got '{found}'");
+    }
+    SceneError {
+        source_name: source.to_owned(),
+        line: loc.map(|l| l.line()),
+        column: loc.map(|l| l.column()).filter(|&c| c > 0),
+        field,
+        problem,
+    }
 }
+
+/// The scalar that starts at `line`, `column` (1-based): up to the next `,`, `]`, `}`,
+/// `#` or line end, trimmed; at most 40 characters, escaped.
+fn token_at(text: &str, line: u64, column: u64) -> Option<String> {
+    let here = text
+        .lines()
+        .nth(usize::try_from(line).ok()?.checked_sub(1)?)?;
+    let rest: String = here
+        .chars()
+        .skip(usize::try_from(column).ok()?.checked_sub(1)?)
+        .take_while(|c| !",]}#".contains(*c))
+        .collect();
+    let t = rest.trim();
+    (!t.is_empty()).then(|| {
+        t.chars()
+            .take(40)
+            .collect::<String>()
+            .escape_debug()
+            .to_string()
+    })
+}
+
+/// What a file that holds a second YAML document is told.
+const SECOND_DOCUMENT: &str =
+    "a second YAML document starts here (after `---`): the file holds one";
 
 /// Most YAML nodes (maps, sequences and scalars, keys included) an input may hold: about
 /// 0.9 million one-circle obstacles in a scene or a world (9 nodes each). The parser's own default
@@ -677,6 +723,25 @@ pub fn yaml_problem(e: &serde_saphyr::Error, fallback: &str) -> String {
     {
         msg = tail;
     }
+    if msg.starts_with("multiple YAML documents") {
+        return SECOND_DOCUMENT.to_owned();
+    }
+    // Serde's names of Rust types ("invalid u32") said in words.
+    for (ty, words) in [
+        (
+            "invalid floating point",
+            "expected a finite number (such as 2, -1.5 or 3e-2)",
+        ),
+        ("invalid u32", "expected a whole number >= 0"),
+        ("invalid u64", "expected a whole number >= 0"),
+        ("invalid usize", "expected a whole number >= 0"),
+        ("invalid i32", "expected a whole number"),
+        ("invalid i64", "expected a whole number"),
+    ] {
+        if msg == ty {
+            return words.to_owned();
+        }
+    }
     if let Some(breach) = msg.strip_prefix("budget breached:") {
         // The parser names the limit in Rust's debug form ("Nodes { nodes: 250001 }"):
         // only its kind is kept, in words ("ScalarBytes": "scalar bytes").
@@ -697,6 +762,10 @@ pub fn yaml_problem(e: &serde_saphyr::Error, fallback: &str) -> String {
                 "exceeds the YAML reader's limit on nodes (at most {MAX_YAML_NODES}, about 0.9 \
                  million one-circle obstacles)"
             )
+        } else if kind == "alias anchor ratio" {
+            "exceeds the YAML reader's limit on aliases per anchor (once there are 100 \
+             aliases, at most 10 per anchor: a guard against expansion bombs)"
+                .to_owned()
         } else {
             format!("exceeds the YAML reader's limit on {kind}")
         };
@@ -710,32 +779,108 @@ pub fn yaml_problem(e: &serde_saphyr::Error, fallback: &str) -> String {
     msg.to_owned()
 }
 
-/// The top-level key whose value holds line `line` (1-based), found by scanning upward for
-/// the nearest `key:` at the outermost indentation of the file. Good for block YAML and
-/// pretty JSON; `None` when no key stands on or above the line.
-fn enclosing_key(text: &str, line: u64) -> Option<String> {
-    let key_of = |l: &str| -> Option<(usize, String)> {
-        let indent = l.len() - l.trim_start().len();
-        let t = l.trim_start().trim_start_matches('{').trim_start();
-        let t = t.strip_prefix('"').unwrap_or(t);
-        let end = t.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))?;
-        let rest = t[end..].strip_prefix('"').unwrap_or(&t[end..]);
-        (end > 0 && rest.starts_with(':')).then(|| (indent, t[..end].to_owned()))
+/// Whether a parser's `problem` is blamed on the key where it stands: not when it names
+/// its field itself (`missing field`) or concerns the whole file (a second document).
+fn names_no_key(problem: &str) -> bool {
+    !(problem.starts_with("missing field") || problem.starts_with(SECOND_DOCUMENT))
+}
+
+/// The key a parser's error at `line` and `column` (1-based; column 0 when unknown) sits
+/// under, for its message, as a dotted path: the keys of the blocks that hold the line
+/// (each less indented than the one below it), then the keys that open before the column
+/// on the line itself, nested by `{...}` (or the key that begins it, when the error is
+/// placed before it). `bounds.min` for `bounds: {min: [0x0, 0]}`, the
+/// same in one-line or pretty JSON, `team.ugv.speed` in a block, `obstacles.circles` for a
+/// bad circle (sequence items are not counted). `None` when no key holds the line.
+fn key_at(text: &str, line: u64, column: u64) -> Option<String> {
+    let n = usize::try_from(line).ok()?.checked_sub(1)?;
+    let here = text.lines().nth(n)?;
+    let upto: String = if column > 0 {
+        here.chars().take(column as usize - 1).collect()
+    } else {
+        here.to_owned()
     };
-    let keys: Vec<(usize, usize, String)> = text
-        .lines()
-        .enumerate()
-        .filter_map(|(i, l)| key_of(l).map(|(ind, k)| (i + 1, ind, k)))
-        .collect();
-    let outer = keys.iter().map(|k| k.1).min()?;
-    let (n, _, key) = keys
-        .iter()
-        .rev()
-        .find(|(n, ind, _)| *ind == outer && (*n as u64) <= line)?;
-    // On a line that holds several keys (one-line JSON) the key is ambiguous: name none.
-    let same_line = text.lines().nth(n - 1).unwrap_or("");
-    let several = same_line.matches("\":").count() + same_line.matches(": ").count() > 1;
-    (!(*n as u64 == line && several)).then(|| key.clone())
+    let mut path = Vec::new();
+    let mut want = indent_of(here);
+    for above in text.lines().take(n).collect::<Vec<_>>().into_iter().rev() {
+        if want == 0 {
+            break;
+        }
+        if let Some(key) = keys_on_line(above).into_iter().next()
+            && indent_of(above) < want
+        {
+            want = indent_of(above);
+            path.push(key);
+        }
+    }
+    path.reverse();
+    // An error placed at the start of a line (a sequence of the wrong length) is the key's
+    // that begins it.
+    let mut on_line = keys_on_line(&upto);
+    if on_line.is_empty() {
+        on_line.extend(keys_on_line(here).into_iter().take(1));
+    }
+    path.extend(on_line);
+    (!path.is_empty()).then(|| path.join("."))
+}
+
+/// Where a line's content starts, past spaces and sequence dashes (`  - name: a`: 4).
+fn indent_of(line: &str) -> usize {
+    line.len() - line.trim_start_matches([' ', '-']).len()
+}
+
+/// The path of keys open at the end of `text` (one line, cut at the error's column): a
+/// key is a word or a quoted string followed by `:`; `{` opens a deeper map, `}` closes it.
+/// Comments (`#` outside quotes) end the line.
+fn keys_on_line(text: &str) -> Vec<String> {
+    let mut path: Vec<Option<String>> = vec![None];
+    let mut chars = text.chars().peekable();
+    let mut word = String::new();
+    while let Some(c) = chars.next() {
+        match c {
+            '"' | '\'' => {
+                word = chars.by_ref().take_while(|&q| q != c).collect();
+                continue;
+            }
+            '#' => break,
+            '{' => path.push(None),
+            '}' if path.len() > 1 => {
+                path.pop();
+            }
+            ':' if !word.is_empty()
+                && chars
+                    .peek()
+                    .is_none_or(|n| n.is_whitespace() || "[{\"'".contains(*n)) =>
+            {
+                if let Some(last) = path.last_mut() {
+                    *last = Some(std::mem::take(&mut word));
+                }
+            }
+            c if c.is_alphanumeric() || c == '_' || c == '-' => {
+                word.push(c);
+                continue;
+            }
+            _ => {}
+        }
+        word.clear();
+    }
+    path.into_iter().flatten().collect()
+}
+
+/// A name holds no control character: names are printed in tables, messages and
+/// pictures, where an escape sequence would reach the terminal.
+fn check_name(field: &str, name: &str) -> Result<(), (String, String)> {
+    match name.chars().find(|c| c.is_control()) {
+        Some(c) => Err((
+            field.to_owned(),
+            format!(
+                "'{}' holds the control character {:?}: names are printed",
+                name.escape_debug(),
+                c
+            ),
+        )),
+        None => Ok(()),
+    }
 }
 
 /// `v`, the `what` of `field`, is finite and at most [`MAX_MAGNITUDE`] in magnitude.

@@ -83,6 +83,17 @@ const COLUMNS: [&str; 16] = [
     "outcome",
 ];
 
+/// `text` as one CSV field: commas become `;`, control characters (line breaks) spaces.
+fn csv_text_field(text: &str) -> String {
+    text.chars()
+        .map(|c| match c {
+            ',' => ';',
+            c if c.is_control() => ' ',
+            c => c,
+        })
+        .collect()
+}
+
 impl Row {
     /// A collision-free plan within the time limit.
     pub fn success(&self) -> bool {
@@ -115,7 +126,8 @@ impl Row {
         }
     }
 
-    /// One CSV line (no newline); commas in texts become `;`.
+    /// One CSV line (no newline); in texts commas become `;` and line breaks (any control
+    /// character) spaces, so that a file name cannot split the row.
     pub fn to_csv(&self) -> String {
         let (clearance, classes) = match self.outcome {
             Outcome::Planned { clearance, .. } => (clearance, 0),
@@ -124,7 +136,7 @@ impl Row {
         };
         format!(
             "{},{},{},{},{},{},{},{},{},{},{},{},{classes},{},{:.3},{}",
-            self.file.replace(',', ";"),
+            csv_text_field(&self.file),
             self.index,
             self.line,
             self.bucket,
@@ -138,7 +150,7 @@ impl Row {
             clearance,
             self.success(),
             self.time_ms,
-            self.what().replace(',', ";")
+            csv_text_field(&self.what())
         )
     }
 

@@ -38,10 +38,14 @@ pub fn load(
 ) -> Result<Input, String> {
     let name = path.display().to_string();
     let bytes = read(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
-    let is_map = path.extension().is_some_and(|e| e == "map");
+    let is_map = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("map"));
     let text = std::str::from_utf8(&bytes).ok();
     let is_ros = !is_map
-        && path.extension().is_some_and(|e| e == "yaml" || e == "yml")
+        && path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("yaml") || e.eq_ignore_ascii_case("yml"))
         && text.is_some_and(|t| {
             t.lines().any(|l| {
                 ROS_KEYS.iter().any(|k| {

@@ -157,9 +157,8 @@ pub enum MapError {
     Radius(Real),
     /// More cells than a map may have ([`MAX_MAP_CELLS`]).
     #[error(
-        "map {name} is {width} x {height} cells ({:.1} M); at most {:.1} M cells (4096 x 4096) fit in the {MAP_MEMORY} a map may take: crop or downsample the map",
-        *width as f64 * *height as f64 / 1e6,
-        MAX_MAP_CELLS as f64 / 1e6
+        "map {name} is {width} x {height} cells ({} cells); at most {MAX_MAP_CELLS} cells (4096 x 4096) fit in the {MAP_MEMORY} a map may take: crop or downsample the map",
+        *width as u128 * *height as u128
     )]
     TooLarge {
         /// The map.

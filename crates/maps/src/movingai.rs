@@ -7,6 +7,7 @@
 //! `(sx + 0.5, sy + 0.5)`. `.` `G` `S` are free; `@` `O` `T` `W` are blocked.
 
 use homospline_geom::Point;
+use homospline_geom::math::Num;
 
 use crate::{MapError, OccupancyMap, stem};
 
@@ -75,7 +76,7 @@ const HEADER_KEYS: [&str; 3] = ["type", "height", "width"];
 /// names its line; a field missing from the header is reported at the `map` line.
 pub fn read_map(text: &str, source: &str) -> Result<OccupancyMap, MapError> {
     let err = |line: usize, p: String| format_err(source, Some(line), p);
-    let lines: Vec<&str> = text.lines().collect();
+    let lines: Vec<&str> = text.trim_start_matches('\u{feff}').lines().collect();
     // Each key's value and 1-based line.
     let mut header: [Option<(&str, usize)>; 3] = [None; 3];
     let mut body_at = None;
@@ -231,7 +232,14 @@ pub fn read_scen(text: &str, source: &str) -> Result<Vec<Scenario>, MapError> {
             if !(r.optimal_length.is_finite() && r.optimal_length >= 0.0) {
                 return Err(err(
                     n + 1,
-                    format!("optimal length {} is not a length", r.optimal_length),
+                    format!("optimal length {} is not a length", Num(r.optimal_length)),
+                ));
+            }
+            // The map is read beside the file, by its file name: `.` or nothing names none.
+            if std::path::Path::new(&r.map_file).file_name().is_none() {
+                return Err(err(
+                    n + 1,
+                    format!("map '{}' names no map file", r.map_file.escape_debug()),
                 ));
             }
             // A cell off the map the line declares is no scenario (it had been planned and
@@ -248,6 +256,14 @@ pub fn read_scen(text: &str, source: &str) -> Result<Vec<Scenario>, MapError> {
                 }
             }
             let c = |(x, y): (usize, usize)| Point::new(x as f64 + 0.5, y as f64 + 0.5);
+            check_optimum(
+                r.optimal_length,
+                c(r.start_pos),
+                c(r.goal_pos),
+                r.map_width,
+                r.map_height,
+            )
+            .map_err(|e| err(n + 1, e))?;
             out.push(Scenario {
                 bucket: r.bucket,
                 map: r.map_file,
@@ -264,6 +280,28 @@ pub fn read_scen(text: &str, source: &str) -> Result<Vec<Scenario>, MapError> {
         return Err(format_err(source, None, "no scenarios"));
     }
     Ok(out)
+}
+
+/// An optimal length no 8-connected path between `start` and `goal` on a `w` x `h` map
+/// can have is refused: one shorter than the straight line (less 1e-5 of it: files print
+/// six digits, `1.41421`) or longer than a step of `sqrt 2` through every cell. Its ratio
+/// was reported as 0 or as a number of 300 digits.
+fn check_optimum(opt: f64, start: Point, goal: Point, w: usize, h: usize) -> Result<(), String> {
+    let line = (goal - start).norm();
+    let most = (w as f64) * (h as f64) * std::f64::consts::SQRT_2;
+    if opt < line * (1.0 - 1e-5) {
+        return Err(format!(
+            "optimal length {} is shorter than the straight line {line:.4} from start to goal",
+            Num(opt)
+        ));
+    }
+    if opt > most {
+        return Err(format!(
+            "optimal length {} is longer than any path on the {w} x {h} map it declares (at most {most:.0})",
+            Num(opt)
+        ));
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -400,6 +438,47 @@ mod tests {
         ] {
             let e = scen_err(&text);
             assert!(e.starts_with(at), "{e}");
+        }
+    }
+
+    #[test]
+    fn an_optimum_no_path_can_have_is_refused() {
+        // Start (11, 6), goal (7, 18): the straight line is 12.6491.
+        for (opt, what) in [
+            (
+                "1e308",
+                "optimal length 1e308 is longer than any path on the 32 x 32 map it declares (at most 1448)",
+            ),
+            (
+                "1e-320",
+                "optimal length 1e-320 is shorter than the straight line 12.6491 from start to goal",
+            ),
+            (
+                "12.6",
+                "optimal length 12.6 is shorter than the straight line",
+            ),
+        ] {
+            let line = format!("3\tm.map\t32\t32\t11\t6\t7\t18\t{opt}");
+            let e = read_scen(&format!("version 1\n{line}\n"), "s.scen")
+                .unwrap_err()
+                .to_string();
+            assert!(e.starts_with("s.scen:2: ") && e.contains(what), "{e}");
+        }
+        // The straight line to six digits, the octile length and the longest path are lengths.
+        for opt in ["12.6491", "12.649111", "14.0", "1448"] {
+            let line = format!("3\tm.map\t32\t32\t11\t6\t7\t18\t{opt}");
+            read_scen(&format!("{line}\n"), "s.scen").unwrap_or_else(|e| panic!("{opt}: {e}"));
+        }
+    }
+
+    #[test]
+    fn a_map_field_that_names_no_file_is_refused() {
+        for map in [".", "..", "maps/.."] {
+            let line = format!("0\t{map}\t32\t32\t1\t1\t3\t1\t2");
+            let e = read_scen(&format!("version 1\n{line}\n"), "s.scen")
+                .unwrap_err()
+                .to_string();
+            assert_eq!(e, format!("s.scen:2: map '{map}' names no map file"));
         }
     }
 

@@ -46,10 +46,14 @@ fn err(source: &str, line: Option<usize>, problem: impl Into<String>) -> MapErro
 /// Reads and checks the YAML.
 pub fn read_yaml(text: &str, source: &str) -> Result<RosMapYaml, MapError> {
     let y: RosMapYaml = homospline_geom::scene::from_yaml(text).map_err(|e| {
-        let line = e.location().map(|l| l.line() as usize).filter(|&l| l > 0);
-        // Without the parser's own "error: line L column C: ", which the location repeats.
-        let problem = homospline_geom::scene::yaml_problem(&e, "malformed map YAML");
-        err(source, line, problem)
+        // The key it sits under and the problem in words ("negate: expected a whole
+        // number, got 'true'"), at its line.
+        let e = homospline_geom::scene::yaml_error(text, &e, source, "malformed map YAML");
+        let problem = match e.field {
+            Some(k) => format!("{k}: {}", e.problem),
+            None => e.problem,
+        };
+        err(source, e.line.map(|l| l as usize), problem)
     })?;
     // A cell below a nanometre is no map (1e-200 was read and planned into an empty path:
     // lengths underflowed). Large cells are refused by the map's extent (`read_map`).
@@ -59,7 +63,7 @@ pub fn read_yaml(text: &str, source: &str) -> Result<RosMapYaml, MapError> {
             None,
             format!(
                 "resolution: must be a cell size of at least {MIN_RESOLUTION:e} metres, got {}",
-                y.resolution
+                Num(y.resolution)
             ),
         ));
     }
@@ -119,11 +123,19 @@ pub fn read_map(
     image: &[u8],
     image_source: &str,
 ) -> Result<OccupancyMap, MapError> {
-    let img = image::load_from_memory(image)
-        .map_err(|e| err(image_source, None, format!("cannot decode the image: {e}")))?;
-    let gray = img.to_luma8();
+    let cannot =
+        |e: image::ImageError| err(image_source, None, format!("cannot decode the image: {e}"));
+    // The size from the image's header, refused before its pixels are decoded (a 20000^2
+    // image took a gigabyte before it was refused).
+    let reader = || {
+        image::ImageReader::new(std::io::Cursor::new(image))
+            .with_guessed_format()
+            .map_err(|e| cannot(e.into()))
+    };
+    let (w, h) = reader()?.into_dimensions().map_err(cannot)?;
+    crate::check_map_size(&stem(yaml_source), w as usize, h as usize)?;
+    let gray = reader()?.decode().map_err(cannot)?.to_luma8();
     let (w, h) = (gray.width() as usize, gray.height() as usize);
-    crate::check_map_size(&stem(yaml_source), w, h)?;
     if w == 0 || h == 0 {
         return Err(err(
             image_source,

@@ -521,7 +521,7 @@ fn every_class_on_a_ros_map_ends_at_the_goal_to_the_bit() {
 /// refused, not indexed).
 #[test]
 fn maps_beyond_4096_squared_are_refused_before_allocation() {
-    let expected = "map big is 5790 x 5790 cells (33.5 M); at most 16.8 M cells (4096 x 4096) fit in the 1.5 GB a map may take: crop or downsample the map";
+    let expected = "map big is 5790 x 5790 cells (33524100 cells); at most 16777216 cells (4096 x 4096) fit in the 1.5 GB a map may take: crop or downsample the map";
     // Header only: the refusal comes before the missing rows are noticed.
     let e = movingai::read_map("type octile\nheight 5790\nwidth 5790\nmap\n", "big.map")
         .unwrap_err()

@@ -266,13 +266,25 @@ impl VoronoiGraph {
         struct File {
             graph: VoronoiGraph,
         }
-        let head: Head =
-            rmp_serde::from_slice(bytes).map_err(|e| GraphError::Decode(e.to_string()))?;
+        // The decoder's own words name its Rust types ("expected struct Head", "wrong
+        // msgpack marker FixStr(31)"): the message says what the file is not instead.
+        let head: Head = rmp_serde::from_slice(bytes).map_err(|_| {
+            GraphError::Decode(
+                "not a graph saved by `homospline graph --out` (no MessagePack map with a \
+                 format_version)"
+                    .to_owned(),
+            )
+        })?;
         if head.format_version != GRAPH_FORMAT_VERSION {
             return Err(GraphError::Version(head.format_version));
         }
-        let f: File =
-            rmp_serde::from_slice(bytes).map_err(|e| GraphError::Decode(e.to_string()))?;
+        let f: File = rmp_serde::from_slice(bytes).map_err(|_| {
+            GraphError::Decode(
+                "damaged: its MessagePack does not decode as a graph (a field missing, of \
+                 the wrong type, or cut short)"
+                    .to_owned(),
+            )
+        })?;
         f.graph.validate()?;
         Ok(f.graph)
     }

@@ -56,6 +56,17 @@ fn rows_survive_csv() {
     );
 }
 
+#[test]
+fn a_file_name_with_a_line_break_keeps_its_row_whole() {
+    let mut r = row(Outcome::Error("cannot read,\nthe map".into()));
+    r.file = "a\nb,c\r.scen".into();
+    let line = r.to_csv();
+    assert!(!line.contains(['\n', '\r']), "{line:?}");
+    let back = Row::from_csv(&line, "x.csv", 2).unwrap();
+    assert_eq!(back.file, "a b;c .scen");
+    assert_eq!(back.outcome, Outcome::Error("cannot read; the map".into()));
+}
+
 fn row(outcome: Outcome) -> Row {
     Row {
         file: "m.map.scen".into(),

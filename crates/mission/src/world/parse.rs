@@ -142,16 +142,8 @@ fn deserialize(text: &str, reader: &Reader) -> Result<RawWorld, SceneError> {
     if text.trim().is_empty() {
         return Err(reader.error(None, None, "the file is empty (expected a world)".into()));
     }
-    homospline_geom::scene::from_yaml(text).map_err(|e| {
-        let loc = e.location().filter(|l| l.line() > 0);
-        SceneError {
-            source_name: reader.source.to_owned(),
-            line: loc.map(|l| l.line()),
-            column: loc.map(|l| l.column()).filter(|&c| c > 0),
-            field: None,
-            problem: homospline_geom::scene::yaml_problem(&e, "malformed world"),
-        }
-    })
+    homospline_geom::scene::from_yaml(text)
+        .map_err(|e| homospline_geom::scene::yaml_error(text, &e, reader.source, "malformed world"))
 }
 
 /// `version`, when given, is the one this build reads.
