@@ -223,7 +223,7 @@ fn graph_dir(
     std::fs::create_dir_all(dir)
         .with_context(|| format!("{}: cannot create the directory", dir.display()))?;
     // No graph overwrites an input, this shard's or another's (a link in DIR to one of
-    // them), or a file an input reads (a ROS map's image).
+    // them), or a file this shard's inputs read (a ROS map's image).
     let outputs: Vec<PathBuf> = files
         .iter()
         .enumerate()

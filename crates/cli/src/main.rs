@@ -103,7 +103,7 @@ fn main() -> ExitCode {
 /// that is no number, or 0, is rayon's to ignore.
 fn check_thread_env() -> anyhow::Result<()> {
     let max = homospline_optim::planner::MAX_THREADS;
-    match std::env::var("RAYON_NUM_THREADS").map(|v| v.trim().parse::<u64>()) {
+    match std::env::var("RAYON_NUM_THREADS").map(|v| v.parse::<u64>()) {
         Ok(Ok(n)) if n > max as u64 => Err(out::bad(format!(
             "the environment's RAYON_NUM_THREADS={n}: at most {max} threads (as --threads)"
         ))),

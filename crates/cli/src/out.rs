@@ -52,9 +52,11 @@ pub fn bad(msg: impl Into<String>) -> anyhow::Error {
 /// Writes `bytes` to `path` whole or not at all: into a temporary file beside it, then
 /// renamed over it. A full disk or a failed write leaves any file already at `path` as it
 /// was (no truncated output, no good file destroyed), and the temporary file is removed.
-/// What is no regular file (`/dev/null`, `/dev/stdout`, a named pipe, `>(jq .)`) is
-/// written to as it is, never replaced; so is a file the user may write in a directory
-/// where no temporary file can be made.
+/// What this process's stdout or stderr is (`--json /dev/stdout`, redirected to a file or
+/// not) is written through that stream; what is no regular file (`/dev/null`, a named
+/// pipe, `>(jq .)`) is written to as it is, never replaced. A file the user may write in a
+/// directory where no temporary file can be made is written in place, which is not whole
+/// or nothing: the message says so when that write fails.
 pub fn write(path: &Path, what: &str, bytes: &[u8]) -> anyhow::Result<()> {
     let context = || match path
         .parent()
@@ -67,26 +69,74 @@ pub fn write(path: &Path, what: &str, bytes: &[u8]) -> anyhow::Result<()> {
         ),
         None => format!("{}: cannot write the {what}", path.display()),
     };
-    if is_device(path) {
-        return write_in_place(path, bytes, false).with_context(context);
+    match special(path) {
+        Some(Special::Stdout) => return stdout_write(&String::from_utf8_lossy(bytes)),
+        Some(Special::Stderr) => {
+            use std::io::Write;
+            return std::io::stderr()
+                .lock()
+                .write_all(bytes)
+                .with_context(context);
+        }
+        Some(Special::Device) => return write_in_place(path, bytes).with_context(context),
+        None => {}
     }
     // A link is followed: the file it names is replaced, and the link stays.
     let target = link_target(path);
     let path = target.as_path();
-    let result = match write_replacing(path, bytes) {
+    match write_replacing(path, bytes) {
         Err(e) if e.kind() == std::io::ErrorKind::PermissionDenied && writable(path) => {
-            write_in_place(path, bytes, true)
+            write_in_place(path, bytes).with_context(|| {
+                format!(
+                    "{} (written in place, as no temporary file can be made beside it: it may be incomplete)",
+                    context()
+                )
+            })
         }
-        r => r,
-    };
-    result.with_context(context)
+        r => r.with_context(context),
+    }
+}
+
+/// An output that is not replaced by a file.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Special {
+    /// This process's stdout (the same file, device or pipe).
+    Stdout,
+    /// This process's stderr.
+    Stderr,
+    /// A device, pipe or socket.
+    Device,
+}
+
+/// Whether `path`, links followed, is this process's stdout or stderr, or no regular file
+/// and no directory.
+fn special(path: &Path) -> Option<Special> {
+    let m = path.metadata().ok()?;
+    #[cfg(unix)]
+    {
+        use std::os::fd::AsFd;
+        use std::os::unix::fs::MetadataExt;
+        let same = |fd: std::os::fd::BorrowedFd<'_>| {
+            fd.try_clone_to_owned()
+                .ok()
+                .and_then(|fd| std::fs::File::from(fd).metadata().ok())
+                .is_some_and(|s| s.dev() == m.dev() && s.ino() == m.ino())
+        };
+        if same(std::io::stdout().as_fd()) {
+            return Some(Special::Stdout);
+        }
+        if same(std::io::stderr().as_fd()) {
+            return Some(Special::Stderr);
+        }
+    }
+    (!m.is_file() && !m.is_dir()).then_some(Special::Device)
 }
 
 /// `bytes` into a temporary file beside `path`, renamed over it; the temporary file is
 /// removed when that fails.
 fn write_replacing(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     use std::io::Write;
-    let tmp = temporary(path);
+    let tmp = temporary(path, "tmp");
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(bytes)?;
@@ -99,22 +149,29 @@ fn write_replacing(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     result
 }
 
-/// `bytes` written into `path` as it is (emptied first when `truncate`).
-fn write_in_place(path: &Path, bytes: &[u8], truncate: bool) -> std::io::Result<()> {
+/// `bytes` written into `path` as it is: over its start, then cut to their length (a
+/// device or pipe is not cut).
+fn write_in_place(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     use std::io::Write;
-    std::fs::OpenOptions::new()
-        .write(true)
-        .truncate(truncate)
-        .open(path)?
-        .write_all(bytes)
+    let mut f = std::fs::OpenOptions::new().write(true).open(path)?;
+    f.write_all(bytes)?;
+    if f.metadata()?.is_file() {
+        f.set_len(bytes.len() as u64)?;
+    }
+    Ok(())
 }
 
-/// The temporary file beside `path` that [`write`] renames over it.
-fn temporary(path: &Path) -> std::path::PathBuf {
+/// A file beside `path` with the suffix `kind`: `.NAME.PID.KIND`, the name cut to 200
+/// bytes so that a long output name still leaves room for it.
+fn temporary(path: &Path, kind: &str) -> std::path::PathBuf {
     let name = path
         .file_name()
         .map_or_else(|| "output".to_owned(), |n| n.to_string_lossy().into_owned());
-    path.with_file_name(format!(".{name}.{}.tmp", std::process::id()))
+    let mut cut = name.len().min(200);
+    while !name.is_char_boundary(cut) {
+        cut -= 1;
+    }
+    path.with_file_name(format!(".{}.{}.{kind}", &name[..cut], std::process::id()))
 }
 
 /// Whether `path` is a regular file this process may write (opened without truncation).
@@ -123,22 +180,18 @@ fn writable(path: &Path) -> bool {
         && std::fs::OpenOptions::new().write(true).open(path).is_ok()
 }
 
-/// Whether `path`, links followed, is there and is no regular file and no directory: a
-/// device, a pipe or a socket, which [`write`] writes to as it is.
-fn is_device(path: &Path) -> bool {
-    path.metadata().is_ok_and(|m| !m.is_file() && !m.is_dir())
-}
-
-/// Whether [`write`] can replace `path` (a link's target): a temporary file can be made
-/// beside it, or it is a file the user may write. Makes and removes the temporary file.
+/// Whether [`write`] can replace `path` (a link's target): a file can be made beside it,
+/// or it is a file the user may write. Makes and removes a probe of its own name (a
+/// temporary file a killed run left behind does not stand in the way).
 fn can_write(path: &Path) -> std::io::Result<()> {
-    let tmp = temporary(path);
+    let probe = temporary(path, "probe");
     match std::fs::OpenOptions::new()
         .write(true)
-        .create_new(true)
-        .open(&tmp)
+        .create(true)
+        .truncate(true)
+        .open(&probe)
     {
-        Ok(_) => std::fs::remove_file(&tmp),
+        Ok(_) => std::fs::remove_file(&probe),
         Err(_) if writable(path) => Ok(()),
         Err(e) => Err(e),
     }
@@ -164,15 +217,15 @@ fn link_target(path: &Path) -> std::path::PathBuf {
     p
 }
 
-/// Refuses, before any work, an output path that is one of the inputs or another output,
-/// a directory, or one that cannot be written (its directory missing or not writable): a plan of minutes ended on a typo, and `--json`
-/// equal to the scene overwrote it.
+/// Refuses, before any work, an output path that is one of the inputs or another output, a
+/// directory, or one that cannot be written (its directory missing or not writable): a plan
+/// of minutes ended on a typo, and `--json` equal to the scene overwrote it.
 pub fn check_outputs(
     inputs: &[&Path],
     outputs: &[(&str, &str, Option<&Path>)],
 ) -> anyhow::Result<()> {
     // Outputs need not exist yet: their directory is resolved, and their name joined. A
-    // link is followed first, as `write` follows it.
+    // link is followed first, as `write` follows it. Each path is resolved once.
     let resolve = |p: &Path| {
         let p = &link_target(p);
         p.canonicalize().ok().or_else(|| {
@@ -183,32 +236,31 @@ pub fn check_outputs(
             Some(dir.canonicalize().ok()?.join(p.file_name()?))
         })
     };
-    let same = |a: &Path, b: &Path| match (resolve(a), resolve(b)) {
-        (Some(x), Some(y)) => x == y,
-        _ => a == b,
-    };
-    let given: Vec<(&str, &str, &Path)> = outputs
-        .iter()
-        .filter_map(|&(flag, what, p)| p.map(|p| (flag, what, p)))
-        .collect();
-    for (k, &(flag, what, p)) in given.iter().enumerate() {
-        if let Some(input) = inputs.iter().find(|i| same(i, p)) {
+    let key = |p: &Path| resolve(p).unwrap_or_else(|| p.to_path_buf());
+    let inputs: std::collections::HashMap<std::path::PathBuf, &Path> =
+        inputs.iter().rev().map(|&i| (key(i), i)).collect();
+    let mut written: std::collections::HashMap<std::path::PathBuf, &str> =
+        std::collections::HashMap::new();
+    for &(flag, what, p) in outputs {
+        let Some(p) = p else { continue };
+        let at = key(p);
+        if let Some(input) = inputs.get(&at) {
             return Err(bad(format!(
                 "{flag} {}: is the input {}; write the output elsewhere",
                 p.display(),
                 input.display()
             )));
         }
-        // Two outputs may share a device (`--json /dev/null --svg /dev/null`), not a file.
-        let device = is_device(p);
-        if let Some((other, _, _)) = given[..k].iter().find(|(_, _, q)| !device && same(q, p)) {
+        // Two outputs may share a device or a standard stream (`--json /dev/null --svg
+        // /dev/null`), not a file.
+        if special(p).is_some() {
+            continue;
+        }
+        if let Some(other) = written.insert(at, flag) {
             return Err(bad(format!(
                 "{flag} {}: is also the {other} output; give each output its own file",
                 p.display()
             )));
-        }
-        if device {
-            continue;
         }
         let target = link_target(p);
         if target.is_dir() {

@@ -342,3 +342,63 @@ fn a_refused_grid_prints_no_note_before_its_error() {
     ]);
     assert!(!err.contains("note:") && err.len() < 300, "{err}");
 }
+
+/// A temporary file a killed run left behind (the same process id, as in a container) does
+/// not stand in the way of the next run's output.
+#[cfg(unix)]
+#[test]
+fn a_temporary_file_left_behind_does_not_block_the_output() {
+    let dir = scratch("left-behind");
+    let script = format!(
+        "touch .new.json.$$.tmp .new.json.$$.probe && exec \"{}\" plan --json new.json",
+        env!("CARGO_BIN_EXE_homospline")
+    );
+    let out = std::process::Command::new("sh")
+        .args(["-c", &script])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    assert!(read_json(&dir.join("new.json"))["classes"].is_array());
+}
+
+/// `--json /dev/stdout` with stdout appended to a file: written through stdout, after the
+/// table (the file had been replaced, the table and what the file held lost).
+#[cfg(unix)]
+#[test]
+fn an_output_onto_stdout_redirected_to_a_file_is_appended_to_it() {
+    let dir = scratch("stdout-file");
+    let log = dir.join("log");
+    std::fs::write(&log, "OLD\n").unwrap();
+    let file = std::fs::OpenOptions::new().append(true).open(&log).unwrap();
+    let out = homospline()
+        .args(["plan", "--json", "/dev/stdout"])
+        .stdout(file)
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let text = std::fs::read_to_string(&log).unwrap();
+    assert!(text.starts_with("OLD\nscene "), "{text}");
+    let json = &text[text.find("\n{").unwrap()..];
+    let v: serde_json::Value = serde_json::from_str(json).unwrap();
+    assert!(v["classes"].is_array());
+}
+
+#[test]
+fn an_unknown_first_key_of_a_flow_map_names_its_parent_and_json_strings_lose_their_quotes() {
+    let dir = scratch("flow-keys");
+    let scene = std::fs::read_to_string(root().join("fixtures/scenes/convex.yaml")).unwrap();
+    let p = file(&dir, "mn.yaml", &scene.replace("min: [0, 0]", "mn: [0, 0]"));
+    let err = assert_check_refused(&p);
+    assert!(err.contains(":3:10: bounds: unknown field `mn`"), "{err}");
+    let p = file(
+        &dir,
+        "q.json",
+        r#"{"name":"j","bounds":{"min":[0,0],"max":[60,60]},"start":[5,"q"],"goal":[55,30],"obstacles":[]}"#,
+    );
+    let err = assert_check_refused(&p);
+    assert!(
+        err.contains("start: expected a finite number (such as 2, -1.5 or 3e-2), got 'q'"),
+        "{err}"
+    );
+}

@@ -12,6 +12,8 @@
 //! - [`scene`]: the scene file of `docs/formats.md`, validated.
 //! - [`shortest`]: the exact shortest path that keeps a clearance from circles (the tangent
 //!   graph), the optimum that checks a plan's length.
+//! - [`yaml`]: YAML and JSON read with the project's limits, and the parser's errors in
+//!   words, under the key at fault.
 //!
 //! ```
 //! use homospline_geom::{Point, Scene};
@@ -31,6 +33,7 @@ pub mod query;
 pub mod scene;
 pub mod shape;
 pub mod shortest;
+pub mod yaml;
 
 pub use math::{Point, Real, Vector};
 pub use polygon::{CoverError, Polygon, cover_polygon};

@@ -13,6 +13,7 @@ use thiserror::Error;
 use crate::math::{Point, Real};
 use crate::query::CircleSet;
 use crate::shape::{Bounds, Circle, Obstacle, TopoObstacle, topological_obstacles};
+pub use crate::yaml::{MAX_YAML_NODES, from_yaml, from_yaml_within, yaml_problem};
 
 /// Largest coordinate or length magnitude a scene may hold. Far beyond any map, and small
 /// enough that squared distances stay finite.
@@ -625,246 +626,22 @@ impl Scene {
     }
 }
 
+/// A YAML parser's error on `text` (the file `source`) as a [`SceneError`]: see
+/// [`crate::yaml::locate`].
+pub fn yaml_error(text: &str, e: &serde_saphyr::Error, source: &str, fallback: &str) -> SceneError {
+    let f = crate::yaml::locate(text, e, fallback);
+    SceneError {
+        source_name: source.to_owned(),
+        line: f.line,
+        column: f.column,
+        field: f.field,
+        problem: f.problem,
+    }
+}
+
 struct RawLines {
     version: Option<(u32, u64)>,
     lines: Lines,
-}
-
-/// A YAML parser's error on `text` (the file `source`) as a [`SceneError`]: its place, the
-/// key it sits under ([`key_at`]; none when the message names its field itself or concerns
-/// the whole file, and the parent's for an unknown field, which the message names), and the
-/// problem in words ([`yaml_problem`], with the text found where a number was expected).
-pub fn yaml_error(text: &str, e: &serde_saphyr::Error, source: &str, fallback: &str) -> SceneError {
-    let loc = e.location().filter(|l| l.line() > 0);
-    let mut problem = yaml_problem(e, fallback);
-    let field = loc.filter(|_| names_no_key(&problem)).and_then(|l| {
-        let key = key_at(text, l.line(), l.column())?;
-        if problem.starts_with("unknown field") {
-            key.rsplit_once('.').map(|(parent, _)| parent.to_owned())
-        } else {
-            Some(key)
-        }
-    });
-    if problem.starts_with("expected a")
-        && let Some(l) = loc
-        && let Some(found) = token_at(text, l.line(), l.column())
-    {
-        problem = format!("{problem}, got '{found}'");
-    }
-    SceneError {
-        source_name: source.to_owned(),
-        line: loc.map(|l| l.line()),
-        column: loc.map(|l| l.column()).filter(|&c| c > 0),
-        field,
-        problem,
-    }
-}
-
-/// The scalar that starts at `line`, `column` (1-based): up to the next `,`, `]`, `}`,
-/// `#` or line end, trimmed; at most 40 characters, escaped.
-fn token_at(text: &str, line: u64, column: u64) -> Option<String> {
-    let here = text
-        .lines()
-        .nth(usize::try_from(line).ok()?.checked_sub(1)?)?;
-    let rest: String = here
-        .chars()
-        .skip(usize::try_from(column).ok()?.checked_sub(1)?)
-        .take_while(|c| !",]}#".contains(*c))
-        .collect();
-    let t = rest.trim();
-    (!t.is_empty()).then(|| {
-        t.chars()
-            .take(40)
-            .collect::<String>()
-            .escape_debug()
-            .to_string()
-    })
-}
-
-/// What a file that holds a second YAML document is told.
-const SECOND_DOCUMENT: &str =
-    "a second YAML document starts here (after `---`): the file holds one";
-
-/// Most YAML nodes (maps, sequences and scalars, keys included) an input may hold: about
-/// 0.9 million one-circle obstacles in a scene or a world (9 nodes each). The parser's own default
-/// (250,000) stopped scenes at about 55,000 circles; the limits on aliases and anchors that
-/// guard against expansion bombs stay at the parser's defaults.
-pub const MAX_YAML_NODES: usize = 8_000_000;
-
-/// Reads YAML (or JSON, a subset of it) into `T` with the project's limits
-/// ([`MAX_YAML_NODES`]): for scene files and the other YAML inputs.
-pub fn from_yaml<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, serde_saphyr::Error> {
-    from_yaml_within(text, MAX_YAML_NODES)
-}
-
-/// [`from_yaml`] with at most `max_nodes` nodes.
-pub fn from_yaml_within<T: serde::de::DeserializeOwned>(
-    text: &str,
-    max_nodes: usize,
-) -> Result<T, serde_saphyr::Error> {
-    let mut budget = serde_saphyr::budget::Budget::default();
-    budget.max_nodes = max_nodes;
-    budget.max_events = 2 * max_nodes;
-    budget.max_total_scalar_bytes = 1 << 29;
-    let mut options = serde_saphyr::Options::default();
-    options.budget = Some(budget);
-    serde_saphyr::from_str_with_options(text, options)
-}
-
-/// The problem a YAML parser's error states, without its own `error: line L column C: `
-/// prefix (the caller reports the location): for scene files and the other YAML inputs
-/// (`fallback` when the message is empty).
-pub fn yaml_problem(e: &serde_saphyr::Error, fallback: &str) -> String {
-    let full = e.to_string();
-    let mut msg = full.lines().next().unwrap_or(fallback).trim();
-    msg = msg.strip_prefix("error:").unwrap_or(msg).trim_start();
-    if let Some(rest) = msg.strip_prefix("line ")
-        && let Some((_, tail)) = rest.split_once(": ")
-    {
-        msg = tail;
-    }
-    if msg.starts_with("multiple YAML documents") {
-        return SECOND_DOCUMENT.to_owned();
-    }
-    // Serde's names of Rust types ("invalid u32") said in words.
-    for (ty, words) in [
-        (
-            "invalid floating point",
-            "expected a finite number (such as 2, -1.5 or 3e-2)",
-        ),
-        ("invalid u32", "expected a whole number >= 0"),
-        ("invalid u64", "expected a whole number >= 0"),
-        ("invalid usize", "expected a whole number >= 0"),
-        ("invalid i32", "expected a whole number"),
-        ("invalid i64", "expected a whole number"),
-    ] {
-        if msg == ty {
-            return words.to_owned();
-        }
-    }
-    if let Some(breach) = msg.strip_prefix("budget breached:") {
-        // The parser names the limit in Rust's debug form ("Nodes { nodes: 250001 }"):
-        // only its kind is kept, in words ("ScalarBytes": "scalar bytes").
-        let kind: String = breach
-            .trim()
-            .split(|c: char| !c.is_ascii_alphanumeric())
-            .next()
-            .unwrap_or("size")
-            .chars()
-            .flat_map(|c| {
-                let space = c.is_ascii_uppercase().then_some(' ');
-                space.into_iter().chain(c.to_lowercase())
-            })
-            .collect();
-        let kind = kind.trim();
-        return if kind == "nodes" {
-            format!(
-                "exceeds the YAML reader's limit on nodes (at most {MAX_YAML_NODES}, about 0.9 \
-                 million one-circle obstacles)"
-            )
-        } else if kind == "alias anchor ratio" {
-            "exceeds the YAML reader's limit on aliases per anchor (once there are 100 \
-             aliases, at most 10 per anchor: a guard against expansion bombs)"
-                .to_owned()
-        } else {
-            format!("exceeds the YAML reader's limit on {kind}")
-        };
-    }
-    // The parser's advice names its own options ("set DuplicateKeyPolicy in Options if
-    // acceptable"), which a user of a file cannot set.
-    if let Some(key) = msg.strip_prefix("duplicate mapping key:") {
-        let key = key.split(", set ").next().unwrap_or(key).trim();
-        return format!("the key '{key}' is given twice: give each key once");
-    }
-    msg.to_owned()
-}
-
-/// Whether a parser's `problem` is blamed on the key where it stands: not when it names
-/// its field itself (`missing field`) or concerns the whole file (a second document).
-fn names_no_key(problem: &str) -> bool {
-    !(problem.starts_with("missing field") || problem.starts_with(SECOND_DOCUMENT))
-}
-
-/// The key a parser's error at `line` and `column` (1-based; column 0 when unknown) sits
-/// under, for its message, as a dotted path: the keys of the blocks that hold the line
-/// (each less indented than the one below it), then the keys that open before the column
-/// on the line itself, nested by `{...}` (or the key that begins it, when the error is
-/// placed before it). `bounds.min` for `bounds: {min: [0x0, 0]}`, the
-/// same in one-line or pretty JSON, `team.ugv.speed` in a block, `obstacles.circles` for a
-/// bad circle (sequence items are not counted). `None` when no key holds the line.
-fn key_at(text: &str, line: u64, column: u64) -> Option<String> {
-    let n = usize::try_from(line).ok()?.checked_sub(1)?;
-    let here = text.lines().nth(n)?;
-    let upto: String = if column > 0 {
-        here.chars().take(column as usize - 1).collect()
-    } else {
-        here.to_owned()
-    };
-    let mut path = Vec::new();
-    let mut want = indent_of(here);
-    for above in text.lines().take(n).collect::<Vec<_>>().into_iter().rev() {
-        if want == 0 {
-            break;
-        }
-        if let Some(key) = keys_on_line(above).into_iter().next()
-            && indent_of(above) < want
-        {
-            want = indent_of(above);
-            path.push(key);
-        }
-    }
-    path.reverse();
-    // An error placed at the start of a line (a sequence of the wrong length) is the key's
-    // that begins it.
-    let mut on_line = keys_on_line(&upto);
-    if on_line.is_empty() {
-        on_line.extend(keys_on_line(here).into_iter().take(1));
-    }
-    path.extend(on_line);
-    (!path.is_empty()).then(|| path.join("."))
-}
-
-/// Where a line's content starts, past spaces and sequence dashes (`  - name: a`: 4).
-fn indent_of(line: &str) -> usize {
-    line.len() - line.trim_start_matches([' ', '-']).len()
-}
-
-/// The path of keys open at the end of `text` (one line, cut at the error's column): a
-/// key is a word or a quoted string followed by `:`; `{` opens a deeper map, `}` closes it.
-/// Comments (`#` outside quotes) end the line.
-fn keys_on_line(text: &str) -> Vec<String> {
-    let mut path: Vec<Option<String>> = vec![None];
-    let mut chars = text.chars().peekable();
-    let mut word = String::new();
-    while let Some(c) = chars.next() {
-        match c {
-            '"' | '\'' => {
-                word = chars.by_ref().take_while(|&q| q != c).collect();
-                continue;
-            }
-            '#' => break,
-            '{' => path.push(None),
-            '}' if path.len() > 1 => {
-                path.pop();
-            }
-            ':' if !word.is_empty()
-                && chars
-                    .peek()
-                    .is_none_or(|n| n.is_whitespace() || "[{\"'".contains(*n)) =>
-            {
-                if let Some(last) = path.last_mut() {
-                    *last = Some(std::mem::take(&mut word));
-                }
-            }
-            c if c.is_alphanumeric() || c == '_' || c == '-' => {
-                word.push(c);
-                continue;
-            }
-            _ => {}
-        }
-        word.clear();
-    }
-    path.into_iter().flatten().collect()
 }
 
 /// A name holds no control character: names are printed in tables, messages and

@@ -1,0 +1,326 @@
+//! Reading YAML (and JSON) with the project's limits, and the parser's errors as messages:
+//! the problem in words, the dotted key path at fault, and what was found there.
+
+/// Where a YAML parser's error on `text` lies and what it says, for a message.
+#[derive(Clone, Debug, PartialEq)]
+pub struct YamlFault {
+    /// 1-based line, when known.
+    pub line: Option<u64>,
+    /// 1-based column, when known.
+    pub column: Option<u64>,
+    /// The dotted key path at fault ([`key_at`]), when one is named.
+    pub field: Option<String>,
+    /// The problem in words.
+    pub problem: String,
+}
+
+/// A YAML parser's error on `text`: its place, the key it sits under ([`key_at`]; none
+/// when the message names its field itself or concerns the whole file, and the parent's for
+/// an unknown field, which the message names), and the problem in words ([`yaml_problem`],
+/// with the text found where a number was expected; `fallback` when it says nothing).
+pub fn locate(text: &str, e: &serde_saphyr::Error, fallback: &str) -> YamlFault {
+    let loc = e.location().filter(|l| l.line() > 0);
+    let mut problem = yaml_problem(e, fallback);
+    let field = loc.filter(|_| names_no_key(&problem)).and_then(|l| {
+        let key = key_at(text, l.line(), l.column())?;
+        // The message names the unknown field: the key is its parent's path.
+        let unknown = problem
+            .strip_prefix("unknown field `")
+            .and_then(|r| r.split('`').next());
+        match (unknown, key.rsplit_once('.')) {
+            (Some(u), Some((parent, last))) if last == u => Some(parent.to_owned()),
+            (Some(u), None) if key == u => None,
+            _ => Some(key),
+        }
+    });
+    if problem.starts_with("expected a")
+        && let Some(l) = loc
+        && let Some(found) = token_at(text, l.line(), l.column())
+    {
+        problem = format!("{problem}, got '{found}'");
+    }
+    YamlFault {
+        line: loc.map(|l| l.line()),
+        column: loc.map(|l| l.column()).filter(|&c| c > 0),
+        field,
+        problem,
+    }
+}
+
+/// The scalar that starts at `line`, `column` (1-based): up to the next `,`, `]`, `}`,
+/// `#` or line end, trimmed; at most 40 characters, escaped.
+fn token_at(text: &str, line: u64, column: u64) -> Option<String> {
+    let here = text
+        .lines()
+        .nth(usize::try_from(line).ok()?.checked_sub(1)?)?;
+    let rest: String = here
+        .chars()
+        .skip(usize::try_from(column).ok()?.checked_sub(1)?)
+        .take_while(|c| !",]}#".contains(*c))
+        .collect();
+    let t = rest.trim();
+    // A JSON string's own quotes are not part of what was found.
+    let t = t
+        .strip_prefix('"')
+        .and_then(|u| u.strip_suffix('"'))
+        .unwrap_or(t);
+    (!t.is_empty()).then(|| {
+        t.chars()
+            .take(40)
+            .collect::<String>()
+            .escape_debug()
+            .to_string()
+    })
+}
+
+/// What a file that holds a second YAML document is told.
+const SECOND_DOCUMENT: &str =
+    "a second YAML document starts here (after `---`): the file holds one";
+
+/// Most YAML nodes (maps, sequences and scalars, keys included) an input may hold: about
+/// 0.9 million one-circle obstacles in a scene or a world (9 nodes each). The parser's own default
+/// (250,000) stopped scenes at about 55,000 circles; the limits on aliases and anchors that
+/// guard against expansion bombs stay at the parser's defaults.
+pub const MAX_YAML_NODES: usize = 8_000_000;
+
+/// Reads YAML (or JSON, a subset of it) into `T` with the project's limits
+/// ([`MAX_YAML_NODES`]): for scene files and the other YAML inputs.
+pub fn from_yaml<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, serde_saphyr::Error> {
+    from_yaml_within(text, MAX_YAML_NODES)
+}
+
+/// [`from_yaml`] with at most `max_nodes` nodes.
+pub fn from_yaml_within<T: serde::de::DeserializeOwned>(
+    text: &str,
+    max_nodes: usize,
+) -> Result<T, serde_saphyr::Error> {
+    let mut budget = serde_saphyr::budget::Budget::default();
+    budget.max_nodes = max_nodes;
+    budget.max_events = 2 * max_nodes;
+    budget.max_total_scalar_bytes = 1 << 29;
+    let mut options = serde_saphyr::Options::default();
+    options.budget = Some(budget);
+    serde_saphyr::from_str_with_options(text, options)
+}
+
+/// The problem a YAML parser's error states, without its own `error: line L column C: `
+/// prefix (the caller reports the location): for scene files and the other YAML inputs
+/// (`fallback` when the message is empty).
+pub fn yaml_problem(e: &serde_saphyr::Error, fallback: &str) -> String {
+    let full = e.to_string();
+    let mut msg = full.lines().next().unwrap_or(fallback).trim();
+    msg = msg.strip_prefix("error:").unwrap_or(msg).trim_start();
+    if let Some(rest) = msg.strip_prefix("line ")
+        && let Some((_, tail)) = rest.split_once(": ")
+    {
+        msg = tail;
+    }
+    if msg.starts_with("multiple YAML documents") {
+        return SECOND_DOCUMENT.to_owned();
+    }
+    // Serde's names of Rust types ("invalid u32") said in words.
+    for (ty, words) in [
+        (
+            "invalid floating point",
+            "expected a finite number (such as 2, -1.5 or 3e-2)",
+        ),
+        ("invalid u32", "expected a whole number >= 0"),
+        ("invalid u64", "expected a whole number >= 0"),
+        ("invalid usize", "expected a whole number >= 0"),
+        ("invalid i32", "expected a whole number"),
+        ("invalid i64", "expected a whole number"),
+    ] {
+        if msg == ty {
+            return words.to_owned();
+        }
+    }
+    if let Some(breach) = msg.strip_prefix("budget breached:") {
+        // The parser names the limit in Rust's debug form ("Nodes { nodes: 250001 }"):
+        // only its kind is kept, in words ("ScalarBytes": "scalar bytes").
+        let kind: String = breach
+            .trim()
+            .split(|c: char| !c.is_ascii_alphanumeric())
+            .next()
+            .unwrap_or("size")
+            .chars()
+            .flat_map(|c| {
+                let space = c.is_ascii_uppercase().then_some(' ');
+                space.into_iter().chain(c.to_lowercase())
+            })
+            .collect();
+        let kind = kind.trim();
+        return if kind == "nodes" {
+            format!(
+                "exceeds the YAML reader's limit on nodes (at most {MAX_YAML_NODES}, about 0.9 \
+                 million one-circle obstacles)"
+            )
+        } else if kind == "alias anchor ratio" {
+            "exceeds the YAML reader's limit on aliases per anchor (once there are 100 \
+             aliases, at most 10 per anchor: a guard against expansion bombs)"
+                .to_owned()
+        } else {
+            format!("exceeds the YAML reader's limit on {kind}")
+        };
+    }
+    // The parser's advice names its own options ("set DuplicateKeyPolicy in Options if
+    // acceptable"), which a user of a file cannot set.
+    if let Some(key) = msg.strip_prefix("duplicate mapping key:") {
+        let key = key.split(", set ").next().unwrap_or(key).trim();
+        return format!("the key '{key}' is given twice: give each key once");
+    }
+    msg.to_owned()
+}
+
+/// Whether a parser's `problem` is blamed on the key where it stands: not when it names
+/// its field itself (`missing field`) or concerns the whole file (a second document).
+fn names_no_key(problem: &str) -> bool {
+    !(problem.starts_with("missing field") || problem.starts_with(SECOND_DOCUMENT))
+}
+
+/// The key a parser's error at `line` and `column` (1-based; column 0 when unknown) sits
+/// under, for its message, as a dotted path: the keys of the blocks that hold the line
+/// (each less indented than the one below it), then the keys that open before the column
+/// on the line itself, nested by `{...}` (or the key that begins it, when the error is
+/// placed before it). `bounds.min` for `bounds: {min: [0x0, 0]}`, the
+/// same in one-line or pretty JSON, `team.ugv.speed` in a block, `obstacles.circles` for a
+/// bad circle (sequence items are not counted). `None` when no key holds the line.
+fn key_at(text: &str, line: u64, column: u64) -> Option<String> {
+    let n = usize::try_from(line).ok()?.checked_sub(1)?;
+    let here = text.lines().nth(n)?;
+    let upto: String = if column > 0 {
+        here.chars().take(column as usize - 1).collect()
+    } else {
+        here.to_owned()
+    };
+    let mut path = Vec::new();
+    let mut want = indent_of(here);
+    for above in text.lines().take(n).collect::<Vec<_>>().into_iter().rev() {
+        if want == 0 {
+            break;
+        }
+        if let Some(key) = keys_on_line(above).into_iter().next()
+            && indent_of(above) < want
+        {
+            want = indent_of(above);
+            path.push(key);
+        }
+    }
+    path.reverse();
+    // An error placed at the start of a line (a sequence of the wrong length) is the key's
+    // that begins it.
+    let mut on_line = keys_on_line(&upto);
+    if on_line.is_empty() {
+        on_line.extend(keys_on_line(here).into_iter().take(1));
+    }
+    path.extend(on_line);
+    (!path.is_empty()).then(|| path.join("."))
+}
+
+/// Where a line's content starts, past spaces and sequence dashes (`  - name: a`: 4).
+fn indent_of(line: &str) -> usize {
+    line.len() - line.trim_start_matches([' ', '-']).len()
+}
+
+/// The path of keys open at the end of `text` (one line, cut at the error's column): a
+/// key is a word or a quoted string followed by `:`; `{` opens a deeper map, `}` closes it.
+/// Comments (`#` outside quotes) end the line.
+fn keys_on_line(text: &str) -> Vec<String> {
+    // One level per open block (the line itself), `{` or `[`, with the key open in it.
+    let mut path: Vec<(char, Option<String>)> = vec![(' ', None)];
+    let mut chars = text.chars().peekable();
+    let mut word = String::new();
+    while let Some(c) = chars.next() {
+        match c {
+            '"' | '\'' => {
+                word = chars.by_ref().take_while(|&q| q != c).collect();
+                continue;
+            }
+            '#' => break,
+            '{' | '[' => path.push((c, None)),
+            '}' | ']' if path.len() > 1 => {
+                path.pop();
+            }
+            // A comma in a flow map closes its key's value.
+            ',' => {
+                if let Some((open, key)) = path.last_mut()
+                    && *open == '{'
+                {
+                    *key = None;
+                }
+            }
+            ':' if !word.is_empty()
+                && chars
+                    .peek()
+                    .is_none_or(|n| n.is_whitespace() || "[{\"'".contains(*n)) =>
+            {
+                if let Some((open, key)) = path.last_mut()
+                    && *open != '['
+                {
+                    *key = Some(std::mem::take(&mut word));
+                }
+            }
+            c if c.is_alphanumeric() || c == '_' || c == '-' => {
+                word.push(c);
+                continue;
+            }
+            _ => {}
+        }
+        word.clear();
+    }
+    path.into_iter().filter_map(|(_, key)| key).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The key path at `line`, at the column of the first `^` in `marked` (the `^` removed).
+    fn key(marked: &str) -> Option<String> {
+        let (n, l) = marked
+            .lines()
+            .enumerate()
+            .find(|(_, l)| l.contains('^'))
+            .unwrap();
+        let col = l.chars().position(|c| c == '^').unwrap() as u64 + 1;
+        key_at(&marked.replace('^', ""), n as u64 + 1, col)
+    }
+
+    #[test]
+    fn the_key_path_follows_blocks_flow_maps_and_json() {
+        for (text, want) in [
+            (
+                "bounds: {min: [^0x0, 0], max: [1, 1]}\n",
+                Some("bounds.min"),
+            ),
+            ("team:\n  ugv:\n    speed: ^fast\n", Some("team.ugv.speed")),
+            (
+                "obstacles:\n  - name: a\n    circles:\n      - [1, ^2, zz]\n",
+                Some("obstacles.circles"),
+            ),
+            // A sibling flow map that leaves its `{` open is no parent.
+            (
+                "obstacles:\n  - {name: b,\n     circles: [[1, 2, ^zz]]}\n",
+                Some("obstacles.circles"),
+            ),
+            (
+                "{\"name\": \"x\", \"bounds\": {\"min\": [0, 0]},\n \"start\": [5, ^\"q\"]}\n",
+                Some("start"),
+            ),
+            (
+                "{\"name\":\"j\",\"bounds\":{\"min\":[0,0],\"max\":[^NaN,60]}}\n",
+                Some("bounds.max"),
+            ),
+            (
+                "{\n  \"bounds\": {\n    \"min\": [0, ^NaN]\n  }\n}\n",
+                Some("bounds.min"),
+            ),
+            (
+                "name: \"a: b\"\nstart: [5, ^x] # a: comment\n",
+                Some("start"),
+            ),
+            ("^[1, 2]\n", None),
+        ] {
+            assert_eq!(key(text).as_deref(), want, "{text}");
+        }
+    }
+}
