@@ -193,16 +193,14 @@ struct Picked {
 /// name, so that an output can be checked against them before any work. Reads only the
 /// `.scen` files.
 pub fn input_files(job: &BenchJob) -> Result<Vec<PathBuf>, String> {
-    let files = scen_files(&job.files)?;
-    let mut maps = std::collections::BTreeSet::new();
-    for path in &files {
-        let name = path.display().to_string();
-        let text =
-            crate::read_regular_string(path).map_err(|e| format!("{name}: cannot read: {e}"))?;
-        let scen = movingai::read_scen(&text, &name).map_err(|e| e.to_string())?;
-        maps.extend(scen.iter().map(|s| map_beside(path, &s.map)));
-    }
-    let mut all = files;
+    let p = pick(job)?;
+    let maps: std::collections::BTreeSet<PathBuf> = p
+        .files
+        .iter()
+        .zip(&p.scenarios)
+        .flat_map(|(f, scen)| scen.iter().map(move |s| map_beside(f, &s.map)))
+        .collect();
+    let mut all = p.files;
     all.extend(maps);
     Ok(all)
 }

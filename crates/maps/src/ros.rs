@@ -127,14 +127,16 @@ pub fn read_map(
         |e: image::ImageError| err(image_source, None, format!("cannot decode the image: {e}"));
     // The size from the image's header, refused before its pixels are decoded (a 20000^2
     // image took a gigabyte before it was refused).
-    let reader = || {
-        image::ImageReader::new(std::io::Cursor::new(image))
-            .with_guessed_format()
-            .map_err(|e| cannot(e.into()))
-    };
-    let (w, h) = reader()?.into_dimensions().map_err(cannot)?;
+    let decoder = image::ImageReader::new(std::io::Cursor::new(image))
+        .with_guessed_format()
+        .map_err(|e| cannot(e.into()))?
+        .into_decoder()
+        .map_err(cannot)?;
+    let (w, h) = image::ImageDecoder::dimensions(&decoder);
     crate::check_map_size(&stem(yaml_source), w as usize, h as usize)?;
-    let gray = reader()?.decode().map_err(cannot)?.to_luma8();
+    let gray = image::DynamicImage::from_decoder(decoder)
+        .map_err(cannot)?
+        .to_luma8();
     let (w, h) = (gray.width() as usize, gray.height() as usize);
     if w == 0 || h == 0 {
         return Err(err(
