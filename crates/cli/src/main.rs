@@ -23,6 +23,10 @@ use out::BadInput;
 
 /// Exit code for bad input or usage.
 const EXIT_BAD_INPUT: u8 = 2;
+
+/// Exit code of no plan: no route for the robot (`plan`).
+const EXIT_NO_PLAN: u8 = 1;
+
 /// Exit code of a run that failed for another reason (an output that cannot be written).
 const EXIT_FAILURE: u8 = 3;
 
@@ -89,7 +93,9 @@ fn main() -> ExitCode {
             let _ = writeln!(std::io::stderr().lock(), "error: {e:#}");
             // The user's input is to blame (2); anything else, such as an output that cannot
             // be written, is the run's failure (3).
-            ExitCode::from(if e.downcast_ref::<BadInput>().is_some() {
+            ExitCode::from(if e.downcast_ref::<out::NoPlan>().is_some() {
+                EXIT_NO_PLAN
+            } else if e.downcast_ref::<BadInput>().is_some() {
                 EXIT_BAD_INPUT
             } else {
                 EXIT_FAILURE

@@ -49,6 +49,29 @@ pub fn bad(msg: impl Into<String>) -> anyhow::Error {
     BadInput(msg.into()).into()
 }
 
+/// No plan, as an answer rather than a fault (no route for the robot): exit 1.
+#[derive(Debug)]
+pub struct NoPlan(String);
+
+impl std::fmt::Display for NoPlan {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for NoPlan {}
+
+/// A map error as the command line answers it: no route for the robot is no plan (exit 1),
+/// anything else the input's fault (exit 2).
+pub fn map_error(e: homospline_maps::MapError) -> anyhow::Error {
+    match e {
+        homospline_maps::MapError::NoRoute { .. } | homospline_maps::MapError::NoRoom(_) => {
+            NoPlan(e.to_string()).into()
+        }
+        e => bad(e.to_string()),
+    }
+}
+
 /// Writes `bytes` to `path` whole or not at all: into a temporary file beside it, then
 /// renamed over it. A full disk or a failed write leaves any file already at `path` as it
 /// was (no truncated output, no good file destroyed), and the temporary file is removed.

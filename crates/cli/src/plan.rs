@@ -14,7 +14,7 @@ use homospline_voronoi::VoronoiGraph;
 
 use crate::args::PlanArgs;
 use crate::input::{Reads, load_input, parse_point, parse_weights, read_graph};
-use crate::out::{bad, check_outputs, write};
+use crate::out::{bad, check_outputs, map_error, write};
 use crate::picture;
 
 /// Exit code when no plan could be found.
@@ -228,9 +228,9 @@ fn plan_map(
     let prepared = match &a.graph {
         Some(p) => PreparedMap::with_graph(map, read_graph(p)?, radius)
             .map_err(|e| bad(format!("{}: {e}", p.display())))?,
-        None => PreparedMap::for_robot(map, radius).map_err(|e| bad(e.to_string()))?,
+        None => PreparedMap::for_robot(map, radius).map_err(map_error)?,
     };
-    let result = prepared.plan(s, g, cfg).map_err(|e| bad(e.to_string()))?;
+    let result = prepared.plan(s, g, cfg).map_err(map_error)?;
     let pic = a
         .svg
         .as_ref()

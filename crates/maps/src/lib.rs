@@ -11,6 +11,7 @@
 //! of its first cell in raster order, which is inside it.
 
 pub mod bench;
+pub mod footprint;
 pub mod input;
 pub mod model;
 pub mod movingai;
@@ -90,7 +91,9 @@ use homospline_geom::math::Num;
 use homospline_geom::{Bounds, Point, Real};
 use homospline_homotopy::Rays;
 use homospline_optim::{Plan, PlanConfig, PlanError, World, plan_world};
-use homospline_voronoi::{BuildError, DistanceField, Grid, GridError, MapGraph, VoronoiGraph};
+use homospline_voronoi::{
+    BuildError, DistanceField, GraphError, Grid, GridError, MapGraph, VoronoiGraph,
+};
 use thiserror::Error;
 
 /// An occupancy map in map coordinates.
@@ -149,12 +152,26 @@ pub enum MapError {
     /// A saved graph that does not fit the map.
     #[error("{0}")]
     Graph(String),
-    /// A robot radius that is not a finite number `>= 0`, or that no cell of the map keeps.
+    /// A robot radius that is not a finite number `>= 0`.
     #[error(
-        "robot radius {}: must be a finite number >= 0 (map units; metres on a ROS map) that some cell of the map keeps",
+        "robot radius {}: must be a finite number >= 0 (map units; metres on a ROS map)",
         Num(*.0)
     )]
     Radius(Real),
+    /// No point of the map keeps the robot radius: no route for the robot anywhere (not
+    /// bad input: exit 1 on the command line).
+    #[error("no route: no point of the map keeps the robot radius {}", Num(*.0))]
+    NoRoom(Real),
+    /// No route joins start and goal for the robot: not bad input, an answer (exit 1 on the
+    /// command line). `widest` is the widest route and its narrowest point
+    /// ([`footprint::widest_route`]).
+    #[error("{}", no_route_message(*radius, widest))]
+    NoRoute {
+        /// The robot radius, map units (0 for a point).
+        radius: Real,
+        /// The widest route between start and goal.
+        widest: footprint::Widest,
+    },
     /// More cells than a map may have ([`MAX_MAP_CELLS`]).
     #[error(
         "map {name} is {width} x {height} cells ({} cells); at most {MAX_MAP_CELLS} cells (4096 x 4096) fit in the {MAP_MEMORY} a map may take: crop or downsample the map",
@@ -168,6 +185,28 @@ pub enum MapError {
         /// Cells up.
         height: usize,
     },
+}
+
+fn no_route_message(radius: Real, widest: &footprint::Widest) -> String {
+    let w = widest.clearance;
+    if w <= 0.0 {
+        return "no route: start and goal are in different free regions of the map (no gap \
+                joins them)"
+            .to_owned();
+    }
+    format!(
+        "no route for a robot of radius {}: the widest route between start and goal keeps \
+         {} at ({}, {}); the robot needs {}",
+        Num(radius),
+        Num(round4(w)),
+        Num(round4(widest.at.x)),
+        Num(round4(widest.at.y)),
+        Num(radius)
+    )
+}
+
+fn round4(x: Real) -> Real {
+    (x * 1e4).round() / 1e4
 }
 
 /// Most cells a map may have: 4096 x 4096. Preparing a map (grid, brushfire, complete
@@ -339,31 +378,11 @@ impl OccupancyMap {
         Ok(out)
     }
 
-    /// The cells where a disc robot of radius `radius` can stand: those whose centre keeps
-    /// `radius` from every occupied cell and from the map's edge (exact, by `truth`, the
-    /// model of this map). Found from [`OccupancyMap::inflated`], which blocks every cell
-    /// whose square comes closer: a centre is at most half a diagonal farther than its
-    /// square, so only the blocked cells within that of `radius` are measured.
+    /// Where a disc robot of radius `radius` can stand, as an occupancy map of the
+    /// half-cell lattice ([`footprint`]): exact, by `truth`, the model of this map.
     fn free_for_robot(&self, radius: Real, truth: &GridModel) -> Result<OccupancyMap, MapError> {
-        let d2 = self.square_distances()?;
-        let reach = radius / self.cell;
-        let mut out = self.clone();
-        for j in 0..self.height {
-            for i in 0..self.width {
-                let k = j * self.width + i;
-                let square = (d2[k] as Real).sqrt();
-                if self.occupied[k] || square >= reach {
-                    continue;
-                }
-                let centre = Point::new(
-                    self.origin.x + (i as Real + 0.5) * self.cell,
-                    self.origin.y + (j as Real + 0.5) * self.cell,
-                );
-                let near_enough = square + std::f64::consts::FRAC_1_SQRT_2 >= reach;
-                out.occupied[k] = !(near_enough && truth.exact(&centre) >= radius);
-            }
-        }
-        Ok(out)
+        let square = self.square_distances()?;
+        Ok(footprint::free_space(self, &square, radius, truth))
     }
 
     /// The exact clearance of `p`: its distance to the nearest occupied cell (a closed
@@ -536,7 +555,7 @@ impl PreparedMap {
         drop(grid);
         let free = map.free_for_robot(radius, &model)?;
         if free.occupied.iter().all(|&o| o) {
-            return Err(MapError::Radius(radius));
+            return Err(MapError::NoRoom(radius));
         }
         Ok((free, Some(model.for_radius(radius)), Some(map.clone())))
     }
@@ -614,7 +633,8 @@ impl PreparedMap {
         let rays = rays_of(&graph);
         Self {
             name: map.name.clone(),
-            bounds: map.bounds(),
+            // The map's own bounds: the robot's lattice reaches half a lattice step past them.
+            bounds: truth.as_ref().unwrap_or(map).bounds(),
             grid,
             field,
             graph,
@@ -648,9 +668,9 @@ impl PreparedMap {
                 x: p.x,
                 y: p.y,
                 problem: format!(
-                    "has clearance {c:.4} > the robot radius {r}, but its cell's centre does not \
-                 keep it (free space is the cells whose centre keeps the radius): move it up to \
-                 one cell away from the wall"
+                    "has clearance {c:.4} > the robot radius {r}, but the nearest point of the \
+                 robot's lattice does not keep it (free space is sampled every half cell): \
+                 move it up to half a cell away from the wall"
                 ),
             })
     }
@@ -680,7 +700,7 @@ impl PreparedMap {
             grid_is_exact: true,
             circles: None,
         };
-        Ok(plan_world(
+        plan_world(
             &world,
             || {
                 self.graph
@@ -688,7 +708,23 @@ impl PreparedMap {
                     .map_err(BuildError::from)
             },
             cfg,
-        )?)
+        )
+        .map_err(|e| match e {
+            PlanError::Build(BuildError::Graph(GraphError::DifferentRegions)) => {
+                self.no_route(start, goal)
+            }
+            e => MapError::Plan(e),
+        })
+    }
+
+    /// The answer when no route of the robot's free space joins `start` and `goal`: the
+    /// widest route on the map as given and its narrowest point.
+    pub fn no_route(&self, start: Point, goal: Point) -> MapError {
+        let map = self.truth.as_ref().unwrap_or(&self.map);
+        MapError::NoRoute {
+            radius: self.robot_radius,
+            widest: footprint::widest_route(map, &self.model, start, goal),
+        }
     }
 }
 

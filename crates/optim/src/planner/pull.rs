@@ -13,7 +13,7 @@ use super::clearance::{clear_at_least, clearances_of};
 /// that follows the path's length does not pull it straight.
 ///
 /// Each point of the ridge gets a margin: its clearance less half a cell, at least half of
-/// it (as at the ends) and at most [`PULL_MARGIN`] cells. A pass ([`pull_pass`]) puts a
+/// it (as at the ends), at most [`PULL_MARGIN`] cells and at least [`MIN_PULL_MARGIN`]. A pass ([`pull_pass`]) puts a
 /// point every cell along the path and replaces it by chords between its points that keep
 /// the least margin of the stretch they replace. A chord's corners lie on the path it
 /// replaced (the ridge, at first), and once every chord touches its margin no chord can
@@ -36,7 +36,15 @@ pub(super) fn pull_taut(
     if poly.len() < 3 {
         return poly.to_vec();
     }
-    let margin = |c: Real| (c - 0.5 * cell).max(0.5 * c).min(PULL_MARGIN * cell);
+    // A ridge point closer than the robot's radius (a corner of a staircase the disc rounds
+    // only off the ridge: `homospline_maps::footprint`) asks its chords for the least margin,
+    // so that the chord the disc can take replaces it.
+    let margin = |c: Real| {
+        (c - 0.5 * cell)
+            .max(0.5 * c)
+            .min(PULL_MARGIN * cell)
+            .max(MIN_PULL_MARGIN * cell)
+    };
     let margins: Vec<Real> = clearances_of(model, poly).into_iter().map(margin).collect();
     // A vertex's margin applies to both its segments.
     let path: Vec<(Point, Real)> = poly
@@ -206,3 +214,6 @@ const PULL_PASSES: usize = 6;
 /// The most clearance, in cells, a pulled chord must keep (less where the stretch it
 /// replaces keeps less).
 const PULL_MARGIN: Real = 1.0;
+
+/// The least margin a chord keeps, cells: a ridge point in collision asks for it.
+const MIN_PULL_MARGIN: Real = 0.01;
