@@ -195,6 +195,76 @@ fn cases_of(
     Ok((map, cases))
 }
 
+/// A witness of the disc's free space independent of the planner's lattice: per cell
+/// centre, its component among the centres that keep `radius` (exact clearance), 8-neighbours
+/// joined where their segment keeps it (sampled every 1/64 cell, each sample asked for
+/// `radius` plus the most the clearance can dip between two samples). Conservative: centres
+/// it joins are joined for the disc. `None` for a centre that does not keep the radius.
+pub fn witness_components(map: &homospline_maps::OccupancyMap, radius: Real) -> Vec<Option<usize>> {
+    let (w, h) = (map.width, map.height);
+    let centre = |i: usize, j: usize| {
+        Point::new(
+            map.origin.x + (i as Real + 0.5) * map.cell,
+            map.origin.y + (j as Real + 0.5) * map.cell,
+        )
+    };
+    let reach = radius + 2.0 * map.cell;
+    let clear: Vec<Real> = (0..w * h)
+        .map(|k| {
+            if map.occupied[k] {
+                0.0
+            } else {
+                map.clearance_within(&centre(k % w, k / w), reach)
+            }
+        })
+        .collect();
+    let keeps: Vec<bool> = clear.iter().map(|&c| c >= radius.max(1e-12)).collect();
+    let segment_keeps = |ka: usize, kb: usize| {
+        let (a, b) = (centre(ka % w, ka / w), centre(kb % w, kb / w));
+        // A point of the segment is within half its length of an end: it keeps at least
+        // (d(a) + d(b) - |ab|) / 2 (the clearance is 1-Lipschitz).
+        if 0.5 * (clear[ka] + clear[kb] - (b - a).norm()) >= radius {
+            return true;
+        }
+        let n = 64 * ((b - a).norm() / map.cell).ceil().max(1.0) as usize;
+        let slack = 0.5 * (b - a).norm() / n as Real;
+        (0..=n).all(|k| {
+            map.clearance_within(&(a + (b - a) * (k as Real / n as Real)), reach)
+                >= radius + slack
+        })
+    };
+    let mut parent: Vec<usize> = (0..w * h).collect();
+    fn root(p: &mut [usize], mut k: usize) -> usize {
+        while p[k] != k {
+            p[k] = p[p[k]];
+            k = p[k];
+        }
+        k
+    }
+    for j in 0..h {
+        for i in 0..w {
+            let k = j * w + i;
+            if !keeps[k] {
+                continue;
+            }
+            for (di, dj) in [(1i64, 0i64), (0, 1), (1, 1), (-1, 1)] {
+                let (ni, nj) = (i as i64 + di, j as i64 + dj);
+                if ni < 0 || ni >= w as i64 || nj >= h as i64 {
+                    continue;
+                }
+                let m = nj as usize * w + ni as usize;
+                if keeps[m] && segment_keeps(k, m) {
+                    let (a, b) = (root(&mut parent, k), root(&mut parent, m));
+                    parent[a.max(b)] = a.min(b);
+                }
+            }
+        }
+    }
+    (0..w * h)
+        .map(|k| keeps[k].then(|| root(&mut parent, k)))
+        .collect()
+}
+
 /// Runs the command.
 pub fn run(o: &Options) -> Result<()> {
     println!(
@@ -204,9 +274,19 @@ pub fn run(o: &Options) -> Result<()> {
         if o.along { "on" } else { "off" }
     );
     println!(
-        "{:<28} {:>6} {:>6} {:>5} {:>9} {:>10} {:>9} {:>9} {:>9}",
-        "file", "picked", "keep", "apart", "planned", "worst 10th", "len/oct", "clear", "inner"
+        "{:<28} {:>6} {:>6} {:>5} {:>7} {:>9} {:>10} {:>9} {:>9} {:>9}",
+        "file",
+        "picked",
+        "keep",
+        "apart",
+        "joined",
+        "planned",
+        "worst 10th",
+        "len/oct",
+        "clear",
+        "inner"
     );
+    let mut refused_joined = 0;
     let mut cfg = homospline_maps::map_config();
     cfg.growth.cost.safety_along = o.along;
     if let Some(u) = o.min_units {
@@ -219,18 +299,32 @@ pub fn run(o: &Options) -> Result<()> {
     for f in &o.files {
         let (map, cases) = cases_of(f, o)?;
         let prepared = PreparedMap::for_robot(&map, o.radius)?;
+        let witness = witness_components(&map, o.radius);
+        let component = |p: &Point| {
+            let i = ((p.x - map.origin.x) / map.cell).floor();
+            let j = ((p.y - map.origin.y) / map.cell).floor();
+            (i >= 0.0 && j >= 0.0 && (i as usize) < map.width && (j as usize) < map.height)
+                .then(|| witness[j as usize * map.width + i as usize])
+                .flatten()
+        };
         let picked = cases.len();
-        let (mut keep, mut apart) = (0, 0);
+        let (mut keep, mut apart, mut joined) = (0, 0, 0);
         // Per tenth of the cases (sorted by length): (planned, attempted).
         let mut tenths = [(0usize, 0usize); 10];
         let (mut ratios, mut clears, mut inners) = (Vec::new(), Vec::new(), Vec::new());
         for (i, &(start, goal, optimal)) in cases.iter().enumerate() {
             let tenth = (10 * i / cases.len()).min(9);
+            let witnessed = matches!((component(&start), component(&goal)), (Some(a), Some(b)) if a == b);
+            joined += usize::from(witnessed);
             match prepared.plan(start, goal, &cfg) {
                 Err(MapError::Endpoint { problem, .. }) if problem.contains("robot radius") => {}
-                Err(e) if e.to_string().contains("different free regions") => {
+                Err(e @ (MapError::NoRoute { .. } | MapError::NoRoom(_))) => {
                     keep += 1;
                     apart += 1;
+                    if witnessed {
+                        refused_joined += 1;
+                        eprintln!("{} case {i}: joined for the disc, yet: {e}", f.display());
+                    }
                 }
                 Err(e) => {
                     keep += 1;
@@ -240,7 +334,12 @@ pub fn run(o: &Options) -> Result<()> {
                 Ok(plan) => {
                     keep += 1;
                     tenths[tenth].1 += 1;
-                    let Some(b) = plan.best else { continue };
+                    let Some(b) = plan.best else {
+                        if witnessed {
+                            eprintln!("{} case {i}: joined for the disc, no plan", f.display());
+                        }
+                        continue;
+                    };
                     let c = &plan.classes[b - 1];
                     tenths[tenth].0 += 1;
                     ratios.push(c.length / optimal);
@@ -261,17 +360,21 @@ pub fn run(o: &Options) -> Result<()> {
             .map(|t| t.0 as Real / t.1 as Real)
             .fold(Real::INFINITY, Real::min);
         println!(
-            "{:<28} {:>6} {:>6} {:>5} {:>9} {:>9.0}% {:>9.4} {:>9.4} {:>9.4}",
+            "{:<28} {:>6} {:>6} {:>5} {:>7} {:>9} {:>9.0}% {:>9.4} {:>9.4} {:>9.4}",
             map.name,
             picked,
             keep,
             apart,
+            joined,
             format!("{planned}/{tried}"),
             100.0 * worst,
             median(ratios),
             median(clears),
             median(inners)
         );
+    }
+    if refused_joined > 0 {
+        bail!("{refused_joined} scenarios joined for the disc were answered 'no route'");
     }
     Ok(())
 }

@@ -332,6 +332,10 @@ impl PlanOptions {
             prune,
             polish: self.polish,
             finish_within,
+            // A `dm` given with `--weight` is the user's, in map units.
+            map_dm: base
+                .map_dm
+                .filter(|_| !self.weights.iter().any(|(n, _)| n.trim() == "dm")),
             ..base
         })
     }

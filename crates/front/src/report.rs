@@ -17,6 +17,9 @@ struct PlanJson<'a> {
     seed: &'a str,
     /// What `safe` was judged by, and the floor `best` had to meet.
     dm: f64,
+    /// Where `dm` came from when it was not given (a map's default).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    dm_why: Option<&'a str>,
     clearance_floor: f64,
     classes: Vec<ClassJson<'a>>,
     best: Option<usize>,
@@ -101,6 +104,7 @@ pub fn plan_json_with(plan: &Plan, optima: &[Option<Optimum>]) -> String {
         scene: &plan.scene,
         seed: plan.seed.name(),
         dm: plan.dm,
+        dm_why: plan.dm_why.as_deref(),
         clearance_floor: plan.clearance_floor,
         classes: plan
             .classes
@@ -199,14 +203,17 @@ pub fn plan_table(plan: &Plan) -> String {
                 class_id(&c.signature),
                 c.length,
                 c.min_clearance,
-                if c.safe {
-                    String::new()
-                } else {
-                    // On maps dm is the safety term's distance, not a requirement.
-                    format!(
-                        " (below dm = {}: no collision-free class keeps it)",
+                match (c.safe, &plan.dm_why) {
+                    (true, None) => String::new(),
+                    (true, Some(why)) => format!(
+                        " (safe: keeps dm = {}, {why})",
                         homospline_geom::math::Num(plan.dm)
-                    )
+                    ),
+                    (false, why) => format!(
+                        " (below dm = {}{}: no collision-free class keeps it)",
+                        homospline_geom::math::Num(plan.dm),
+                        why.as_ref().map_or(String::new(), |w| format!(", {w}"))
+                    ),
                 },
                 match after {
                     0 => String::new(),

@@ -424,9 +424,10 @@ pub fn widest_route(map: &OccupancyMap, truth: &GridModel, start: Point, goal: P
             .entry(k)
             .or_insert_with(|| truth.exact(&position(k)).max(0.0))
     };
-    let segment = |a: usize, b: usize| {
+    // A segment's least clearance is at most its ends': searched no farther.
+    let segment = |a: usize, b: usize, ends: Real| {
         let (pa, pb) = (position(a), position(b));
-        (segment_clearance(map, &pa, &pb, Real::INFINITY), pa, pb)
+        (segment_clearance(map, &pa, &pb, ends), pa, pb)
     };
     let goal_corners = lattice.around(&goal);
     // Per node: the bottleneck of its best route and where that route is narrowest.
@@ -483,8 +484,9 @@ pub fn widest_route(map: &OccupancyMap, truth: &GridModel, start: Point, goal: P
                 bottleneck = (vm, position(m));
             }
             // Joins to start and goal and diagonals round a corner: the segment exactly.
-            if dip.is_some() || k == s_id {
-                let (c, pa, pb) = segment(k, m);
+            if (dip.is_some() || k == s_id) && bottleneck.0 > 0.0 {
+                let ends = value(k).min(vm);
+                let (c, pa, pb) = segment(k, m, ends);
                 if c < bottleneck.0 {
                     bottleneck = (c, narrowest_on(truth, &pa, &pb));
                 }

@@ -45,8 +45,8 @@ mod world;
 
 pub use class::DENSE_SEED_SHARE;
 pub use config::{
-    DEFAULT_FINISH_WITHIN, DEFAULT_PRUNE, DIVERSE_CANDIDATES, DM_RULE_SHARE, MAX_THREADS,
-    PlanConfig, PlanError, Seed,
+    DEFAULT_FINISH_WITHIN, DEFAULT_PRUNE, DIVERSE_CANDIDATES, DM_RULE_SHARE, Detour,
+    MAX_THREADS, PlanConfig, PlanError, Seed,
 };
 pub use report::{ClassPlan, Plan, Timing};
 pub use via::SEED_MAX_GAP;
@@ -172,6 +172,7 @@ pub fn plan_world(
         goal: world.goal,
         seed: cfg.seed,
         dm: cfg.growth.cost.dm,
+        dm_why: None,
         clearance_floor: cfg.clearance_floor,
         classes,
         best,

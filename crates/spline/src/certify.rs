@@ -69,18 +69,28 @@ fn push_segment(
     }
 }
 
+/// Most chord checks per initial interval (eight a segment) that a proof or a bracket may
+/// spend in all. A curve whose clearance runs within `delta` of the margin along a stretch of
+/// length `L` needs about `L / delta` intervals to prove: along a corridor of nearly constant
+/// clearance (a robot of just under half its width) that ran for minutes. Past the budget a
+/// proof fails (unproven, never a false "clear") and a bracket's lower bound is the least
+/// of its open intervals' (sound, wider than `tol`).
+pub const CHECKS_PER_INTERVAL: usize = 64;
+
 /// Proves the intervals on `stack` more than `above` clear, as [`is_collision_free`] does
-/// with 0.
+/// with 0; unproven past [`CHECKS_PER_INTERVAL`] times the intervals it starts with.
 fn prove(
     spline: &Spline,
     model: &dyn ClearanceModel,
     stack: &mut Vec<Interval>,
     above: Real,
 ) -> bool {
+    let mut budget = CHECKS_PER_INTERVAL * stack.len().max(1);
     while let Some((seg, s0, s1, depth, d0, d1)) = stack.pop() {
-        if d0 <= above || d1 <= above {
+        if d0 <= above || d1 <= above || budget == 0 {
             return false;
         }
+        budget -= 1;
         let (p0, _, a0) = spline.eval_segment(seg, s0);
         let (p1, _, a1) = spline.eval_segment(seg, s1);
         let e = (s1 - s0).powi(2) / 8.0 * a0.norm().max(a1.norm());
@@ -149,6 +159,7 @@ pub fn min_clearance(spline: &Spline, model: &dyn ClearanceModel, tol: Real) -> 
     // Intervals carry the clearance at their ends, so each subdivision asks for one new
     // point; the ends are still noted when an interval is popped, as before.
     let mut stack = initial_intervals(spline, model);
+    let budget = CHECKS_PER_INTERVAL * stack.len().max(1);
     while let Some((seg, s0, s1, depth, d0, d1)) = stack.pop() {
         let (p0, _, a0) = spline.eval_segment(seg, s0);
         let (p1, _, a1) = spline.eval_segment(seg, s1);
@@ -162,7 +173,7 @@ pub fn min_clearance(spline: &Spline, model: &dyn ClearanceModel, tol: Real) -> 
         let e = (s1 - s0).powi(2) / 8.0 * a0.norm().max(a1.norm());
         let lower = model.segment_clearance_between(&p0, &p1, d0, d1) - e;
         best.checks += 1;
-        if lower >= best.upper - tol || depth >= 60 {
+        if lower >= best.upper - tol || depth >= 60 || best.checks >= budget {
             best.lower = best.lower.min(lower);
             continue;
         }

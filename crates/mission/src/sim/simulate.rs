@@ -62,6 +62,7 @@ pub fn simulate_map(world: &MapWorld, cfg: &MissionConfig) -> Result<MissionResu
     plan_cfg.growth.cost.safety_along = defaults.growth.cost.safety_along;
     plan_cfg.growth.cost.dm = defaults.growth.cost.dm;
     plan_cfg.growth.cost.omega = defaults.growth.cost.omega;
+    plan_cfg.detour = defaults.detour;
     let cfg = &MissionConfig {
         plan: plan_cfg,
         ..cfg.clone()

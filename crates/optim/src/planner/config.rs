@@ -119,6 +119,41 @@ pub struct PlanConfig {
     /// only, like [`PlanConfig::polish`], which replaces it when set; on an occupancy map
     /// neither runs.
     pub finish_within: Option<usize>,
+    /// No detour for nothing: the chosen class gives way to a choosable class (collision-free,
+    /// at the floor) that is more than [`Detour::length_ratio`] times shorter while keeping at
+    /// least [`Detour::clearance_share`] of its least clearance, as often as one exists (each
+    /// step shortens the choice by that ratio, so it ends). The class chosen so is ranked
+    /// just before the one it replaced. `None` (scenes: the paper's choice by cost alone):
+    /// never. On by default on maps (`homospline_maps::map_config`), where a safety term
+    /// along the whole path could buy a few hundredths of a cell with a loop three times as
+    /// long.
+    pub detour: Option<Detour>,
+    /// On an occupancy map, `dm` in cells of the map: the map's plan sets the cost's `dm` to
+    /// this many cells (of the robot body's clearance) and weighs the safety term so that
+    /// `g4 omega^(dm - d)` is what it was at the `dm` it replaces: the walls push the curve
+    /// as far as before, and `safe` says whether the path keeps this margin. `None`: the
+    /// cost's `dm` as it is (a scene, or a map given `--weight dm=`).
+    pub map_dm: Option<Real>,
+}
+
+/// The rule of [`PlanConfig::detour`]: when a shorter class is as good as the chosen one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Detour {
+    /// A class this many times shorter (or more) than the chosen one replaces it...
+    pub length_ratio: Real,
+    /// ...if its least clearance is at least this share of the chosen one's.
+    pub clearance_share: Real,
+}
+
+impl Default for Detour {
+    /// 1.25 and 0.9: a quarter longer is a detour a user sees; a tenth of the clearance is
+    /// within what the optimiser's budget moves.
+    fn default() -> Self {
+        Self {
+            length_ratio: 1.25,
+            clearance_share: 0.9,
+        }
+    }
 }
 
 impl Default for PlanConfig {
@@ -139,6 +174,8 @@ impl Default for PlanConfig {
             prune: Some(DEFAULT_PRUNE),
             polish: 0,
             finish_within: Some(DEFAULT_FINISH_WITHIN),
+            detour: None,
+            map_dm: None,
         }
     }
 }

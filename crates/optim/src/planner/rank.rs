@@ -42,8 +42,38 @@ pub(super) fn rank(
     for (i, c) in classes.iter_mut().enumerate() {
         c.rank = i + 1;
     }
-    let best = classes.iter().find(|c| choosable(c, cfg)).map(|c| c.rank);
-    (classes, best)
+    let Some(first) = classes.iter().position(|c| choosable(c, cfg)) else {
+        return (classes, None);
+    };
+    let chosen = cfg.detour.map_or(first, |d| without_detour(&classes, first, d, cfg));
+    if chosen != first {
+        // The class chosen instead ranks just before the one it replaced.
+        let c = classes.remove(chosen);
+        classes.insert(first, c);
+    }
+    for (i, c) in classes.iter_mut().enumerate() {
+        c.rank = i + 1;
+    }
+    (classes, Some(first + 1))
+}
+
+/// [`PlanConfig::detour`]: from the class at `from` (choosable), the class that replaces it,
+/// step by step, while a choosable class is more than `d.length_ratio` times shorter and
+/// keeps `d.clearance_share` of its clearance (the first such in rank order at each step).
+fn without_detour(classes: &[ClassPlan], from: usize, d: super::config::Detour, cfg: &PlanConfig) -> usize {
+    let mut chosen = from;
+    loop {
+        let c = &classes[chosen];
+        let shorter = classes.iter().position(|o| {
+            choosable(o, cfg)
+                && o.length * d.length_ratio < c.length
+                && o.min_clearance >= d.clearance_share * c.min_clearance
+        });
+        match shorter {
+            Some(o) => chosen = o,
+            None => return chosen,
+        }
+    }
 }
 
 /// Ranks of the Pareto-optimal classes over (length, roughness, minimum clearance).

@@ -90,6 +90,9 @@ pub struct Plan {
     pub seed: Seed,
     /// The minimal distance `dm` the classes' `safe` was judged by.
     pub dm: Real,
+    /// Where `dm` came from, when it was not given: on a map, the default derived from its
+    /// cell ([`PlanConfig::map_dm`]).
+    pub dm_why: Option<String>,
     /// The clearance floor the chosen class had to meet ([`PlanConfig::clearance_floor`]).
     pub clearance_floor: Real,
     /// Classes in rank order.
@@ -158,6 +161,7 @@ pub(super) fn plan_to_stay(world: &World<'_>, cfg: &PlanConfig) -> Plan {
         goal: world.goal,
         seed: cfg.seed,
         dm: cfg.growth.cost.dm,
+        dm_why: None,
         clearance_floor: cfg.clearance_floor,
         classes: vec![class],
         best,
