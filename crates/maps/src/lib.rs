@@ -88,8 +88,12 @@ pub fn map_config() -> PlanConfig {
     // loop three times as long kept 0.002 cells more than the straight way (decision 0022).
     cfg.detour = Some(homospline_optim::Detour::default());
     cfg.map_dm = Some(MAP_DM_CELLS);
+    cfg.growth.lbfgs_value_tolerance = LBFGS_VALUE_TOLERANCE;
     cfg
 }
+
+/// L-BFGS on maps stops at a step that lowers the cost by less than this share.
+pub const LBFGS_VALUE_TOLERANCE: Real = 1e-4;
 
 /// The default `dm` on maps, in cells ([`PlanConfig::map_dm`]): a path that keeps a quarter
 /// of a cell (beyond the robot's radius) from every occupied cell is `safe`. A map places a

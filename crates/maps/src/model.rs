@@ -18,7 +18,32 @@ use homospline_geom::{Point, Real, Vector};
 use homospline_spline::field::{ClearanceModel, FieldSample, exp_fast};
 use homospline_voronoi::{DistanceField, Grid};
 use rustc_hash::FxHashMap;
-use std::sync::{PoisonError, RwLock};
+use std::cell::RefCell;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, PoisonError, RwLock};
+
+/// Ids of [`GridModel`]s, one per grid built.
+static NEXT_ID: AtomicU64 = AtomicU64::new(0);
+
+/// Slots of the per-thread memo of candidate lists ([`MEMO`]).
+const MEMO_SLOTS: usize = 1024;
+
+/// A slot of [`MEMO`]: `(model id, cell, list)`.
+type MemoSlot = Option<(u64, u32, Arc<[u32]>)>;
+
+thread_local! {
+    /// Per thread, the candidate lists its queries used last, direct-mapped by cell: the
+    /// quadrature nodes of a curve's evaluations meet the same few hundred cells again and
+    /// again, and the memo spares them the shared cache's lock and hash.
+    static MEMO: RefCell<Vec<MemoSlot>> = RefCell::new(vec![None; MEMO_SLOTS]);
+}
+
+/// A candidate cell `(i, j)` packed in a list: `i` in the low 16 bits, `j` in the high
+/// (grids are at most 4098 cells across with their wall ring).
+#[inline]
+fn unpack(o: u32) -> (usize, usize) {
+    ((o & 0xffff) as usize, (o >> 16) as usize)
+}
 
 /// Shards of [`GridModel`]'s cache of candidates (cell `k` in shard `k % CACHE_SHARDS`).
 const CACHE_SHARDS: usize = 64;
@@ -39,7 +64,10 @@ pub struct GridModel {
     /// but only a few of a large map's cells: hash maps behind sharded locks hold just
     /// those (a lazily filled slot per cell took 24 bytes of every cell). The lists are pure
     /// functions of the grid, so the cache never changes an answer.
-    candidates: Vec<RwLock<FxHashMap<u32, Box<[u32]>>>>,
+    candidates: Vec<RwLock<FxHashMap<u32, Arc<[u32]>>>>,
+    /// Tells this model's lists from another's in the per-thread memo of the last list used
+    /// ([`LAST`]): models with one id have the same grid.
+    id: u64,
     /// Subtracted from every clearance the model reports as a [`ClearanceModel`]: the
     /// robot's radius, so that clearances are the robot body's (0 for a point).
     offset: Real,
@@ -59,6 +87,7 @@ impl Clone for GridModel {
                 .map(|s| RwLock::new(s.read().unwrap_or_else(PoisonError::into_inner).clone()))
                 .collect(),
             offset: self.offset,
+            id: self.id,
         }
     }
 }
@@ -85,6 +114,7 @@ impl GridModel {
                 .map(|_| RwLock::new(FxHashMap::default()))
                 .collect(),
             offset: 0.0,
+            id: NEXT_ID.fetch_add(1, Ordering::Relaxed),
         }
     }
 
@@ -134,32 +164,51 @@ impl GridModel {
         let dc = (d2 as Real).sqrt();
         let bound = (dc + std::f64::consts::FRAC_1_SQRT_2 - 0.5) * h;
         self.with_candidates(ci, cj, d2, |candidates| {
-            candidates.iter().fold(bound, |b, &o| {
-                let o = o as usize;
-                b.min(self.square_distance(p, o % self.w, o / self.w))
-            })
+            let least = candidates.iter().fold(Real::INFINITY, |b, &o| {
+                let (i, j) = unpack(o);
+                b.min(self.square_distance2(p, i, j))
+            });
+            // The same as the least of the distances: the square root is monotone.
+            if least < bound * bound {
+                least.sqrt().min(bound)
+            } else {
+                bound
+            }
         })
     }
 
     /// `f` of the candidates of free cell `(ci, cj)` (squared distance `d2`): from the
     /// cache, or listed and cached.
     fn with_candidates<R>(&self, ci: usize, cj: usize, d2: i64, f: impl Fn(&[u32]) -> R) -> R {
-        let k = cj * self.w + ci;
-        let shard = &self.candidates[k % CACHE_SHARDS];
-        if let Some(c) = shard
+        let k = (cj * self.w + ci) as u32;
+        let slot = (k as usize ^ (self.id as usize).wrapping_mul(0x9e37_79b9)) % MEMO_SLOTS;
+        let memo = MEMO.with_borrow(|memo| match &memo[slot] {
+            Some((id, cell, list)) if *id == self.id && *cell == k => Some(f(list)),
+            _ => None,
+        });
+        if let Some(out) = memo {
+            return out;
+        }
+        let shard = &self.candidates[k as usize % CACHE_SHARDS];
+        let cached = shard
             .read()
             .unwrap_or_else(PoisonError::into_inner)
-            .get(&(k as u32))
-        {
-            return f(c);
-        }
-        let c = self.annulus(ci, cj, d2);
-        let out = f(&c);
-        shard
-            .write()
-            .unwrap_or_else(PoisonError::into_inner)
-            .entry(k as u32)
-            .or_insert(c);
+            .get(&k)
+            .cloned();
+        let list = match cached {
+            Some(list) => list,
+            None => {
+                let list: Arc<[u32]> = self.annulus(ci, cj, d2).into();
+                shard
+                    .write()
+                    .unwrap_or_else(PoisonError::into_inner)
+                    .entry(k)
+                    .or_insert(list)
+                    .clone()
+            }
+        };
+        let out = f(&list);
+        MEMO.with_borrow_mut(|memo| memo[slot] = Some((self.id, k, list)));
         out
     }
 
@@ -198,17 +247,17 @@ impl GridModel {
         self.with_candidates(ci, cj, d2, |candidates| {
             let (mut best, mut towards) = (Real::INFINITY, Vector::zeros());
             for &o in candidates {
-                let o = o as usize;
-                let (i, j) = (o % self.w, o / self.w);
+                let (i, j) = unpack(o);
                 let x0 = self.origin.x + i as Real * h;
                 let y0 = self.origin.y + j as Real * h;
                 let v = Vector::new(p.x - p.x.clamp(x0, x0 + h), p.y - p.y.clamp(y0, y0 + h));
-                let n = v.norm();
+                let n = v.norm_squared();
                 if n < best {
                     best = n;
                     towards = v;
                 }
             }
+            let best = best.sqrt();
             let g = if best > 0.0 {
                 towards / best
             } else {
@@ -258,7 +307,7 @@ impl GridModel {
                     if i >= 0 && (i as usize) < self.w {
                         let k = j as usize * self.w + i as usize;
                         if self.occupied(k) && self.on_boundary(i as usize, j as usize) {
-                            out.push(k as u32);
+                            out.push(i as u32 | (j as u32) << 16);
                         }
                     }
                     if dx == 0 {
@@ -283,12 +332,18 @@ impl GridModel {
 
     /// Distance from `p` to the closed square of cell `(i, j)`.
     fn square_distance(&self, p: &Point, i: usize, j: usize) -> Real {
+        self.square_distance2(p, i, j).sqrt()
+    }
+
+    /// Its square.
+    #[inline]
+    fn square_distance2(&self, p: &Point, i: usize, j: usize) -> Real {
         let h = self.cell;
         let x0 = self.origin.x + i as Real * h;
         let y0 = self.origin.y + j as Real * h;
         let dx = (x0 - p.x).max(p.x - x0 - h).max(0.0);
         let dy = (y0 - p.y).max(p.y - y0 - h).max(0.0);
-        (dx * dx + dy * dy).sqrt()
+        dx * dx + dy * dy
     }
 
     /// [`GridModel::exact`] by Chebyshev rings around cell `(ci, cj)` from the nearest out,

@@ -73,9 +73,14 @@ fn push_segment(
 /// spend in all. A curve whose clearance runs within `delta` of the margin along a stretch of
 /// length `L` needs about `L / delta` intervals to prove: along a corridor of nearly constant
 /// clearance (a robot of just under half its width) that ran for minutes. Past the budget a
-/// proof fails (unproven, never a false "clear") and a bracket's lower bound is the least
-/// of its open intervals' (sound, wider than `tol`).
+/// proof fails (unproven, never a false "clear"), and a bracket settles for a lower bound of
+/// half its upper one (sound, wider than `tol`: an aisle of constant clearance needs `L /
+/// tol` intervals for `tol`, a few per cell for half); past [`HARD_BUDGET`] times the
+/// budget it takes each open interval's lower bound as it is.
 pub const CHECKS_PER_INTERVAL: usize = 64;
+
+/// Past this many times its budget, a bracket stops splitting (see [`CHECKS_PER_INTERVAL`]).
+pub const HARD_BUDGET: usize = 16;
 
 /// Proves the intervals on `stack` more than `above` clear, as [`is_collision_free`] does
 /// with 0; unproven past [`CHECKS_PER_INTERVAL`] times the intervals it starts with.
@@ -173,7 +178,9 @@ pub fn min_clearance(spline: &Spline, model: &dyn ClearanceModel, tol: Real) -> 
         let e = (s1 - s0).powi(2) / 8.0 * a0.norm().max(a1.norm());
         let lower = model.segment_clearance_between(&p0, &p1, d0, d1) - e;
         best.checks += 1;
-        if lower >= best.upper - tol || depth >= 60 || best.checks >= budget {
+        let settle = best.checks >= HARD_BUDGET * budget
+            || (best.checks >= budget && lower >= 0.5 * best.upper);
+        if lower >= best.upper - tol || depth >= 60 || settle {
             best.lower = best.lower.min(lower);
             continue;
         }

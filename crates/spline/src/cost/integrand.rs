@@ -180,7 +180,9 @@ pub(super) fn safety_along(
     t: &mut CostTerms,
     grad: Option<&mut Vec<NodePartial>>,
 ) {
-    let e = |d: Real| cfg.omega.powf(cfg.dm - d);
+    // omega^(dm - d) as exp((dm - d) ln omega): one exp a node where powf took two logs' work.
+    let ln_omega = cfg.omega.ln();
+    let e = |d: Real| ((cfg.dm - d) * ln_omega).exp();
     let integral: Real = samples
         .nodes
         .iter()
@@ -189,7 +191,6 @@ pub(super) fn safety_along(
         .sum();
     t.safety = integral / scale;
     let Some(g) = grad else { return };
-    let ln_omega = cfg.omega.ln();
     for (n, f) in samples.nodes.iter().zip(field) {
         let ei = e(f.clearance);
         let w = cfg.w_safety * n.dt * ei / scale;
