@@ -18,6 +18,12 @@
 //!   clearances are the robot body's, so a point's distance to the nearest occupied cell is
 //!   at least `R` more).
 //!
+//! - `detour`: the worst, over planned scenarios, of the chosen class's length over the
+//!   shortest collision-free class of the same plan keeping 0.9 of its least clearance
+//!   (`--no-detour` plans without `PlanConfig::detour`, for the before and after);
+//!   `joined`: scenarios whose start and goal an independent witness joins for the disc
+//!   ([`witness_components`]); a joined scenario answered 'no route' fails the command.
+//!
 //! `--least-only` plans with the safety term of the least clearance only (`homospline_spline::CostConfig`'s
 //! `safety_along`), the map defaults before it: the before-and-after of docs/method.md.
 
@@ -34,6 +40,7 @@ pub struct Options {
     pub along: bool,
     pub weights: Vec<(String, Real)>,
     pub min_units: Option<usize>,
+    pub detour: bool,
 }
 
 /// Parses `[--sample N] [--robot-radius R] [--least-only] [--weight NAME=VALUE] SCEN...`.
@@ -45,6 +52,7 @@ pub fn parse(args: &[String]) -> Result<Options> {
         along: true,
         weights: Vec::new(),
         min_units: None,
+        detour: true,
     };
     let mut it = args.iter();
     while let Some(a) = it.next() {
@@ -64,6 +72,7 @@ pub fn parse(args: &[String]) -> Result<Options> {
                     .context("--robot-radius needs a finite number >= 0")?
             }
             "--least-only" => o.along = false,
+            "--no-detour" => o.detour = false,
             "--min-units" => {
                 o.min_units = it.next().and_then(|n| n.parse().ok());
             }
@@ -265,6 +274,17 @@ pub fn witness_components(map: &homospline_maps::OccupancyMap, radius: Real) -> 
         .collect()
 }
 
+/// How much longer the chosen class is than the shortest other collision-free class of the
+/// plan that keeps at least 0.9 of its least clearance (1 when none is shorter).
+pub fn detour_ratio(plan: &homospline_optim::Plan) -> Real {
+    let Some(c) = plan.chosen() else { return 1.0 };
+    plan.classes
+        .iter()
+        .filter(|o| o.collision_free && o.min_clearance >= 0.9 * c.min_clearance)
+        .map(|o| c.length / o.length)
+        .fold(1.0, Real::max)
+}
+
 /// Runs the command.
 pub fn run(o: &Options) -> Result<()> {
     println!(
@@ -274,7 +294,7 @@ pub fn run(o: &Options) -> Result<()> {
         if o.along { "on" } else { "off" }
     );
     println!(
-        "{:<28} {:>6} {:>6} {:>5} {:>7} {:>9} {:>10} {:>9} {:>9} {:>9}",
+        "{:<28} {:>6} {:>6} {:>5} {:>7} {:>9} {:>10} {:>9} {:>9} {:>9} {:>7}",
         "file",
         "picked",
         "keep",
@@ -284,11 +304,15 @@ pub fn run(o: &Options) -> Result<()> {
         "worst 10th",
         "len/oct",
         "clear",
-        "inner"
+        "inner",
+        "detour"
     );
     let mut refused_joined = 0;
     let mut cfg = homospline_maps::map_config();
     cfg.growth.cost.safety_along = o.along;
+    if !o.detour {
+        cfg.detour = None;
+    }
     if let Some(u) = o.min_units {
         cfg.growth.min_evaluations_per_round = u;
     }
@@ -312,6 +336,7 @@ pub fn run(o: &Options) -> Result<()> {
         // Per tenth of the cases (sorted by length): (planned, attempted).
         let mut tenths = [(0usize, 0usize); 10];
         let (mut ratios, mut clears, mut inners) = (Vec::new(), Vec::new(), Vec::new());
+        let mut detour: Real = 1.0;
         for (i, &(start, goal, optimal)) in cases.iter().enumerate() {
             let tenth = (10 * i / cases.len()).min(9);
             let witnessed = matches!((component(&start), component(&goal)), (Some(a), Some(b)) if a == b);
@@ -342,6 +367,7 @@ pub fn run(o: &Options) -> Result<()> {
                     };
                     let c = &plan.classes[b - 1];
                     tenths[tenth].0 += 1;
+                    detour = detour.max(detour_ratio(&plan));
                     ratios.push(c.length / optimal);
                     clears.push(c.min_clearance);
                     if let Some(m) =
@@ -360,7 +386,7 @@ pub fn run(o: &Options) -> Result<()> {
             .map(|t| t.0 as Real / t.1 as Real)
             .fold(Real::INFINITY, Real::min);
         println!(
-            "{:<28} {:>6} {:>6} {:>5} {:>7} {:>9} {:>9.0}% {:>9.4} {:>9.4} {:>9.4}",
+            "{:<28} {:>6} {:>6} {:>5} {:>7} {:>9} {:>9.0}% {:>9.4} {:>9.4} {:>9.4} {:>7.3}",
             map.name,
             picked,
             keep,
@@ -370,7 +396,8 @@ pub fn run(o: &Options) -> Result<()> {
             100.0 * worst,
             median(ratios),
             median(clears),
-            median(inners)
+            median(inners),
+            detour
         );
     }
     if refused_joined > 0 {

@@ -225,6 +225,9 @@ fn plan_map(
         )));
     };
     let radius = a.robot_radius.unwrap_or(0.0);
+    // A start or goal closer than the radius is bad input, whatever the map's free space.
+    map.check_endpoints_for(&s, &g, radius)
+        .map_err(|e| bad(e.to_string()))?;
     let prepared = match &a.graph {
         Some(p) => PreparedMap::with_graph(map, read_graph(p)?, radius)
             .map_err(|e| bad(format!("{}: {e}", p.display())))?,

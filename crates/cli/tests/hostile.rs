@@ -385,7 +385,7 @@ fn extreme_numbers_are_named_short() {
         ),
         (
             ["--start", "1.5,27.5", "--robot-radius", "1e300"],
-            "robot radius 1e300: must be",
+            "less than the robot radius 1e300",
         ),
     ] {
         let mut all = vec!["plan", map];

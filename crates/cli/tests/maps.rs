@@ -480,14 +480,18 @@ fn a_saved_map_graph_is_reused_only_at_its_robot_radius() {
             .output()
             .unwrap()
     };
-    // At 0.3 every free cell's centre keeps the radius (the nearest walls are half a cell
-    // from it, no less): the free space, and so the graph, is the map's own.
+    // A robot's free space is the half-cell lattice's points that keep its radius: at 0.3
+    // and 0.35 the same points (every lattice point is 0, 0.5, 0.707 or more from a wall),
+    // so one graph serves both.
     let g = graph("0.3");
     assert_ok(&plan(&g, "0.3"));
-    assert_ok(&plan(&g, "0"));
-    // At 0.6 the cells beside walls are closed: another free space, another graph.
-    let g = graph("0.6");
+    assert_ok(&plan(&g, "0.35"));
+    // A point robot's free space is the map's cells: another grid, another graph.
     let out = plan(&g, "0");
+    assert_eq!(out.status.code(), Some(2));
+    // At 0.6 the side midpoints next to walls are closed: another free space.
+    let g = graph("0.6");
+    let out = plan(&g, "0.3");
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8(out.stderr).unwrap();
     assert!(

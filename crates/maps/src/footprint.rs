@@ -406,7 +406,7 @@ impl Ord for Open {
 /// let w = widest_route(&map, &truth, Point::new(1.5, 2.5), Point::new(5.5, 2.5));
 /// // The gap is one cell wide: the widest route keeps half a cell, in the gap.
 /// assert_eq!(w.clearance, 0.5);
-/// assert_eq!(w.at.x, 3.5);
+/// assert!((3.0..=4.0).contains(&w.at.x) && w.at.y == 2.5);
 /// ```
 pub fn widest_route(map: &OccupancyMap, truth: &GridModel, start: Point, goal: Point) -> Widest {
     let lattice = Lattice::of(map);

@@ -505,6 +505,22 @@ impl OccupancyMap {
         Ok(c)
     }
 
+    /// Refuses a start or goal outside the map, in or on an occupied cell, or closer than
+    /// `radius` to an obstacle (naming its clearance): bad input, before any preparation.
+    pub fn check_endpoints_for(
+        &self,
+        start: &Point,
+        goal: &Point,
+        radius: Real,
+    ) -> Result<(), MapError> {
+        if !(radius.is_finite() && radius >= 0.0) {
+            return Err(MapError::Radius(radius));
+        }
+        self.check_endpoint_for("start", start, radius)?;
+        self.check_endpoint_for("goal", goal, radius)?;
+        Ok(())
+    }
+
     fn check_endpoint(&self, what: &'static str, p: &Point) -> Result<(), MapError> {
         let err = |problem: &str| MapError::Endpoint {
             what,
@@ -808,11 +824,7 @@ pub fn plan_map_for_robot(
     goal: Point,
     cfg: &PlanConfig,
 ) -> Result<(Plan, PreparedMap), MapError> {
-    if !(radius.is_finite() && radius >= 0.0) {
-        return Err(MapError::Radius(radius));
-    }
-    map.check_endpoint_for("start", &start, radius)?;
-    map.check_endpoint_for("goal", &goal, radius)?;
+    map.check_endpoints_for(&start, &goal, radius)?;
     let prepared = PreparedMap::for_robot(map, radius)?;
     let plan = prepared.plan(start, goal, cfg)?;
     Ok((plan, prepared))

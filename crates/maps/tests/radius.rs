@@ -1,7 +1,8 @@
 //! A disc robot on a map: the inflation and the cells a robot can stand in against brute
 //! force on seeded random maps, plans that keep the radius from every true occupied cell
 //! (exact segment-to-square distances, segment by segment), and the refusals (a start closer
-//! than the radius, naming its clearance; a saved graph of another radius; a bad radius).
+//! than the radius, naming its clearance; a saved graph of another radius; a bad radius);
+//! the half-cell lattice, diagonal corridors and the widest route against brute force.
 
 use homospline_geom::{Point, Real};
 use homospline_maps::{MapError, OccupancyMap, PreparedMap, plan_map_for_robot};
@@ -86,35 +87,268 @@ fn the_inflation_blocks_exactly_the_cells_whose_square_comes_closer_than_the_rad
     }
 }
 
+/// The least clearance of segment `a b` by brute force: samples every 1/64 cell, each less
+/// the most the clearance can dip before the next (conservative by at most 1/128 cell).
+fn segment_keeps(m: &OccupancyMap, a: Point, b: Point, radius: Real) -> bool {
+    let n = (64.0 * (b - a).norm() / m.cell).ceil().max(1.0) as usize;
+    let slack = 0.5 * (b - a).norm() / n as Real;
+    (0..=n).all(|k| point_clearance(m, a + (b - a) * (k as Real / n as Real)) >= radius + slack)
+}
+
 #[test]
-fn a_robot_stands_in_the_cells_whose_centre_keeps_its_radius() {
+fn a_robot_stands_on_the_lattice_points_that_keep_its_radius_and_rounds_staircase_corners() {
     for seed in 20..28 {
         let cell = if seed % 2 == 0 { 1.0 } else { 0.05 };
         let m = random_map(seed, 19, 15, 0.07, cell);
         for r in [0.4, 0.5, 1.0, 1.3, 2.0] {
             let radius = r * cell;
-            let prepared = PreparedMap::for_robot(&m, radius).unwrap();
+            let prepared = match PreparedMap::for_robot(&m, radius) {
+                Ok(p) => p,
+                Err(MapError::NoRoom(_)) => continue,
+                Err(e) => panic!("{e}"),
+            };
+            // The half-cell lattice: points every half cell from the map's corner, each the
+            // centre of a cell of the robot's map.
             let free = prepared.map();
-            for j in 0..m.height {
-                for i in 0..m.width {
-                    let k = j * m.width + i;
-                    let c = point_clearance(&m, centre(&m, i, j));
-                    // A centre at the radius to rounding (half a cell from a wall at
-                    // radius 0.5 cell) may go either way.
+            assert_eq!((free.width, free.height), (2 * m.width + 1, 2 * m.height + 1));
+            assert!((free.cell - 0.5 * cell).abs() < 1e-12);
+            let point = |u: usize, v: usize| {
+                Point::new(
+                    m.origin.x + u as Real * 0.5 * cell,
+                    m.origin.y + v as Real * 0.5 * cell,
+                )
+            };
+            let keeps = |u: usize, v: usize| point_clearance(&m, point(u, v)) >= radius;
+            for v in 0..free.height {
+                for u in 0..free.width {
+                    let c = point_clearance(&m, point(u, v));
+                    // A point at the radius to rounding may go either way.
                     if (c - radius).abs() <= 1e-9 * cell {
                         continue;
                     }
-                    let stands = !m.occupied[k] && c >= radius;
-                    assert_eq!(
-                        !free.occupied[k], stands,
-                        "seed {seed} radius {radius} cell ({i}, {j})"
-                    );
+                    let is_free = !free.occupied[v * free.width + u];
+                    if c >= radius {
+                        assert!(is_free, "seed {seed} radius {radius} point ({u}, {v})");
+                        continue;
+                    }
+                    if !is_free {
+                        continue;
+                    }
+                    // Freed below the radius: the corner of a diagonal join whose ends keep
+                    // the radius, along a segment that keeps it.
+                    let joins = [(-1i64, -1i64), (1, 1), (-1, 1), (1, -1)]
+                        .into_iter()
+                        .any(|(du, dv)| {
+                            // The diagonal through this point's two neighbours (u + du, v)
+                            // and (u, v + dv).
+                            let (a, b) = ((u as i64 + du, v as i64), (u as i64, v as i64 + dv));
+                            let inside = |(x, y): (i64, i64)| {
+                                x >= 0 && y >= 0 && (x as usize) < free.width && (y as usize) < free.height
+                            };
+                            inside(a)
+                                && inside(b)
+                                && keeps(a.0 as usize, a.1 as usize)
+                                && keeps(b.0 as usize, b.1 as usize)
+                                && segment_keeps(
+                                    &m,
+                                    point(a.0 as usize, a.1 as usize),
+                                    point(b.0 as usize, b.1 as usize),
+                                    radius - 1e-9 * cell,
+                                )
+                        });
+                    assert!(joins, "seed {seed} radius {radius}: point ({u}, {v}) freed for nothing");
                 }
             }
         }
     }
 }
 
+/// A MovingAI-style map of `n x n` cells whose free cells are the diagonals `i - j` in
+/// `[-a, b]`: a staircase corridor `(a + b) / sqrt 2` cells wide between its walls' corners.
+fn diagonal_corridor(a: i64, b: i64, n: usize) -> OccupancyMap {
+    OccupancyMap {
+        name: "diagonal".into(),
+        width: n,
+        height: n,
+        cell: 1.0,
+        origin: Point::origin(),
+        occupied: (0..n * n)
+            .map(|k| {
+                let d = (k % n) as i64 - (k / n) as i64;
+                !(-a..=b).contains(&d)
+            })
+            .collect(),
+        y_down: true,
+    }
+}
+
+#[test]
+fn a_diagonal_corridor_of_width_2r_plus_half_a_cell_is_driven() {
+    let cfg = homospline_maps::map_config();
+    for (a, b) in [(1, 1), (1, 2), (2, 2), (2, 3), (3, 3)] {
+        let m = diagonal_corridor(a, b, 40);
+        let width = (a + b) as Real / std::f64::consts::SQRT_2;
+        let radius = (width - 0.5) / 2.0;
+        // Start and goal on the corridor's middle line, on the half-cell lattice.
+        let mid = 0.5 * (b - a) as Real;
+        let (s, g) = (
+            Point::new(3.0 + mid, 3.0),
+            Point::new(36.0 + mid, 36.0),
+        );
+        let (plan, _) = plan_map_for_robot(&m, radius, s, g, &cfg)
+            .unwrap_or_else(|e| panic!("corridor {a}+{b} radius {radius}: {e}"));
+        let c = plan
+            .chosen()
+            .unwrap_or_else(|| panic!("corridor {a}+{b} radius {radius}: no plan"));
+        let d = track_clearance(&m, &c.path, radius + 2.0);
+        assert!(
+            d >= radius && c.collision_free,
+            "corridor {a}+{b}: the path keeps {d}, the robot needs {radius}"
+        );
+    }
+}
+
+#[test]
+fn a_two_cell_corridor_takes_a_disc_of_radius_just_under_one() {
+    // 30 x 6: a corridor of rows 2 and 3, walls above and below.
+    let (w, h) = (30, 6);
+    let m = OccupancyMap {
+        name: "two-cells".into(),
+        width: w,
+        height: h,
+        cell: 1.0,
+        origin: Point::origin(),
+        occupied: (0..w * h).map(|k| !(2..4).contains(&(k / w))).collect(),
+        y_down: true,
+    };
+    let cfg = homospline_maps::map_config();
+    let (plan, _) =
+        plan_map_for_robot(&m, 0.99, Point::new(2.0, 3.0), Point::new(28.0, 3.0), &cfg).unwrap();
+    let c = plan.chosen().expect("a plan for the disc");
+    assert!(track_clearance(&m, &c.path, 3.0) >= 0.99);
+    // At 1 the start itself keeps no more than the radius: bad input, named.
+    let e = plan_map_for_robot(&m, 1.0, Point::new(2.0, 3.0), Point::new(28.0, 3.0), &cfg)
+        .map(|_| ())
+        .unwrap_err();
+    assert!(matches!(e, MapError::Endpoint { .. }), "{e}");
+}
+
+/// The widest route between the centres of cells `s` and `g`, by brute force: a bottleneck
+/// search over the lattice of eighth cells, every node's clearance and every step's (sampled,
+/// conservative by 1/128 cell) by brute force.
+fn brute_widest(m: &OccupancyMap, s: (usize, usize), g: (usize, usize)) -> Real {
+    let n = 8usize;
+    let (cols, rows) = (n * m.width + 1, n * m.height + 1);
+    let pt = |u: usize, v: usize| {
+        Point::new(
+            m.origin.x + u as Real * m.cell / n as Real,
+            m.origin.y + v as Real * m.cell / n as Real,
+        )
+    };
+    let clear: Vec<Real> = (0..cols * rows)
+        .map(|k| point_clearance(m, pt(k % cols, k / cols)))
+        .collect();
+    let step = |a: usize, b: usize| {
+        let (pa, pb) = (pt(a % cols, a / cols), pt(b % cols, b / cols));
+        let k = 16;
+        let slack = 0.5 * (pb - pa).norm() / k as Real;
+        (0..=k)
+            .map(|i| point_clearance(m, pa + (pb - pa) * (i as Real / k as Real)) - slack)
+            .fold(Real::INFINITY, Real::min)
+            .max(0.0)
+    };
+    let (ks, kg) = (
+        (n * s.1 + n / 2) * cols + n * s.0 + n / 2,
+        (n * g.1 + n / 2) * cols + n * g.0 + n / 2,
+    );
+    let mut best = vec![-1.0; cols * rows];
+    best[ks] = clear[ks];
+    let mut heap = std::collections::BinaryHeap::new();
+    heap.push((ordered(clear[ks]), ks));
+    while let Some((w, k)) = heap.pop() {
+        let w = w as Real / 1e12;
+        if w < best[k] {
+            continue;
+        }
+        if k == kg {
+            return w;
+        }
+        let (u, v) = ((k % cols) as i64, (k / cols) as i64);
+        for (du, dv) in [(1i64, 0i64), (-1, 0), (0, 1), (0, -1), (1, 1), (-1, -1), (1, -1), (-1, 1)] {
+            let (nu, nv) = (u + du, v + dv);
+            if nu < 0 || nv < 0 || nu >= cols as i64 || nv >= rows as i64 {
+                continue;
+            }
+            let m2 = nv as usize * cols + nu as usize;
+            let b = w.min(clear[m2]).min(step(k, m2));
+            if b > best[m2] {
+                best[m2] = b;
+                heap.push((ordered(b), m2));
+            }
+        }
+    }
+    0.0
+}
+
+fn ordered(x: Real) -> u64 {
+    (x * 1e12).round() as u64
+}
+
+#[test]
+fn no_route_names_the_widest_route_as_brute_force_finds_it() {
+    use homospline_maps::footprint::widest_route;
+    let cfg = homospline_maps::map_config();
+    let mut checked = 0;
+    for seed in 40..52 {
+        let m = random_map(seed, 12, 9, 0.22, 1.0);
+        let free: Vec<(usize, usize)> = (0..m.width * m.height)
+            .filter(|&k| !m.occupied[k])
+            .map(|k| (k % m.width, k / m.width))
+            .collect();
+        let (s, g) = (free[0], free[free.len() - 1]);
+        let (ps, pg) = (centre(&m, s.0, s.1), centre(&m, g.0, g.1));
+        let prepared = PreparedMap::new(&m).unwrap();
+        let ours = widest_route(&m, &prepared.model, ps, pg);
+        let brute = brute_widest(&m, s, g);
+        // Ours is a real route: the finer lattice, which holds it, finds it or a wider one
+        // (less the brute force's own slack of 1/128 cell).
+        assert!(
+            ours.clearance <= brute + 1.0 / 128.0 + 1e-9,
+            "seed {seed}: ours {} > brute force {brute}",
+            ours.clearance
+        );
+        // And no wider route exists than ours by more than the lattice can miss: every
+        // narrowest point of free space lies on the half-cell lattice.
+        assert!(
+            brute - ours.clearance <= 1e-9,
+            "seed {seed}: brute force finds {brute}, ours {}",
+            ours.clearance
+        );
+        // A robot a little narrower than the widest route gets a route; a little wider, the
+        // answer names the widest route.
+        let w = ours.clearance;
+        if w > 0.1 {
+            for (radius, routed) in [(w - 0.05, true), (w + 0.05, false)] {
+                let end_clear = point_clearance(&m, ps).min(point_clearance(&m, pg));
+                if end_clear <= radius {
+                    continue;
+                }
+                let r = PreparedMap::for_robot(&m, radius).and_then(|p| p.plan(ps, pg, &cfg));
+                match r {
+                    Err(MapError::NoRoute { widest, .. }) => {
+                        assert!(!routed, "seed {seed} radius {radius}: no route, widest {widest:?}");
+                        assert!((widest.clearance - w).abs() < 1e-9);
+                    }
+                    Err(MapError::NoRoom(_)) => assert!(!routed),
+                    Err(e) => panic!("seed {seed} radius {radius}: {e}"),
+                    Ok(_) => assert!(routed, "seed {seed} radius {radius}: planned past {w}"),
+                }
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked >= 6, "only {checked} radii checked");
+}
 /// A 60 x 40 room with pillars and a wall with two doors of 5 cells.
 fn room() -> OccupancyMap {
     let (w, h) = (60, 40);
@@ -195,10 +429,10 @@ fn a_start_closer_than_the_radius_is_refused_with_its_clearance() {
         e.to_string().contains("goal") && e.to_string().contains("has clearance 0.6000"),
         "{e}"
     );
-    // A radius that no cell keeps leaves no free space: refused, not a graph without edges.
+    // A radius that no point keeps leaves no free space: no route, not a graph without edges.
     assert!(matches!(
         PreparedMap::for_robot(&m, 1e6).map(|_| ()),
-        Err(MapError::Radius(_))
+        Err(MapError::NoRoom(_))
     ));
     for bad in [-1.0, Real::NAN, Real::INFINITY] {
         assert!(matches!(
