@@ -205,7 +205,7 @@ fn cases_of(
 }
 
 /// A witness of the disc's free space independent of the planner's lattice: per cell
-/// centre, its component among the centres that keep `radius` (exact clearance), 8-neighbours
+/// centre, its component among the centres that keep more than `radius` (exact clearance), 8-neighbours
 /// joined where their segment keeps it (sampled every 1/64 cell, each sample asked for
 /// `radius` plus the most the clearance can dip between two samples). Conservative: centres
 /// it joins are joined for the disc. `None` for a centre that does not keep the radius.
@@ -227,19 +227,19 @@ pub fn witness_components(map: &homospline_maps::OccupancyMap, radius: Real) -> 
             }
         })
         .collect();
-    let keeps: Vec<bool> = clear.iter().map(|&c| c >= radius.max(1e-12)).collect();
+    let keeps: Vec<bool> = clear.iter().map(|&c| c > radius).collect();
     let segment_keeps = |ka: usize, kb: usize| {
         let (a, b) = (centre(ka % w, ka / w), centre(kb % w, kb / w));
         // A point of the segment is within half its length of an end: it keeps at least
         // (d(a) + d(b) - |ab|) / 2 (the clearance is 1-Lipschitz).
-        if 0.5 * (clear[ka] + clear[kb] - (b - a).norm()) >= radius {
+        if 0.5 * (clear[ka] + clear[kb] - (b - a).norm()) > radius {
             return true;
         }
         let n = 64 * ((b - a).norm() / map.cell).ceil().max(1.0) as usize;
         let slack = 0.5 * (b - a).norm() / n as Real;
         (0..=n).all(|k| {
             map.clearance_within(&(a + (b - a) * (k as Real / n as Real)), reach)
-                >= radius + slack
+                > radius + slack
         })
     };
     let mut parent: Vec<usize> = (0..w * h).collect();

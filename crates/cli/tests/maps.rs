@@ -556,3 +556,32 @@ fn map_classes_print_as_short_distinct_ids_that_avoid_takes() {
     );
     assert!(again.contains(&ids[1]), "{again}");
 }
+
+#[test]
+fn no_route_for_the_robot_is_no_plan_naming_the_widest_route() {
+    // room-32-32-4's doors are one cell wide: a disc of radius 1 passes none of them.
+    let out = homospline()
+        .args(["plan", "fixtures/maps/movingai/room-32-32-4.map"])
+        .args(["--start", "2.5,2.5", "--goal", "30.5,30.5", "--robot-radius", "1"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("no route for a robot of radius 1: the widest route between start and goal keeps 0.5 at"),
+        "{err}"
+    );
+    // A door a disc of 0.5 fits through (its sides' midpoints keep exactly 0.5): a plan,
+    // certified, and `safe` judged by the map's own dm.
+    let json = tmp("room-r049.json");
+    let out = homospline()
+        .args(["plan", "fixtures/maps/movingai/room-32-32-4.map"])
+        .args(["--start", "2.5,2.5", "--goal", "30.5,30.5", "--robot-radius", "0.49"])
+        .args(["--json", json.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let v = read_json(&json);
+    assert_eq!(v["dm"], 0.25);
+    assert!(v["dm_why"].as_str().unwrap().contains("map default"), "{v}");
+}

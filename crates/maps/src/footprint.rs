@@ -5,8 +5,9 @@
 //! # The lattice
 //! Occupied cells are closed squares with corners on the integer lattice (in cells). The
 //! clearance `d(p)` of a point is its distance to the nearest of them or to the map's edge.
-//! A disc of radius `R` can stand at `p` exactly when `d(p) >= R`, and it can drive from `S`
-//! to `T` exactly when a curve joins them along which `d >= R`.
+//! A disc of radius `R` stands clear at `p` exactly when `d(p) > R` (touching a wall is not
+//! clear of it), and it can drive from `S` to `T` exactly when a curve joins them along
+//! which `d > R`.
 //!
 //! The robot's free space is sampled on the *half-cell lattice*: cell corners, side midpoints
 //! and centres (points `k/2` cells from the origin). Every narrowest point of free space (a
@@ -238,7 +239,7 @@ fn segment_meets_box(a: &Point, b: &Point, lo: &Point, hi: &Point) -> bool {
     true
 }
 
-/// Per lattice point (row-major), whether it keeps `radius` (map units, `> 0`) from every
+/// Per lattice point (row-major), whether it keeps more than `radius` (map units, `> 0`) from every
 /// occupied cell and from the edge. `square` is [`OccupancyMap::square_distances`] (squared
 /// cells from each cell's square to the nearest obstacle): a point on a cell's closed square
 /// is at least that far, and at most a diagonal farther, so only the points between are
@@ -281,12 +282,13 @@ fn keeps(
             if blocked {
                 continue;
             }
-            out[v * lattice.cols + u] = if lower >= reach {
+            // More than the radius: a disc that touches a wall is not clear of it.
+            out[v * lattice.cols + u] = if lower > reach {
                 true
-            } else if lower + std::f64::consts::SQRT_2 < reach {
+            } else if lower + std::f64::consts::SQRT_2 <= reach {
                 false
             } else {
-                truth.exact(&p) >= radius
+                truth.exact(&p) > radius
             };
         }
     }
@@ -322,7 +324,7 @@ pub(crate) fn free_space(
                 }
                 let (pa, pb) = (point_of(&lattice, a), point_of(&lattice, b));
                 let joined = !lattice.diagonal_can_dip(u, v)
-                    || segment_clearance(map, &pa, &pb, reach) >= radius;
+                    || segment_clearance(map, &pa, &pb, reach) > radius;
                 if joined {
                     let (ps, pt) = (point_of(&lattice, s), point_of(&lattice, t));
                     let open = if truth.exact(&ps) >= truth.exact(&pt) {

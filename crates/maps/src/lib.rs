@@ -232,7 +232,7 @@ fn no_route_message(radius: Real, widest: &footprint::Widest) -> String {
     }
     format!(
         "no route for a robot of radius {}: the widest route between start and goal keeps \
-         {} at ({}, {}); the robot needs {}",
+         {} at ({}, {}); the robot needs more than {}",
         Num(radius),
         Num(round4(w)),
         Num(round4(widest.at.x)),

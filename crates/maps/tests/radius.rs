@@ -92,7 +92,7 @@ fn the_inflation_blocks_exactly_the_cells_whose_square_comes_closer_than_the_rad
 fn segment_keeps(m: &OccupancyMap, a: Point, b: Point, radius: Real) -> bool {
     let n = (64.0 * (b - a).norm() / m.cell).ceil().max(1.0) as usize;
     let slack = 0.5 * (b - a).norm() / n as Real;
-    (0..=n).all(|k| point_clearance(m, a + (b - a) * (k as Real / n as Real)) >= radius + slack)
+    (0..=n).all(|k| point_clearance(m, a + (b - a) * (k as Real / n as Real)) > radius + slack)
 }
 
 #[test]
@@ -118,7 +118,7 @@ fn a_robot_stands_on_the_lattice_points_that_keep_its_radius_and_rounds_staircas
                     m.origin.y + v as Real * 0.5 * cell,
                 )
             };
-            let keeps = |u: usize, v: usize| point_clearance(&m, point(u, v)) >= radius;
+            let keeps = |u: usize, v: usize| point_clearance(&m, point(u, v)) > radius;
             for v in 0..free.height {
                 for u in 0..free.width {
                     let c = point_clearance(&m, point(u, v));
@@ -127,7 +127,7 @@ fn a_robot_stands_on_the_lattice_points_that_keep_its_radius_and_rounds_staircas
                         continue;
                     }
                     let is_free = !free.occupied[v * free.width + u];
-                    if c >= radius {
+                    if c > radius {
                         assert!(is_free, "seed {seed} radius {radius} point ({u}, {v})");
                         continue;
                     }
