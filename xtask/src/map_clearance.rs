@@ -238,8 +238,7 @@ pub fn witness_components(map: &homospline_maps::OccupancyMap, radius: Real) -> 
         let n = 64 * ((b - a).norm() / map.cell).ceil().max(1.0) as usize;
         let slack = 0.5 * (b - a).norm() / n as Real;
         (0..=n).all(|k| {
-            map.clearance_within(&(a + (b - a) * (k as Real / n as Real)), reach)
-                > radius + slack
+            map.clearance_within(&(a + (b - a) * (k as Real / n as Real)), reach) > radius + slack
         })
     };
     let mut parent: Vec<usize> = (0..w * h).collect();
@@ -339,7 +338,8 @@ pub fn run(o: &Options) -> Result<()> {
         let mut detour: Real = 1.0;
         for (i, &(start, goal, optimal)) in cases.iter().enumerate() {
             let tenth = (10 * i / cases.len()).min(9);
-            let witnessed = matches!((component(&start), component(&goal)), (Some(a), Some(b)) if a == b);
+            let witnessed =
+                matches!((component(&start), component(&goal)), (Some(a), Some(b)) if a == b);
             joined += usize::from(witnessed);
             match prepared.plan(start, goal, &cfg) {
                 Err(MapError::Endpoint { problem, .. }) if problem.contains("robot radius") => {}

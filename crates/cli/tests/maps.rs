@@ -562,13 +562,22 @@ fn no_route_for_the_robot_is_no_plan_naming_the_widest_route() {
     // room-32-32-4's doors are one cell wide: a disc of radius 1 passes none of them.
     let out = homospline()
         .args(["plan", "fixtures/maps/movingai/room-32-32-4.map"])
-        .args(["--start", "2.5,2.5", "--goal", "30.5,30.5", "--robot-radius", "1"])
+        .args([
+            "--start",
+            "2.5,2.5",
+            "--goal",
+            "30.5,30.5",
+            "--robot-radius",
+            "1",
+        ])
         .output()
         .unwrap();
     let err = String::from_utf8(out.stderr).unwrap();
     assert_eq!(out.status.code(), Some(1), "{err}");
     assert!(
-        err.contains("no route for a robot of radius 1: the widest route between start and goal keeps 0.5 at"),
+        err.contains(
+            "no route for a robot of radius 1: the widest route between start and goal keeps 0.5 at"
+        ),
         "{err}"
     );
     // A door a disc of 0.5 fits through (its sides' midpoints keep exactly 0.5): a plan,
@@ -576,7 +585,14 @@ fn no_route_for_the_robot_is_no_plan_naming_the_widest_route() {
     let json = tmp("room-r049.json");
     let out = homospline()
         .args(["plan", "fixtures/maps/movingai/room-32-32-4.map"])
-        .args(["--start", "2.5,2.5", "--goal", "30.5,30.5", "--robot-radius", "0.49"])
+        .args([
+            "--start",
+            "2.5,2.5",
+            "--goal",
+            "30.5,30.5",
+            "--robot-radius",
+            "0.49",
+        ])
         .args(["--json", json.to_str().unwrap()])
         .output()
         .unwrap();

@@ -70,10 +70,7 @@ impl Lattice {
                 cols: map.width,
                 rows: map.height,
                 step: map.cell,
-                first: Point::new(
-                    map.origin.x + 0.5 * map.cell,
-                    map.origin.y + 0.5 * map.cell,
-                ),
+                first: Point::new(map.origin.x + 0.5 * map.cell, map.origin.y + 0.5 * map.cell),
                 half: false,
             }
         }
@@ -473,7 +470,10 @@ pub fn widest_route(map: &OccupancyMap, truth: &GridModel, start: Point, goal: P
                 let dips = du != 0
                     && dv != 0
                     && lattice.diagonal_can_dip(u.min(nu) as usize, v.min(nv) as usize);
-                next.push((nv as usize * lattice.cols + nu as usize, dips.then_some((0.0, at_k))));
+                next.push((
+                    nv as usize * lattice.cols + nu as usize,
+                    dips.then_some((0.0, at_k)),
+                ));
             }
             if goal_corners.contains(&((u as usize), (v as usize))) {
                 next.push((g_id, Some((0.0, at_k))));
@@ -542,7 +542,10 @@ mod tests {
         let a = Point::new(1.5, 1.0);
         let b = Point::new(2.0, 1.5);
         let c = segment_clearance(&map, &a, &b, 10.0);
-        assert!((c - 0.5 * std::f64::consts::FRAC_1_SQRT_2).abs() < 1e-12, "{c}");
+        assert!(
+            (c - 0.5 * std::f64::consts::FRAC_1_SQRT_2).abs() < 1e-12,
+            "{c}"
+        );
         // Both ends keep half a cell.
         let grid = map.to_grid().unwrap();
         let truth = GridModel::new(&grid, &DistanceField::build(&grid));

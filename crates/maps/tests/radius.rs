@@ -110,7 +110,10 @@ fn a_robot_stands_on_the_lattice_points_that_keep_its_radius_and_rounds_staircas
             // The half-cell lattice: points every half cell from the map's corner, each the
             // centre of a cell of the robot's map.
             let free = prepared.map();
-            assert_eq!((free.width, free.height), (2 * m.width + 1, 2 * m.height + 1));
+            assert_eq!(
+                (free.width, free.height),
+                (2 * m.width + 1, 2 * m.height + 1)
+            );
             assert!((free.cell - 0.5 * cell).abs() < 1e-12);
             let point = |u: usize, v: usize| {
                 Point::new(
@@ -136,27 +139,34 @@ fn a_robot_stands_on_the_lattice_points_that_keep_its_radius_and_rounds_staircas
                     }
                     // Freed below the radius: the corner of a diagonal join whose ends keep
                     // the radius, along a segment that keeps it.
-                    let joins = [(-1i64, -1i64), (1, 1), (-1, 1), (1, -1)]
-                        .into_iter()
-                        .any(|(du, dv)| {
-                            // The diagonal through this point's two neighbours (u + du, v)
-                            // and (u, v + dv).
-                            let (a, b) = ((u as i64 + du, v as i64), (u as i64, v as i64 + dv));
-                            let inside = |(x, y): (i64, i64)| {
-                                x >= 0 && y >= 0 && (x as usize) < free.width && (y as usize) < free.height
-                            };
-                            inside(a)
-                                && inside(b)
-                                && keeps(a.0 as usize, a.1 as usize)
-                                && keeps(b.0 as usize, b.1 as usize)
-                                && segment_keeps(
-                                    &m,
-                                    point(a.0 as usize, a.1 as usize),
-                                    point(b.0 as usize, b.1 as usize),
-                                    radius - 1e-9 * cell,
-                                )
-                        });
-                    assert!(joins, "seed {seed} radius {radius}: point ({u}, {v}) freed for nothing");
+                    let joins =
+                        [(-1i64, -1i64), (1, 1), (-1, 1), (1, -1)]
+                            .into_iter()
+                            .any(|(du, dv)| {
+                                // The diagonal through this point's two neighbours (u + du, v)
+                                // and (u, v + dv).
+                                let (a, b) = ((u as i64 + du, v as i64), (u as i64, v as i64 + dv));
+                                let inside = |(x, y): (i64, i64)| {
+                                    x >= 0
+                                        && y >= 0
+                                        && (x as usize) < free.width
+                                        && (y as usize) < free.height
+                                };
+                                inside(a)
+                                    && inside(b)
+                                    && keeps(a.0 as usize, a.1 as usize)
+                                    && keeps(b.0 as usize, b.1 as usize)
+                                    && segment_keeps(
+                                        &m,
+                                        point(a.0 as usize, a.1 as usize),
+                                        point(b.0 as usize, b.1 as usize),
+                                        radius - 1e-9 * cell,
+                                    )
+                            });
+                    assert!(
+                        joins,
+                        "seed {seed} radius {radius}: point ({u}, {v}) freed for nothing"
+                    );
                 }
             }
         }
@@ -191,10 +201,7 @@ fn a_diagonal_corridor_of_width_2r_plus_half_a_cell_is_driven() {
         let radius = (width - 0.5) / 2.0;
         // Start and goal on the corridor's middle line, on the half-cell lattice.
         let mid = 0.5 * (b - a) as Real;
-        let (s, g) = (
-            Point::new(3.0 + mid, 3.0),
-            Point::new(36.0 + mid, 36.0),
-        );
+        let (s, g) = (Point::new(3.0 + mid, 3.0), Point::new(36.0 + mid, 36.0));
         let (plan, _) = plan_map_for_robot(&m, radius, s, g, &cfg)
             .unwrap_or_else(|e| panic!("corridor {a}+{b} radius {radius}: {e}"));
         let c = plan
@@ -274,7 +281,16 @@ fn brute_widest(m: &OccupancyMap, s: (usize, usize), g: (usize, usize)) -> Real 
             return w;
         }
         let (u, v) = ((k % cols) as i64, (k / cols) as i64);
-        for (du, dv) in [(1i64, 0i64), (-1, 0), (0, 1), (0, -1), (1, 1), (-1, -1), (1, -1), (-1, 1)] {
+        for (du, dv) in [
+            (1i64, 0i64),
+            (-1, 0),
+            (0, 1),
+            (0, -1),
+            (1, 1),
+            (-1, -1),
+            (1, -1),
+            (-1, 1),
+        ] {
             let (nu, nv) = (u + du, v + dv);
             if nu < 0 || nv < 0 || nu >= cols as i64 || nv >= rows as i64 {
                 continue;
@@ -336,7 +352,10 @@ fn no_route_names_the_widest_route_as_brute_force_finds_it() {
                 let r = PreparedMap::for_robot(&m, radius).and_then(|p| p.plan(ps, pg, &cfg));
                 match r {
                     Err(MapError::NoRoute { widest, .. }) => {
-                        assert!(!routed, "seed {seed} radius {radius}: no route, widest {widest:?}");
+                        assert!(
+                            !routed,
+                            "seed {seed} radius {radius}: no route, widest {widest:?}"
+                        );
                         assert!((widest.clearance - w).abs() < 1e-9);
                     }
                     Err(MapError::NoRoom(_)) => assert!(!routed),

@@ -45,8 +45,8 @@ mod world;
 
 pub use class::DENSE_SEED_SHARE;
 pub use config::{
-    DEFAULT_FINISH_WITHIN, DEFAULT_PRUNE, DIVERSE_CANDIDATES, DM_RULE_SHARE, Detour,
-    MAX_THREADS, PlanConfig, PlanError, Seed,
+    DEFAULT_FINISH_WITHIN, DEFAULT_PRUNE, DIVERSE_CANDIDATES, DM_RULE_SHARE, Detour, MAX_THREADS,
+    PlanConfig, PlanError, Seed,
 };
 pub use report::{ClassPlan, Plan, Timing};
 pub use via::SEED_MAX_GAP;

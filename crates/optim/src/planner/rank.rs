@@ -45,7 +45,9 @@ pub(super) fn rank(
     let Some(first) = classes.iter().position(|c| choosable(c, cfg)) else {
         return (classes, None);
     };
-    let chosen = cfg.detour.map_or(first, |d| without_detour(&classes, first, d, cfg));
+    let chosen = cfg
+        .detour
+        .map_or(first, |d| without_detour(&classes, first, d, cfg));
     if chosen != first {
         // The class chosen instead ranks just before the one it replaced.
         let c = classes.remove(chosen);
@@ -60,7 +62,12 @@ pub(super) fn rank(
 /// [`PlanConfig::detour`]: from the class at `from` (choosable), the class that replaces it,
 /// step by step, while a choosable class is more than `d.length_ratio` times shorter and
 /// keeps `d.clearance_share` of its clearance (the first such in rank order at each step).
-fn without_detour(classes: &[ClassPlan], from: usize, d: super::config::Detour, cfg: &PlanConfig) -> usize {
+fn without_detour(
+    classes: &[ClassPlan],
+    from: usize,
+    d: super::config::Detour,
+    cfg: &PlanConfig,
+) -> usize {
     let mut chosen = from;
     loop {
         let c = &classes[chosen];
