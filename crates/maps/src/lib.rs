@@ -92,8 +92,9 @@ pub fn map_config() -> PlanConfig {
     cfg
 }
 
-/// L-BFGS on maps stops at a step that lowers the cost by less than this share.
-pub const LBFGS_VALUE_TOLERANCE: Real = 1e-4;
+/// L-BFGS on maps stops at a step that lowers the cost by less than this share of it: the
+/// last steps of a round bought less and ran its budget out (docs/method.md, 5.5).
+pub const LBFGS_VALUE_TOLERANCE: Real = 1e-3;
 
 /// The default `dm` on maps, in cells ([`PlanConfig::map_dm`]): a path that keeps a quarter
 /// of a cell (beyond the robot's radius) from every occupied cell is `safe`. A map places a
