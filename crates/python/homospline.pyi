@@ -129,7 +129,13 @@ def plan_map(
 ) -> Plan:
     """Plans on a 2-D bool occupancy array (True = occupied; rows are y, columns x; y up
     from `origin` as in ROS, or rows down the page with `y_down=True`). `robot_radius`
-    (map units) is kept from every occupied cell and the array's edge."""
+    (map units) is kept from every occupied cell and the array's edge. Raises `NoRoute`
+    when no route at that radius joins start and goal, `ValueError` for bad input (a start
+    or goal closer than the radius among it)."""
+
+class NoRoute(ValueError):
+    """No route joins start and goal for the robot at its radius; the message names the
+    widest route's least clearance and where it is."""
 
 def build_graph(scene: Scene, resolution: Optional[float] = None) -> Graph:
     """The Voronoi graph of a scene, start and goal attached."""

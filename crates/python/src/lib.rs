@@ -486,8 +486,22 @@ fn plan_map(
     }
     py.detach(|| homospline_maps::plan_map_for_robot(&map, robot_radius, s, g, &cfg))
         .map(|(inner, _)| PyPlan { inner })
-        .map_err(|e| bad(e.to_string()))
+        .map_err(|e| match e {
+            // An answer, not bad input: its own exception (a `ValueError` still).
+            homospline_maps::MapError::NoRoute { .. } | homospline_maps::MapError::NoRoom(_) => {
+                NoRoute::new_err(e.to_string())
+            }
+            e => bad(e.to_string()),
+        })
 }
+
+pyo3::create_exception!(
+    homospline,
+    NoRoute,
+    PyValueError,
+    "No route joins start and goal for the robot at its radius (`plan MAP` exits 1): the \
+     message names the widest route's least clearance and where it is."
+);
 
 /// Runs the mission of a world file, on a scene or an occupancy map (`homospline simulate`),
 /// and returns its JSON as a dict.
@@ -587,6 +601,7 @@ fn homospline(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(bench_scen, m)?)?;
     m.add_function(wrap_pyfunction!(bench_summary, m)?)?;
+    m.add("NoRoute", m.py().get_type::<NoRoute>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -86,6 +86,14 @@ def test_plan_map_with_a_robot_radius_equals_the_cli_and_refuses_a_start_too_nea
         homospline.plan_map(grid, (1.5, 1.5), (30.5, 30.5), y_down=True, robot_radius=-1.0)
 
 
+def test_no_route_for_the_robot_is_its_own_exception_naming_the_widest_route():
+    grid = movingai_array(ROOT / "fixtures/maps/movingai/room-32-32-4.map")
+    # The rooms' doors are one cell wide: a disc of radius 1 passes none.
+    with pytest.raises(homospline.NoRoute, match="the widest route between start and goal keeps 0.5 at"):
+        homospline.plan_map(grid, (2.5, 2.5), (30.5, 30.5), y_down=True, robot_radius=1.0)
+    assert issubclass(homospline.NoRoute, ValueError)
+
+
 def test_results_are_numpy_arrays_of_points():
     p = homospline.plan(homospline.Scene.example(), classes=3)
     assert p.best == 1
