@@ -61,8 +61,21 @@ pub fn cast_ray_circle(origin: &Point, dir: &Vector, c: &Circle, max_toi: Real) 
     (t <= max_toi).then_some(t)
 }
 
-/// Distance from the segment `[a, b]` to an axis-aligned box; 0 when they meet.
-fn distance_segment_aabb(a: &Point, b: &Point, mins: &Point, maxs: &Point) -> Real {
+/// Distance from the segment `[a, b]` to the closed axis-aligned box `[mins, maxs]`; 0 when
+/// they meet (Liang-Barsky clipping, else the least of the ends' distances to the box and
+/// the corners' to the segment: two disjoint convex sets are nearest at a vertex of one).
+///
+/// # Examples
+/// ```
+/// use homospline_geom::Point;
+/// use homospline_geom::query::distance_segment_aabb;
+///
+/// let (lo, hi) = (Point::new(1.0, -1.0), Point::new(2.0, 0.0));
+/// // Round the box's corner (1, 0): the segment passes it at sqrt(2) / 4.
+/// let d = distance_segment_aabb(&Point::new(0.5, 0.0), &Point::new(1.0, 0.5), &lo, &hi);
+/// assert!((d - 2f64.sqrt() / 4.0).abs() < 1e-12);
+/// ```
+pub fn distance_segment_aabb(a: &Point, b: &Point, mins: &Point, maxs: &Point) -> Real {
     // Liang-Barsky clip: does the segment enter the box?
     let d = b - a;
     let (mut t0, mut t1) = (0.0_f64, 1.0_f64);

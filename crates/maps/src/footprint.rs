@@ -172,68 +172,10 @@ pub fn segment_clearance(map: &OccupancyMap, a: &Point, b: &Point, reach: Real) 
     best
 }
 
-/// Distance from the segment `a b` to the closed square `[lo, lo + side]^2`: 0 where they
-/// meet; else, two disjoint convex sets being nearest at a vertex of one of them, the least
-/// of the ends' distances to the square and the corners' distances to the segment.
+/// Distance from the segment `a b` to the closed square `[lo, lo + side]^2`.
 fn segment_box_distance(a: &Point, b: &Point, lo: &Point, side: Real) -> Real {
     let hi = Point::new(lo.x + side, lo.y + side);
-    if segment_meets_box(a, b, lo, &hi) {
-        return 0.0;
-    }
-    let to_box = |p: &Point| {
-        let dx = (lo.x - p.x).max(0.0).max(p.x - hi.x);
-        let dy = (lo.y - p.y).max(0.0).max(p.y - hi.y);
-        (dx * dx + dy * dy).sqrt()
-    };
-    let ab = b - a;
-    let len2 = ab.norm_squared();
-    let to_segment = |q: Point| {
-        let t = if len2 > 0.0 {
-            ((q - a).dot(&ab) / len2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        (a + ab * t - q).norm()
-    };
-    [
-        to_box(a),
-        to_box(b),
-        to_segment(*lo),
-        to_segment(hi),
-        to_segment(Point::new(lo.x, hi.y)),
-        to_segment(Point::new(hi.x, lo.y)),
-    ]
-    .into_iter()
-    .fold(Real::INFINITY, Real::min)
-}
-
-/// Whether the segment `a b` meets the closed box `[lo, hi]` (Liang-Barsky clipping).
-fn segment_meets_box(a: &Point, b: &Point, lo: &Point, hi: &Point) -> bool {
-    let (mut t0, mut t1) = (0.0, 1.0);
-    let d = b - a;
-    for (p, q) in [
-        (-d.x, a.x - lo.x),
-        (d.x, hi.x - a.x),
-        (-d.y, a.y - lo.y),
-        (d.y, hi.y - a.y),
-    ] {
-        if p == 0.0 {
-            if q < 0.0 {
-                return false;
-            }
-        } else {
-            let r = q / p;
-            if p < 0.0 {
-                t0 = Real::max(t0, r);
-            } else {
-                t1 = Real::min(t1, r);
-            }
-            if t0 > t1 {
-                return false;
-            }
-        }
-    }
-    true
+    homospline_geom::query::distance_segment_aabb(a, b, lo, &hi)
 }
 
 /// Per lattice point (row-major), whether it keeps more than `radius` (map units, `> 0`) from every
