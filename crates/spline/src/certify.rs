@@ -73,14 +73,18 @@ fn push_segment(
 /// spend in all. A curve whose clearance runs within `delta` of the margin along a stretch of
 /// length `L` needs about `L / delta` intervals to prove: along a corridor of nearly constant
 /// clearance (a robot of just under half its width) that ran for minutes. Past the budget a
-/// proof fails (unproven, never a false "clear"), and a bracket settles for a lower bound of
-/// half its upper one (sound, wider than `tol`: an aisle of constant clearance needs `L /
-/// tol` intervals for `tol`, a few per cell for half); past [`HARD_BUDGET`] times the
-/// budget it takes each open interval's lower bound as it is.
+/// proof fails (unproven, never a false "clear"), and a bracket settles for a lower bound
+/// within [`SETTLE_SHARE`] of its upper one (sound, wider than `tol`: an aisle of constant
+/// clearance `c` needs about `L / tol` intervals for `tol`, `L / (0.1 c)` for a tenth);
+/// past [`HARD_BUDGET`] times the budget it takes each open interval's lower bound as it is.
 pub const CHECKS_PER_INTERVAL: usize = 64;
 
 /// Past this many times its budget, a bracket stops splitting (see [`CHECKS_PER_INTERVAL`]).
 pub const HARD_BUDGET: usize = 16;
+
+/// Past its budget, a bracket takes an interval whose lower bound is at least this share of
+/// the least clearance found (see [`CHECKS_PER_INTERVAL`]).
+pub const SETTLE_SHARE: Real = 0.9;
 
 /// Proves the intervals on `stack` more than `above` clear, as [`is_collision_free`] does
 /// with 0; unproven past [`CHECKS_PER_INTERVAL`] times the intervals it starts with.
@@ -179,7 +183,7 @@ pub fn min_clearance(spline: &Spline, model: &dyn ClearanceModel, tol: Real) -> 
         let lower = model.segment_clearance_between(&p0, &p1, d0, d1) - e;
         best.checks += 1;
         let settle = best.checks >= HARD_BUDGET * budget
-            || (best.checks >= budget && lower >= 0.5 * best.upper);
+            || (best.checks >= budget && lower >= SETTLE_SHARE * best.upper);
         if lower >= best.upper - tol || depth >= 60 || settle {
             best.lower = best.lower.min(lower);
             continue;
