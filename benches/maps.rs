@@ -1,7 +1,8 @@
 //! Criterion bench of planning on 512 x 512 occupancy maps: the map's preparation (grid,
 //! brushfire, complete Voronoi graph, clearance model), the full plan with 5 classes on a
-//! seeded city, and time per plan against path length on maze512-8-0 (prepared once; one
-//! scenario from each of five length bands of its `.scen`, up to 2,400 cells).
+//! seeded city, time per plan against path length on maze512-8-0 (prepared once; one
+//! scenario from each of five length bands of its `.scen`, up to 2,400 cells), and 20
+//! scenarios of Boston_0_256 spread over every bucket, for a point and a disc of radius 1.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use homospline_geom::Point;
@@ -114,6 +115,38 @@ fn bench(c: &mut Criterion) {
         );
         g.bench_function(format!("plan/{:.0}", sc.optimal_length), |b| {
             b.iter(|| prepared.plan(sc.start, sc.goal, &cfg).unwrap())
+        });
+    }
+    g.finish();
+    // The bench-scen figure on a diagonal city map: 20 scenarios spread over every bucket
+    // of Boston_0_256's .scen, planned one after another on the prepared map (an
+    // iteration's time over 20 is the mean per plan), for a point and for a disc of radius 1.
+    let boston = movingai::read_map(
+        &std::fs::read_to_string(format!("{dir}Boston_0_256.map")).unwrap(),
+        "Boston_0_256.map",
+    )
+    .unwrap();
+    let scen = movingai::read_scen(
+        &std::fs::read_to_string(format!("{dir}Boston_0_256.map.scen")).unwrap(),
+        "Boston_0_256.map.scen",
+    )
+    .unwrap();
+    let picked: Vec<_> = homospline_maps::bench::sample_indices(scen.len(), 20)
+        .into_iter()
+        .map(|i| &scen[i])
+        .collect();
+    let mut g = c.benchmark_group("movingai_sample");
+    for radius in [0.0, 1.0] {
+        let prepared = PreparedMap::for_robot(&boston, radius).unwrap();
+        // At radius 1 some scenarios start too near a wall (refused) or have no route: those
+        // are answered too, and timed.
+        g.bench_function(format!("plan_20/Boston_0_256/radius_{radius}"), |b| {
+            b.iter(|| {
+                picked
+                    .iter()
+                    .filter(|sc| prepared.plan(sc.start, sc.goal, &cfg).is_ok())
+                    .count()
+            })
         });
     }
     g.finish();
