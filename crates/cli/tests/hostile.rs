@@ -419,3 +419,33 @@ fn extreme_numbers_are_named_short() {
         assert!(err.len() < 300, "{err}");
     }
 }
+
+/// A robot just under half a one-cell corridor's width: the curve runs at a nearly constant
+/// clearance just above the margin, which the certification once subdivided almost without
+/// end (warehouse-10-20-10-2-1 at radius 0.49 ran past 100 s). Killed after 120 s, the
+/// command fails the test instead of hanging it.
+#[test]
+fn a_radius_just_under_half_a_corridor_plans_without_hanging() {
+    let scen = "fixtures/maps/movingai/warehouse-10-20-10-2-1-random-1.scen";
+    let mut child = homospline()
+        .args(["bench-scen", scen, "--sample", "6", "--robot-radius", "0.49"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if start.elapsed() > std::time::Duration::from_secs(120) {
+            let _ = child.kill();
+            panic!("bench-scen at radius 0.49 ran past 120 s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    let mut out = String::new();
+    std::io::Read::read_to_string(&mut child.stdout.take().unwrap(), &mut out).unwrap();
+    assert!(status.success(), "{out}");
+    assert!(out.contains("success      6/6"), "{out}");
+}
