@@ -428,7 +428,14 @@ fn extreme_numbers_are_named_short() {
 fn a_radius_just_under_half_a_corridor_plans_without_hanging() {
     let scen = "fixtures/maps/movingai/warehouse-10-20-10-2-1-random-1.scen";
     let mut child = homospline()
-        .args(["bench-scen", scen, "--sample", "6", "--robot-radius", "0.49"])
+        .args([
+            "bench-scen",
+            scen,
+            "--sample",
+            "6",
+            "--robot-radius",
+            "0.49",
+        ])
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
         .spawn()
