@@ -1,9 +1,13 @@
 //! ROS map_server maps: the YAML (`image`, `resolution`, `origin`, `negate`,
 //! `occupied_thresh`, `free_thresh`, `mode`) and its PGM or PNG image.
 //!
-//! Conversion as nav2's map_io: `p = value / 255`, `p = 1 - p` unless `negate`;
-//! `p >= occupied_thresh` is occupied, `p <= free_thresh` free, anything between unknown.
-//! Unknown cells are treated as occupied: a robot plans only through space known to be free.
+//! Conversion as nav2's map_io (`loadMapFromFile`): a pixel's shade is the plain mean of its
+//! red, green and blue (a grey pixel's value), and, in `trinary` mode of an image with an
+//! alpha channel, its alpha too (255 opaque); `p = 1 - shade / 255` unless `negate`
+//! (`p = shade / 255`). `p > occupied_thresh` is occupied, `p < free_thresh` free, anything
+//! between unknown; in `scale` mode a pixel that is not opaque is unknown. Unknown cells are
+//! treated as occupied: a robot plans only through space known to be free. 16-bit images
+//! are read at 8 bits.
 //! Image row 0 is the top of the map; the world's y axis points up from `origin`. A rotated
 //! origin (yaw != 0) is refused rather than silently ignored.
 
@@ -134,10 +138,9 @@ pub fn read_map(
         .map_err(cannot)?;
     let (w, h) = image::ImageDecoder::dimensions(&decoder);
     crate::check_map_size(&stem(yaml_source), w as usize, h as usize)?;
-    let gray = image::DynamicImage::from_decoder(decoder)
-        .map_err(cannot)?
-        .to_luma8();
-    let (w, h) = (gray.width() as usize, gray.height() as usize);
+    let img = image::DynamicImage::from_decoder(decoder).map_err(cannot)?;
+    let has_alpha = img.color().has_alpha();
+    let (w, h) = (img.width() as usize, img.height() as usize);
     if w == 0 || h == 0 {
         return Err(err(
             image_source,
@@ -170,13 +173,20 @@ pub fn read_map(
             ),
         ));
     }
+    let scale = yaml.mode.as_deref() == Some("scale");
     let mut occupied = vec![true; w * h];
-    for (col, row, px) in gray.enumerate_pixels() {
-        let mut p = px.0[0] as f64 / 255.0;
-        if yaml.negate == 0 {
-            p = 1.0 - p;
-        }
-        let free = p <= yaml.free_thresh;
+    for (col, row, px) in image::GenericImageView::pixels(&img) {
+        let [r, g, b, a] = px.0;
+        let free = if scale && a != 255 {
+            false
+        } else {
+            pixel_is_free(
+                [r, g, b],
+                (has_alpha && !scale).then_some(a),
+                yaml.negate != 0,
+                yaml.free_thresh,
+            )
+        };
         let j = h - 1 - row as usize;
         occupied[j * w + col as usize] = !free;
     }
@@ -191,9 +201,84 @@ pub fn read_map(
     })
 }
 
+/// Whether nav2 reads a pixel free: the mean of its colour channels (and its alpha, when
+/// given: trinary mode of an image with an alpha channel) as the shade, `p = 1 - shade`
+/// (`shade` with `negate`), free when `p < free_thresh`.
+fn pixel_is_free(rgb: [u8; 3], alpha: Option<u8>, negate: bool, free_thresh: f64) -> bool {
+    let (sum, n) = rgb
+        .iter()
+        .chain(alpha.iter())
+        .fold((0u32, 0u32), |(s, n), &c| (s + c as u32, n + 1));
+    let shade = sum as f64 / n as f64 / 255.0;
+    let p = if negate { shade } else { 1.0 - shade };
+    p < free_thresh
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A 3 x 1 map YAML and PNG bytes of `pixels` (RGBA, or RGB when `alpha` is false).
+    fn png_map(pixels: &[[u8; 4]], alpha: bool, mode: &str) -> OccupancyMap {
+        let (w, h) = (pixels.len() as u32, 1);
+        let mut bytes = Vec::new();
+        let enc = image::codecs::png::PngEncoder::new(&mut bytes);
+        let (raw, ty): (Vec<u8>, _) = if alpha {
+            (
+                pixels.iter().flatten().copied().collect(),
+                image::ExtendedColorType::Rgba8,
+            )
+        } else {
+            (
+                pixels.iter().flat_map(|p| [p[0], p[1], p[2]]).collect(),
+                image::ExtendedColorType::Rgb8,
+            )
+        };
+        image::ImageEncoder::write_image(enc, &raw, w, h, ty).unwrap();
+        let yaml = read_yaml(
+            &format!(
+                "image: m.png\nresolution: 0.05\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\nmode: {mode}\n"
+            ),
+            "m.yaml",
+        )
+        .unwrap();
+        read_map(&yaml, "m.yaml", &bytes, "m.png").unwrap()
+    }
+
+    #[test]
+    fn colour_pixels_are_the_mean_of_their_channels_as_nav2_reads_them() {
+        // (255, 255, 100): mean 203.3, p = 0.203 >= 0.196: unknown (a luminance weighting
+        // read 237 and freed it). (255, 180, 255): mean 230, p = 0.098: free. White: free.
+        let m = png_map(
+            &[
+                [255, 255, 100, 255],
+                [255, 180, 255, 255],
+                [255, 255, 255, 255],
+            ],
+            false,
+            "trinary",
+        );
+        assert_eq!(m.occupied, vec![true, false, false]);
+    }
+
+    #[test]
+    fn alpha_counts_in_trinary_mode_and_is_unknown_in_scale_mode() {
+        // Transparent light grey: trinary mean (250 * 3 + 0) / 4 = 187.5, p = 0.26: unknown
+        // (dropping alpha freed it). Opaque white: free. Half-transparent white in scale
+        // mode: not opaque, unknown; opaque white in scale mode: free.
+        let m = png_map(&[[250, 250, 250, 0], [255, 255, 255, 255]], true, "trinary");
+        assert_eq!(m.occupied, vec![true, false]);
+        let m = png_map(&[[255, 255, 255, 128], [255, 255, 255, 255]], true, "scale");
+        assert_eq!(m.occupied, vec![true, false]);
+    }
+
+    #[test]
+    fn free_is_strictly_below_the_threshold() {
+        // 255 * (1 - 0.196) = 205.02: 205 reads p = 0.196078..., not below 0.196.
+        assert!(!pixel_is_free([205, 205, 205], None, false, 0.196));
+        assert!(pixel_is_free([206, 206, 206], None, false, 0.196));
+        assert!(pixel_is_free([10, 10, 10], None, true, 0.196));
+    }
 
     #[test]
     fn a_resolution_below_a_nanometre_is_refused() {
