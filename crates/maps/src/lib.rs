@@ -256,6 +256,61 @@ pub const MAX_MAP_CELLS: usize = 4096 * 4096;
 /// The memory a map's preparation may take, as the refusal of a larger map says.
 pub const MAP_MEMORY: &str = "1.5 GB";
 
+/// Checks a map's cell size and origin, as every front end gives them (a ROS YAML, a NumPy
+/// array's `resolution` and `origin`): the cell at least [`ros::MIN_RESOLUTION`], the origin
+/// finite, and the map within [`homospline_geom::scene::MAX_MAGNITUDE`] of the frame's origin,
+/// as a scene's coordinates are (a resolution of 1e300 hung the planner, 1e9 asked for
+/// 104 GB of path samples, 1e13 took 78 s). `Err((field, problem))`, the field being
+/// `resolution` or `origin`.
+pub fn check_geometry(
+    resolution: Real,
+    origin: [Real; 2],
+    width: usize,
+    height: usize,
+) -> Result<(), (&'static str, String)> {
+    use homospline_geom::scene::MAX_MAGNITUDE;
+    if !(resolution.is_finite() && resolution >= ros::MIN_RESOLUTION) {
+        return Err((
+            "resolution",
+            format!(
+                "must be a cell size of at least {:e} map units, got {}",
+                ros::MIN_RESOLUTION,
+                Num(resolution)
+            ),
+        ));
+    }
+    if !(origin[0].is_finite() && origin[1].is_finite()) {
+        return Err((
+            "origin",
+            format!(
+                "must be finite, got [{}, {}]",
+                Num(origin[0]),
+                Num(origin[1])
+            ),
+        ));
+    }
+    let extent = resolution * width.max(height) as Real;
+    let far = origin[0].abs().max(origin[1].abs()) + extent;
+    if far.is_nan() || far > MAX_MAGNITUDE {
+        // The field at fault: the origin when it alone is too far, else the resolution.
+        let field = if far - extent > MAX_MAGNITUDE {
+            "origin"
+        } else {
+            "resolution"
+        };
+        return Err((
+            field,
+            format!(
+                "{} per cell over {width} x {height} cells from origin [{}, {}] reaches {far:e}; coordinates must stay within {MAX_MAGNITUDE:e}",
+                Num(resolution),
+                Num(origin[0]),
+                Num(origin[1])
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Refuses a map of `width x height` cells beyond [`MAX_MAP_CELLS`] (from its header,
 /// before its cells are read).
 pub fn check_map_size(name: &str, width: usize, height: usize) -> Result<(), MapError> {

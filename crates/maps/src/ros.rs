@@ -148,31 +148,8 @@ pub fn read_map(
             format!("image size {w} x {h} is not supported"),
         ));
     }
-    // As for a scene's coordinates: far beyond any map, and small enough for the planner's
-    // arithmetic (a resolution of 1e300 hung it, 1e9 asked for 104 GB of path samples).
-    let extent = yaml.resolution * w.max(h) as f64;
-    let far = yaml.origin[0].abs().max(yaml.origin[1].abs()) + extent;
-    if far.is_nan() || far > homospline_geom::scene::MAX_MAGNITUDE {
-        return Err(err(
-            yaml_source,
-            None,
-            format!(
-                "{}: {} m per cell over {} x {} cells from origin [{}, {}] reaches {far:e}; coordinates must stay within {:e}",
-                // The field at fault: the origin when it alone is too far, else the resolution.
-                if far - extent > homospline_geom::scene::MAX_MAGNITUDE {
-                    "origin"
-                } else {
-                    "resolution"
-                },
-                Num(yaml.resolution),
-                w,
-                h,
-                Num(yaml.origin[0]),
-                Num(yaml.origin[1]),
-                homospline_geom::scene::MAX_MAGNITUDE
-            ),
-        ));
-    }
+    crate::check_geometry(yaml.resolution, [yaml.origin[0], yaml.origin[1]], w, h)
+        .map_err(|(field, problem)| err(yaml_source, None, format!("{field}: {problem}")))?;
     let scale = yaml.mode.as_deref() == Some("scale");
     let mut occupied = vec![true; w * h];
     for (col, row, px) in image::GenericImageView::pixels(&img) {

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 
 use homospline_front::{Opt, OptionError, OrOff, PlanOptions, Spelling};
 use homospline_front::{mission, report};
+use homospline_geom::math::Num;
 use homospline_geom::{Point, Scene};
 use homospline_maps::OccupancyMap;
 use homospline_mission::{AnyWorld, MissionConfig, Policy};
@@ -458,11 +459,17 @@ fn plan_map(
     robot_radius: f64,
 ) -> PyResult<PyPlan> {
     let (rows, cols, cells) = occupancy_of(occupancy)?;
-    if !(resolution.is_finite() && resolution > 0.0) {
-        return Err(bad(format!(
-            "resolution={resolution}: must be a positive cell size"
-        )));
-    }
+    // The checks a ROS map's YAML gets, named by keyword.
+    homospline_maps::check_geometry(resolution, [origin.0, origin.1], cols, rows).map_err(
+        |(field, problem)| match field {
+            "origin" => bad(format!(
+                "origin=({}, {}): {problem}",
+                Num(origin.0),
+                Num(origin.1)
+            )),
+            _ => bad(format!("resolution={}: {problem}", Num(resolution))),
+        },
+    )?;
     let map = OccupancyMap {
         name: "array".into(),
         width: cols,

@@ -86,6 +86,18 @@ def test_plan_map_with_a_robot_radius_equals_the_cli_and_refuses_a_start_too_nea
         homospline.plan_map(grid, (1.5, 1.5), (30.5, 30.5), y_down=True, robot_radius=-1.0)
 
 
+def test_plan_map_checks_resolution_and_origin_as_a_ros_map_yaml_is_checked():
+    grid = np.zeros((40, 60), dtype=bool)
+    # Below a nanometre, not finite, or reaching past 1e9: refused by keyword, as the CLI
+    # refuses the same values in a ROS map's YAML (they planned nothing silently, named the
+    # start outside a map of NaN, or took 78 s).
+    for resolution in (1e-10, float("nan"), 1e300, 1e13):
+        with pytest.raises(ValueError, match="resolution=.*(at least 1e-9|coordinates must stay within 1e9)"):
+            homospline.plan_map(grid, (5.5, 20.5), (55.5, 20.5), resolution=resolution)
+    with pytest.raises(ValueError, match="origin=.*must be finite"):
+        homospline.plan_map(grid, (5.5, 20.5), (55.5, 20.5), origin=(float("nan"), 0.0))
+
+
 def test_no_route_for_the_robot_is_its_own_exception_naming_the_widest_route():
     grid = movingai_array(ROOT / "fixtures/maps/movingai/room-32-32-4.map")
     # The rooms' doors are one cell wide: a disc of radius 1 passes none.
