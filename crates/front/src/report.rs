@@ -210,9 +210,16 @@ pub fn plan_table(plan: &Plan) -> String {
                         homospline_geom::math::Num(plan.dm)
                     ),
                     (false, why) => format!(
-                        " (below dm = {}{}: no collision-free class keeps it)",
+                        " (below dm = {}{}: {})",
                         homospline_geom::math::Num(plan.dm),
-                        why.as_ref().map_or(String::new(), |w| format!(", {w}"))
+                        why.as_ref().map_or(String::new(), |w| format!(", {w}")),
+                        // On a map a shorter class can be chosen over one that keeps dm
+                        // (no detour for nothing).
+                        if plan.classes.iter().any(|o| o.collision_free && o.safe) {
+                            "chosen over longer classes that keep it, as no detour for nothing"
+                        } else {
+                            "no collision-free class keeps it"
+                        }
                     ),
                 },
                 match after {
