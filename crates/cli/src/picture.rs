@@ -674,7 +674,6 @@ pub fn graph_svg(bg: &Background<'_>, graph: &VoronoiGraph) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use homospline_maps::ros::{RosMapYaml, read_map};
     use homospline_voronoi::{Edge, Node, NodeKind};
 
     #[test]
@@ -754,20 +753,17 @@ mod tests {
         out
     }
 
-    /// The occupancy a PNG holds, read by the ROS map reader (image row 0 at the top, y up).
+    /// The occupancy a PNG holds: its opaque dark pixels (occupied cells are opaque grey,
+    /// free ones transparent), decoded by the `image` crate, laid out as the map readers lay
+    /// rows out (image row 0 at the top, y up: row `r` at y index `h - 1 - r`).
     fn decode(png: &[u8], w: usize, h: usize) -> Vec<bool> {
-        let yaml = RosMapYaml {
-            image: "m.png".to_owned(),
-            resolution: 1.0,
-            origin: [0.0, 0.0, 0.0],
-            negate: 0,
-            occupied_thresh: 0.65,
-            free_thresh: 0.196,
-            mode: None,
-        };
-        let m = read_map(&yaml, "m.yaml", png, "m.png").unwrap();
-        assert_eq!((m.width, m.height), (w, h));
-        m.occupied
+        let img = image::load_from_memory(png).unwrap().to_rgba8();
+        assert_eq!((img.width() as usize, img.height() as usize), (w, h));
+        let mut occ = vec![false; w * h];
+        for (i, r, px) in img.enumerate_pixels() {
+            occ[(h - 1 - r as usize) * w + i as usize] = px.0[3] == 255 && px.0[0] < 128;
+        }
+        occ
     }
 
     #[test]
