@@ -267,13 +267,21 @@ impl VoronoiGraph {
             graph: VoronoiGraph,
         }
         // The decoder's own words name its Rust types ("expected struct Head", "wrong
-        // msgpack marker FixStr(31)"): the message says what the file is not instead.
+        // msgpack marker FixStr(31)"): the message says what the file is not instead. A file
+        // that starts as `to_msgpack` writes (a map of two keys, `format_version` first) but
+        // does not decode was saved and then cut short or altered: the decoder reads the
+        // whole map before it yields the version, so this is said before the version check.
+        let saved_start: &[u8] = b"\x82\xaeformat_version";
         let head: Head = rmp_serde::from_slice(bytes).map_err(|_| {
-            GraphError::Decode(
+            GraphError::Decode(if bytes.starts_with(saved_start) {
+                "damaged: a graph saved by `homospline graph --out`, but cut short or altered \
+                 (its MessagePack does not decode)"
+                    .to_owned()
+            } else {
                 "not a graph saved by `homospline graph --out` (no MessagePack map with a \
                  format_version)"
-                    .to_owned(),
-            )
+                    .to_owned()
+            })
         })?;
         if head.format_version != GRAPH_FORMAT_VERSION {
             return Err(GraphError::Version(head.format_version));

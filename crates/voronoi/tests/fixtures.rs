@@ -46,6 +46,14 @@ fn graphs_round_trip_through_messagepack_and_json() {
         let (_, _, g) = build(&scene, 2.0).unwrap();
         let bytes = g.to_msgpack();
         assert_eq!(VoronoiGraph::from_msgpack(&bytes).unwrap(), g);
+        // Cut short anywhere past its first key: said so (it read "not a graph saved by
+        // `homospline graph --out`", the check of the version coming first).
+        for cut in [17, bytes.len() / 2, bytes.len() - 1] {
+            let e = VoronoiGraph::from_msgpack(&bytes[..cut])
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains("cut short"), "{} cut at {cut}: {e}", scene.name);
+        }
         let json: serde_json::Value = serde_json::from_str(&g.to_json()).unwrap();
         assert_eq!(json["nodes"].as_array().unwrap().len(), g.nodes.len());
         assert_eq!(json["start"].as_u64(), g.start.map(|s| s as u64));
