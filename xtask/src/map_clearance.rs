@@ -343,7 +343,7 @@ pub fn run(o: &Options) -> Result<()> {
             joined += usize::from(witnessed);
             match prepared.plan(start, goal, &cfg) {
                 Err(MapError::Endpoint { problem, .. }) if problem.contains("robot radius") => {}
-                Err(e @ (MapError::NoRoute { .. } | MapError::NoRoom(_))) => {
+                Err(e) if e.is_no_route() => {
                     keep += 1;
                     apart += 1;
                     if witnessed {

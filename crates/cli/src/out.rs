@@ -64,11 +64,10 @@ impl std::error::Error for NoPlan {}
 /// A map error as the command line answers it: no route for the robot is no plan (exit 1),
 /// anything else the input's fault (exit 2).
 pub fn map_error(e: homospline_maps::MapError) -> anyhow::Error {
-    match e {
-        homospline_maps::MapError::NoRoute { .. } | homospline_maps::MapError::NoRoom(_) => {
-            NoPlan(e.to_string()).into()
-        }
-        e => bad(e.to_string()),
+    if e.is_no_route() {
+        NoPlan(e.to_string()).into()
+    } else {
+        bad(e.to_string())
     }
 }
 

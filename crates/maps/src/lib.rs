@@ -224,6 +224,14 @@ pub enum MapError {
     },
 }
 
+impl MapError {
+    /// Whether this is no route for the robot ([`MapError::NoRoute`], [`MapError::NoRoom`]):
+    /// an answer about the map, not bad input (exit 1 on the command line).
+    pub fn is_no_route(&self) -> bool {
+        matches!(self, MapError::NoRoute { .. } | MapError::NoRoom(_))
+    }
+}
+
 fn no_route_message(radius: Real, widest: &footprint::Widest) -> String {
     let w = widest.clearance;
     if w <= 0.0 {

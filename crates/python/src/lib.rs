@@ -493,12 +493,13 @@ fn plan_map(
     }
     py.detach(|| homospline_maps::plan_map_for_robot(&map, robot_radius, s, g, &cfg))
         .map(|(inner, _)| PyPlan { inner })
-        .map_err(|e| match e {
-            // An answer, not bad input: its own exception (a `ValueError` still).
-            homospline_maps::MapError::NoRoute { .. } | homospline_maps::MapError::NoRoom(_) => {
+        .map_err(|e| {
+            if e.is_no_route() {
+                // An answer, not bad input: its own exception (a `ValueError` still).
                 NoRoute::new_err(e.to_string())
+            } else {
+                bad(e.to_string())
             }
-            e => bad(e.to_string()),
         })
 }
 
