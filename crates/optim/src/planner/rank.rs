@@ -39,24 +39,21 @@ pub(super) fn rank(
     // Rank: collision-free and safe first, then collision-free, then the rest; within each,
     // by cost; ties by signature for determinism.
     classes.sort_by(rank_order);
-    for (i, c) in classes.iter_mut().enumerate() {
-        c.rank = i + 1;
-    }
-    let Some(first) = classes.iter().position(|c| choosable(c, cfg)) else {
-        return (classes, None);
-    };
-    let chosen = cfg
-        .detour
-        .map_or(first, |d| without_detour(&classes, first, d, cfg));
-    if chosen != first {
-        // The class chosen instead ranks just before the one it replaced.
-        let c = classes.remove(chosen);
-        classes.insert(first, c);
+    let first = classes.iter().position(|c| choosable(c, cfg));
+    if let Some(first) = first {
+        let chosen = cfg
+            .detour
+            .map_or(first, |d| without_detour(&classes, first, d, cfg));
+        if chosen != first {
+            // The class chosen instead ranks just before the one it replaced.
+            let c = classes.remove(chosen);
+            classes.insert(first, c);
+        }
     }
     for (i, c) in classes.iter_mut().enumerate() {
         c.rank = i + 1;
     }
-    (classes, Some(first + 1))
+    (classes, first.map(|f| f + 1))
 }
 
 /// [`PlanConfig::detour`]: from the class at `from` (choosable), the class that replaces it,
