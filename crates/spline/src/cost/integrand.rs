@@ -182,26 +182,25 @@ pub(super) fn safety_along(
 ) {
     // omega^(dm - d) as exp((dm - d) ln omega): one exp a node where powf took two logs' work.
     let ln_omega = cfg.omega.ln();
-    let e = |d: Real| ((cfg.dm - d) * ln_omega).exp();
-    let integral: Real = samples
-        .nodes
-        .iter()
-        .zip(field)
-        .map(|(n, f)| e(f.clearance) * n.speed * n.dt)
-        .sum();
-    t.safety = integral / scale;
-    let Some(g) = grad else { return };
+    // One pass: each node's exponential serves the integral and its partials. The sum
+    // starts at -0.0, as `Iterator::sum` of floats does.
+    let mut integral: Real = -0.0;
+    let mut grad = grad;
     for (n, f) in samples.nodes.iter().zip(field) {
-        let ei = e(f.clearance);
-        let w = cfg.w_safety * n.dt * ei / scale;
-        g.push(NodePartial {
-            seg: n.seg,
-            s: n.s,
-            gq: f.clearance_grad * (-ln_omega * n.speed * w),
-            gv: unit(&n.v) * w,
-            ga: Vector::zeros(),
-        });
+        let ei = ((cfg.dm - f.clearance) * ln_omega).exp();
+        integral += ei * n.speed * n.dt;
+        if let Some(g) = grad.as_deref_mut() {
+            let w = cfg.w_safety * n.dt * ei / scale;
+            g.push(NodePartial {
+                seg: n.seg,
+                s: n.s,
+                gq: f.clearance_grad * (-ln_omega * n.speed * w),
+                gv: unit(&n.v) * w,
+                ga: Vector::zeros(),
+            });
+        }
     }
+    t.safety = integral / scale;
 }
 
 /// Step 5: the line-of-sight shares (start and goal visibility, shelter from hazards).
