@@ -199,11 +199,12 @@ fn keeps(
             let fy = (p.y - map.origin.y) / map.cell;
             let is = homospline_voronoi::grid::cells_holding(fx, map.width);
             let js = homospline_voronoi::grid::cells_holding(fy, map.height);
-            // On the edge: clearance 0.
-            let on_edge = fx <= 1e-9
-                || fy <= 1e-9
-                || fx >= map.width as Real - 1e-9
-                || fy >= map.height as Real - 1e-9;
+            // On the edge: clearance 0 (within `ON_SIDE`, as `cells_holding` counts a side).
+            use homospline_voronoi::grid::ON_SIDE;
+            let on_edge = fx <= ON_SIDE
+                || fy <= ON_SIDE
+                || fx >= map.width as Real - ON_SIDE
+                || fy >= map.height as Real - ON_SIDE;
             if on_edge {
                 continue;
             }

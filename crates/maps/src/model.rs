@@ -65,8 +65,8 @@ pub struct GridModel {
     /// those (a lazily filled slot per cell took 24 bytes of every cell). The lists are pure
     /// functions of the grid, so the cache never changes an answer.
     candidates: Vec<RwLock<FxHashMap<u32, Arc<[u32]>>>>,
-    /// Tells this model's lists from another's in the per-thread memo of the last list used
-    /// ([`LAST`]): models with one id have the same grid.
+    /// Tells this model's lists from another's in the per-thread memo of lists ([`MEMO`]):
+    /// models with one id have the same grid.
     id: u64,
     /// Subtracted from every clearance the model reports as a [`ClearanceModel`]: the
     /// robot's radius, so that clearances are the robot body's (0 for a point).
