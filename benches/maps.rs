@@ -47,6 +47,19 @@ fn city() -> OccupancyMap {
     }
 }
 
+/// A MovingAI map of `fixtures/maps/movingai/` and its scenarios (`NAME.map`,
+/// `NAME.map.scen`).
+fn fixture(name: &str) -> (OccupancyMap, Vec<movingai::Scenario>) {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../fixtures/maps/movingai/");
+    let read = |file: String| std::fs::read_to_string(format!("{dir}{file}")).unwrap();
+    let map = movingai::read_map(&read(format!("{name}.map")), &format!("{name}.map")).unwrap();
+    let scen = format!("{name}.map.scen");
+    (
+        map,
+        movingai::read_scen(&read(scen.clone()), &scen).unwrap(),
+    )
+}
+
 fn bench(c: &mut Criterion) {
     let map = city();
     let (s, t) = (Point::new(8.5, 256.5), Point::new(503.5, 256.5));
@@ -91,17 +104,7 @@ fn bench(c: &mut Criterion) {
     });
     g.finish();
     // Time per plan against path length, the map prepared once.
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../fixtures/maps/movingai/");
-    let maze = movingai::read_map(
-        &std::fs::read_to_string(format!("{dir}maze512-8-0.map")).unwrap(),
-        "maze512-8-0.map",
-    )
-    .unwrap();
-    let scen = movingai::read_scen(
-        &std::fs::read_to_string(format!("{dir}maze512-8-0.map.scen")).unwrap(),
-        "maze512-8-0.map.scen",
-    )
-    .unwrap();
+    let (maze, scen) = fixture("maze512-8-0");
     let prepared = PreparedMap::new(&maze).unwrap();
     let mut g = c.benchmark_group("maze512_by_length");
     for k in 1..=5 {
@@ -121,16 +124,7 @@ fn bench(c: &mut Criterion) {
     // The bench-scen figure on a diagonal city map: 20 scenarios spread over every bucket
     // of Boston_0_256's .scen, planned one after another on the prepared map (an
     // iteration's time over 20 is the mean per plan), for a point and for a disc of radius 1.
-    let boston = movingai::read_map(
-        &std::fs::read_to_string(format!("{dir}Boston_0_256.map")).unwrap(),
-        "Boston_0_256.map",
-    )
-    .unwrap();
-    let scen = movingai::read_scen(
-        &std::fs::read_to_string(format!("{dir}Boston_0_256.map.scen")).unwrap(),
-        "Boston_0_256.map.scen",
-    )
-    .unwrap();
+    let (boston, scen) = fixture("Boston_0_256");
     let picked: Vec<_> = homospline_maps::bench::sample_indices(scen.len(), 20)
         .into_iter()
         .map(|i| &scen[i])
