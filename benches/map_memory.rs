@@ -2,7 +2,9 @@
 //! N = 4096) once, as `homospline plan MAP` does (`PreparedMap::new`: grid, brushfire,
 //! complete Voronoi graph and its index, clearance model, rays), and prints the time, the
 //! peak resident memory of the process (`VmHWM` of `/proc/self/status`, Linux) and both per
-//! cell. `--stages` first times the stages one by one. Run by `cargo xtask map-memory`.
+//! cell. `--stages` first times the stages one by one. `--plan` then plans corner to corner
+//! on the prepared map (2 classes, the map defaults; as the `map_size` bench) and prints the
+//! plan's stage times and the peak memory after it. Run by `cargo xtask map-memory`.
 
 use std::time::Instant;
 
@@ -26,13 +28,15 @@ fn mb(b: u64) -> f64 {
 fn main() -> std::process::ExitCode {
     let mut n = 4096usize;
     let mut stages = false;
+    let mut plan = false;
     for a in std::env::args().skip(1) {
         match a.as_str() {
             "--stages" => stages = true,
+            "--plan" => plan = true,
             s => match s.parse() {
                 Ok(v) if v >= 2 => n = v,
                 _ => {
-                    eprintln!("usage: map-memory [N] [--stages]");
+                    eprintln!("usage: map-memory [N] [--stages] [--plan]");
                     return std::process::ExitCode::from(2);
                 }
             },
@@ -108,6 +112,45 @@ fn main() -> std::process::ExitCode {
             }
         ),
         None => println!("peak RSS: not available (no /proc/self/status)"),
+    }
+    if plan {
+        let (s, t) = (
+            homospline_testkit::free_diagonal_centre(&map, 10, 1),
+            homospline_testkit::free_diagonal_centre(&map, n - 96, -1),
+        );
+        let mut cfg = homospline_maps::map_config();
+        cfg.classes = 2;
+        let clock = Instant::now();
+        let result = prepared.plan(s, t, &cfg);
+        let wall = clock.elapsed().as_secs_f64() * 1e3;
+        match result {
+            Ok(p) => println!(
+                "plan ({:.1}, {:.1}) -> ({:.1}, {:.1}), 2 classes: {wall:.0} ms (per-query graph \
+                 {:.0}, class search {:.0}, optimisation {:.0}); {} classes, lengths {:?}, \
+                 collision-free {:?}; peak RSS {}",
+                s.x,
+                s.y,
+                t.x,
+                t.y,
+                p.timing.voronoi,
+                p.timing.classes,
+                p.timing.optimize,
+                p.classes.len(),
+                p.classes
+                    .iter()
+                    .map(|c| (c.length * 10.0).round() / 10.0)
+                    .collect::<Vec<_>>(),
+                p.classes
+                    .iter()
+                    .map(|c| c.collision_free)
+                    .collect::<Vec<_>>(),
+                memory().map_or("n/a".to_string(), |m| format!("{:.0} MB", mb(m.0))),
+            ),
+            Err(e) => {
+                eprintln!("{}: plan: {e}", map.name);
+                return std::process::ExitCode::FAILURE;
+            }
+        }
     }
     std::process::ExitCode::SUCCESS
 }

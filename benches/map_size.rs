@@ -8,25 +8,9 @@
 //! 3.95 M edges and the optimisation.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use homospline_geom::Point;
 use homospline_maps::{OccupancyMap, PreparedMap, map_config};
 use std::hint::black_box;
 use std::time::Duration;
-
-/// The centre of the first cell on the diagonal from `(at, at)` whose 3 x 3 block is free.
-fn free_centre(map: &OccupancyMap, at: usize, step: isize) -> Point {
-    let n = map.width;
-    let free = |x: usize, y: usize| {
-        (y - 1..=y + 1).all(|yy| (x - 1..=x + 1).all(|xx| !map.occupied[yy * n + xx]))
-    };
-    let mut k = at;
-    while !free(k, k) {
-        k = k
-            .checked_add_signed(step)
-            .expect("a free block on the diagonal");
-    }
-    Point::new(k as f64 + 0.5, k as f64 + 0.5)
-}
 
 fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("map_size");
@@ -44,7 +28,10 @@ fn bench(c: &mut Criterion) {
 
     let map = homospline_testkit::random_map(4096);
     let prepared = PreparedMap::new(&map).unwrap();
-    let (s, t) = (free_centre(&map, 10, 1), free_centre(&map, 4000, -1));
+    let (s, t) = (
+        homospline_testkit::free_diagonal_centre(&map, 10, 1),
+        homospline_testkit::free_diagonal_centre(&map, 4000, -1),
+    );
     let mut cfg = map_config();
     cfg.classes = 2;
     let mut g = c.benchmark_group("map_size");

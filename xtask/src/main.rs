@@ -7,9 +7,10 @@
 //! - `cargo xtask missions [--worlds N]` runs every scout policy on N generated worlds
 //!   (default 50) and prints the mission figures, and the share of single blockages that
 //!   leave another class open with and without `--diverse`.
-//! - `cargo xtask map-memory [N]` prepares a seeded random N x N map (20 % occupied, default
+//! - `cargo xtask map-memory [N] [--plan]` prepares a seeded random N x N map (20 % occupied, default
 //!   4096) in a release build of the benches' `map-memory` binary and prints the time and
-//!   the peak resident memory (`VmHWM`), in all and per cell: issue 43's 1.5 GB and 5 s.
+//!   the peak resident memory (`VmHWM`), in all and per cell: issue 43's 1.5 GB and 5 s;
+//!   `--plan` then times a corner-to-corner plan on it.
 //! - `cargo xtask map-clearance [--sample N] [--robot-radius R] [--least-only] SCEN...` plans
 //!   scenarios sampled over every bucket and prints the success rate at the robot radius and
 //!   the chosen paths' clearance away from their ends ([`map_clearance`]).
@@ -108,21 +109,22 @@ fn main() -> ExitCode {
             bench_against::run(&root(), rev, runs, filter).map(|_| true)
         }
         Some("map-memory") => {
-            let n = match &args[1..] {
-                [] => 4096,
-                [n] => match n.parse::<usize>() {
-                    Ok(n) if n >= 2 => n,
-                    _ => {
-                        eprintln!("usage: cargo xtask map-memory [N]  (N >= 2, got {n:?})");
-                        return ExitCode::from(2);
-                    }
-                },
-                other => {
-                    eprintln!("usage: cargo xtask map-memory [N]  (unexpected {other:?})");
-                    return ExitCode::from(2);
+            let usage = "usage: cargo xtask map-memory [N] [--plan]";
+            let mut n = 4096;
+            let mut plan = false;
+            for a in &args[1..] {
+                match a.as_str() {
+                    "--plan" => plan = true,
+                    v => match v.parse::<usize>() {
+                        Ok(v) if v >= 2 => n = v,
+                        _ => {
+                            eprintln!("{usage}  (N >= 2, got {v:?})");
+                            return ExitCode::from(2);
+                        }
+                    },
                 }
-            };
-            map_memory(n)
+            }
+            map_memory(n, plan)
         }
         Some("map-clearance") => map_clearance::parse(&args[1..])
             .and_then(|o| map_clearance::run(&o))
@@ -140,7 +142,7 @@ fn main() -> ExitCode {
         }
         _ => {
             eprintln!(
-                "usage: cargo xtask regress [--bless] | gen-scenes | gen-worlds | missions [--worlds N] | bench-against REV [--runs N] [FILTER] | map-memory [N] | map-clearance [--sample N] [--robot-radius R] [--least-only] SCEN..."
+                "usage: cargo xtask regress [--bless] | gen-scenes | gen-worlds | missions [--worlds N] | bench-against REV [--runs N] [FILTER] | map-memory [N] [--plan] | map-clearance [--sample N] [--robot-radius R] [--least-only] SCEN..."
             );
             return ExitCode::from(2);
         }
@@ -210,8 +212,9 @@ fn compare(name: &str, golden: &Path, actual: &str, bless: bool) -> Result<bool>
 }
 
 /// `map-memory N`: builds and runs the benches' `map-memory` binary in release mode (in its
-/// own process, so that its peak resident memory is the preparation's alone).
-fn map_memory(n: usize) -> Result<bool> {
+/// own process, so that its peak resident memory is the preparation's alone); `plan`: then a
+/// corner-to-corner plan on the prepared map, its stage times and the peak after it.
+fn map_memory(n: usize, plan: bool) -> Result<bool> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned());
     let status = std::process::Command::new(cargo)
         .current_dir(root())
@@ -226,6 +229,7 @@ fn map_memory(n: usize) -> Result<bool> {
             "--",
             &n.to_string(),
         ])
+        .args(plan.then_some("--plan"))
         .status()
         .context("running the map-memory binary")?;
     Ok(status.success())

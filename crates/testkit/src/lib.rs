@@ -70,6 +70,26 @@ pub fn random_map(n: usize) -> OccupancyMap {
     }
 }
 
+/// The centre of the first cell on `map`'s diagonal from `(at, at)` (stepping by `step`)
+/// whose 3 x 3 block is free: the corner-to-corner query of the large-map benches.
+///
+/// # Panics
+/// When the walk leaves the map before finding one (a test helper).
+pub fn free_diagonal_centre(map: &OccupancyMap, at: usize, step: isize) -> Point {
+    let n = map.width;
+    let free = |x: usize, y: usize| {
+        (y - 1..=y + 1).all(|yy| (x - 1..=x + 1).all(|xx| !map.occupied[yy * n + xx]))
+    };
+    let mut k = at;
+    while !free(k, k) {
+        k = k
+            .checked_add_signed(step)
+            .filter(|&k| k >= 1 && k + 1 < n)
+            .expect("a free block on the diagonal");
+    }
+    Point::new(k as f64 + 0.5, k as f64 + 0.5)
+}
+
 /// A scene in the square `[0, size]^2` with these obstacles, no robot radius and no danger
 /// points, critical points or hazards.
 pub fn square_scene(
