@@ -8,7 +8,7 @@
 //! 3.95 M edges and the optimisation.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use homospline_maps::{OccupancyMap, PreparedMap, map_config};
+use homospline_maps::{PreparedMap, map_config};
 use std::hint::black_box;
 use std::time::Duration;
 
