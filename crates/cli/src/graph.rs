@@ -90,6 +90,10 @@ fn graph(
     let (g, cells, res, name) = match &input {
         Input::Scene(scene) => {
             let res = resolution.unwrap_or_else(|| default_resolution(scene));
+            homospline_front::memory::check(
+                || format!("scene {} at --resolution {res}", scene.name),
+                homospline_front::memory::scene_cells(scene, res),
+            )?;
             let (grid, _, g) = homospline_voronoi::build(scene, res)
                 .map_err(|e| bad(format!("{}: {e}", path.display())))?;
             (g, (grid.width(), grid.height()), res, scene.name.clone())
@@ -97,6 +101,7 @@ fn graph(
         Input::Map(map) => {
             // The complete graph of the whole map, without start or goal: `plan MAP --graph`
             // attaches each query's start and goal to it.
+            crate::plan::check_map_memory(map, robot_radius.unwrap_or(0.0))?;
             let prepared =
                 homospline_maps::PreparedMap::for_robot(map, robot_radius.unwrap_or(0.0))
                     .map_err(|e| bad(format!("{}: {e}", path.display())))?;

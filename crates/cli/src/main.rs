@@ -78,6 +78,7 @@ fn main() -> ExitCode {
             return ExitCode::from(code);
         }
     };
+    out::remove_temporaries_on_signals();
     let result = check_thread_env().and_then(|()| match cli.command {
         Command::Check { scene } => check(&scene),
         Command::Graph(args) => graph::run(args),

@@ -155,20 +155,69 @@ fn special(path: &Path) -> Option<Special> {
 }
 
 /// `bytes` into a temporary file beside `path`, renamed over it; the temporary file is
-/// removed when that fails.
+/// removed when that fails, and by [`remove_temporaries_on_signals`]' handler when the
+/// process is told to stop meanwhile.
 fn write_replacing(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     use std::io::Write;
     let tmp = temporary(path, "tmp");
+    pending().push(tmp.clone());
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(bytes)?;
         f.sync_all()?;
+        hold_for_signal_test();
         std::fs::rename(&tmp, path)
     })();
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
+    pending().retain(|p| *p != tmp);
     result
+}
+
+/// The temporary files being written, which a signal's handler removes.
+static PENDING: std::sync::Mutex<Vec<std::path::PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+fn pending() -> std::sync::MutexGuard<'static, Vec<std::path::PathBuf>> {
+    PENDING
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// Test hook: with `HOMOSPLINE_HOLD_WRITE_MS=N`, a write waits `N` ms (at most 10 s) between
+/// its temporary file and the rename, so that the signal tests can stop it there.
+fn hold_for_signal_test() {
+    if let Some(ms) = std::env::var("HOMOSPLINE_HOLD_WRITE_MS")
+        .ok()
+        .and_then(|v| v.parse::<u64>().ok())
+    {
+        std::thread::sleep(std::time::Duration::from_millis(ms.min(10_000)));
+    }
+}
+
+/// On SIGINT, SIGTERM or SIGHUP: removes the temporary files being written (the outputs
+/// themselves are whole, old or new), then dies of the signal as it would have (the shell
+/// sees 130, 143 or 129). Installed once, by `main`; a failure to install is ignored (the
+/// signals then act as before: the outputs stay whole, a temporary file may be left).
+pub fn remove_temporaries_on_signals() {
+    #[cfg(unix)]
+    {
+        use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+        let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) else {
+            return;
+        };
+        let _ = std::thread::Builder::new()
+            .name("signals".into())
+            .spawn(move || {
+                if let Some(sig) = signals.forever().next() {
+                    for tmp in pending().drain(..) {
+                        let _ = std::fs::remove_file(tmp);
+                    }
+                    let _ = signal_hook::low_level::emulate_default_handler(sig);
+                    std::process::exit(128 + sig);
+                }
+            });
+    }
 }
 
 /// `bytes` written into `path` as it is: over its start, then cut to their length (a

@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 use anyhow::bail;
 use homospline_front::{EXAMPLE_SCENE, PlanOptions, report};
 use homospline_geom::{Circle, Obstacle, Point, Scene};
-use homospline_maps::PreparedMap;
 use homospline_maps::input::Input;
+use homospline_maps::{OccupancyMap, PreparedMap};
 use homospline_optim::{Plan, PlanConfig, Seed, default_resolution, plan_with_graph};
 use homospline_voronoi::VoronoiGraph;
 
@@ -186,6 +186,10 @@ fn plan_scene(
         || cfg.resolution.unwrap_or_else(|| default_resolution(scene)),
         |g| g.resolution,
     );
+    homospline_front::memory::check(
+        || format!("scene {} at --resolution {resolution}", scene.name),
+        homospline_front::memory::scene_cells(scene, resolution),
+    )?;
     let result =
         plan_with_graph(scene, saved, cfg).map_err(|e| bad(format!("{}: {e}", scene.name)))?;
     // Said once the grid is built: a grid refused (too coarse, too fine) is the message.
@@ -214,7 +218,7 @@ fn scene_graph(p: &Path, scene: &Scene, cfg: &PlanConfig) -> anyhow::Result<Voro
 /// A plan on a map (its start and goal given), and its picture when one is asked for.
 fn plan_map(
     a: &PlanArgs,
-    map: &homospline_maps::OccupancyMap,
+    map: &OccupancyMap,
     ends: Option<(Point, Point)>,
     cfg: &PlanConfig,
 ) -> anyhow::Result<(Plan, Option<String>)> {
@@ -228,6 +232,7 @@ fn plan_map(
     // A start or goal closer than the radius is bad input, whatever the map's free space.
     map.check_endpoints_for(&s, &g, radius)
         .map_err(|e| bad(e.to_string()))?;
+    check_map_memory(map, radius)?;
     let prepared = match &a.graph {
         Some(p) => PreparedMap::with_graph(map, read_graph(p)?, radius)
             .map_err(|e| bad(format!("{}: {e}", p.display())))?,
@@ -239,6 +244,15 @@ fn plan_map(
         .as_ref()
         .map(|_| picture::plan_svg(&picture::Background::Map(map), &result));
     Ok((result, pic))
+}
+
+/// Refuses `map` when preparing it for a robot of `radius` may need more memory than the
+/// process may use (exit 3, the run's failure, not the input's).
+pub(crate) fn check_map_memory(map: &OccupancyMap, radius: f64) -> anyhow::Result<()> {
+    Ok(homospline_front::memory::check(
+        || format!("map {} ({} x {} cells)", map.name, map.width, map.height),
+        homospline_front::memory::map_cells(map.width, map.height, radius),
+    )?)
 }
 
 /// Prints the table (and the optima, when asked for) and writes the outputs.

@@ -23,6 +23,6 @@ pub use growth::{Grown, Growth, GrowthConfig, Guard, Optimizer, Round, grow};
 pub use lbfgs::Lbfgs;
 pub use nelder_mead::{Coefficients, NelderMead, Outcome, Termination};
 pub use planner::{
-    ClassPlan, Detour, Plan, PlanConfig, PlanError, Seed, Timing, World, default_resolution,
-    graph_misfit, plan, plan_with_graph, plan_world,
+    ClassPlan, Detour, Interrupt, Plan, PlanConfig, PlanError, Seed, Timing, World,
+    default_resolution, graph_misfit, plan, plan_with_graph, plan_world,
 };

@@ -45,8 +45,8 @@ mod world;
 
 pub use class::DENSE_SEED_SHARE;
 pub use config::{
-    DEFAULT_FINISH_WITHIN, DEFAULT_PRUNE, DIVERSE_CANDIDATES, DM_RULE_SHARE, Detour, MAX_THREADS,
-    PlanConfig, PlanError, Seed,
+    DEFAULT_FINISH_WITHIN, DEFAULT_PRUNE, DIVERSE_CANDIDATES, DM_RULE_SHARE, Detour, Interrupt,
+    MAX_THREADS, PlanConfig, PlanError, Seed,
 };
 pub use report::{ClassPlan, Plan, Timing};
 pub use via::SEED_MAX_GAP;
@@ -161,6 +161,9 @@ pub fn plan_world(
     // With the classes optimised during the search, the optimisation's own time is what
     // came after the search ended (the stages overlap).
     timing.optimize = optimise_ms.unwrap_or_else(|| ms(to));
+    if cfg.interrupt.is_raised() {
+        return Err(PlanError::Interrupted);
+    }
     let (mut classes, best) = rank::rank(done, cfg);
     // Overlap with the chosen class, by graph edges.
     rank::set_overlaps(&mut classes, best, &seed_signatures, &seeded.edges);

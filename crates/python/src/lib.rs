@@ -13,12 +13,62 @@ use homospline_mission::{AnyWorld, MissionConfig, Policy};
 use homospline_optim::{ClassPlan, Plan};
 use homospline_voronoi::VoronoiGraph;
 use numpy::{PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
-use pyo3::exceptions::{PyOSError, PyTypeError, PyValueError};
+use pyo3::exceptions::{PyMemoryError, PyOSError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 fn bad(msg: impl Into<String>) -> PyErr {
     PyValueError::new_err(msg.into())
+}
+
+/// Runs `work` (a plan holding `interrupt`) on its own thread with the GIL released, and
+/// looks for Python signals every [`SIGNAL_POLL`]: on Ctrl-C (or any handler that raises)
+/// the plan is interrupted, the thread joined (it ends after its running growth rounds) and
+/// the handler's exception, `KeyboardInterrupt`, raised. Else `work`'s result.
+fn interruptible<T: Send>(
+    py: Python<'_>,
+    interrupt: &homospline_optim::Interrupt,
+    work: impl FnOnce() -> T + Send,
+) -> PyResult<T> {
+    std::thread::scope(|scope| {
+        let (tx, mut rx) = std::sync::mpsc::channel();
+        let worker = scope.spawn(move || {
+            let _ = tx.send(work());
+        });
+        loop {
+            // The receiver goes into the GIL-free closure and back (it is not `Sync`).
+            let (got, back) = py.detach(move || (rx.recv_timeout(SIGNAL_POLL), rx));
+            rx = back;
+            match got {
+                Ok(result) => {
+                    let _ = worker.join();
+                    return Ok(result);
+                }
+                Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {
+                    if let Err(e) = py.check_signals() {
+                        interrupt.raise();
+                        let _ = py.detach(|| worker.join());
+                        return Err(e);
+                    }
+                }
+                Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
+                    // The worker ended without a result: it panicked; pass the panic on.
+                    return match worker.join() {
+                        Err(panic) => std::panic::resume_unwind(panic),
+                        Ok(()) => Err(PyValueError::new_err("the plan ended without a result")),
+                    };
+                }
+            }
+        }
+    })
+}
+
+/// How often [`interruptible`] looks for Python signals.
+const SIGNAL_POLL: std::time::Duration = std::time::Duration::from_millis(50);
+
+/// `MemoryError` when a grid of `cells` cells may need more memory than the process may use.
+fn check_memory(what: impl FnOnce() -> String, cells: u64) -> PyResult<()> {
+    homospline_front::memory::check(what, cells).map_err(|e| PyMemoryError::new_err(e.to_string()))
 }
 
 fn read(path: &std::path::Path) -> PyResult<Vec<u8>> {
@@ -168,6 +218,10 @@ fn build_graph(py: Python<'_>, scene: &PyScene, resolution: Option<f64>) -> PyRe
         return Err(bad(format!("resolution={res}: must be positive")));
     }
     let s = &scene.inner;
+    check_memory(
+        || format!("scene {} at resolution={res}", s.name),
+        homospline_front::memory::scene_cells(s, res),
+    )?;
     py.detach(|| homospline_voronoi::build(s, res))
         .map(|(_, _, inner)| PyGraph { inner })
         .map_err(|e| bad(format!("{}: {e}", s.name)))
@@ -403,9 +457,20 @@ fn plan(
     let cfg = options.validate(Some(&scene.inner)).map_err(bad_option)?;
     let s = &scene.inner;
     let saved = graph.map(|g| g.inner.clone());
-    py.detach(|| homospline_optim::plan_with_graph(s, saved, &cfg))
-        .map(|inner| PyPlan { inner })
-        .map_err(|e| bad(format!("{}: {e}", s.name)))
+    if saved.is_none() && cfg.seed == homospline_optim::Seed::Voronoi {
+        let res = cfg
+            .resolution
+            .unwrap_or_else(|| homospline_optim::default_resolution(s));
+        check_memory(
+            || format!("scene {} at resolution={res}", s.name),
+            homospline_front::memory::scene_cells(s, res),
+        )?;
+    }
+    interruptible(py, &cfg.interrupt, || {
+        homospline_optim::plan_with_graph(s, saved, &cfg)
+    })?
+    .map(|inner| PyPlan { inner })
+    .map_err(|e| bad(format!("{}: {e}", s.name)))
 }
 
 /// The occupancy of a NumPy array, checked: 2-D, bool, not empty.
@@ -491,16 +556,22 @@ fn plan_map(
             "robot_radius={robot_radius}: must be a finite number >= 0 (map units)"
         )));
     }
-    py.detach(|| homospline_maps::plan_map_for_robot(&map, robot_radius, s, g, &cfg))
-        .map(|(inner, _)| PyPlan { inner })
-        .map_err(|e| {
-            if e.is_no_route() {
-                // An answer, not bad input: its own exception (a `ValueError` still).
-                NoRoute::new_err(e.to_string())
-            } else {
-                bad(e.to_string())
-            }
-        })
+    check_memory(
+        || format!("occupancy ({rows} x {cols} cells)"),
+        homospline_front::memory::map_cells(cols, rows, robot_radius),
+    )?;
+    interruptible(py, &cfg.interrupt, || {
+        homospline_maps::plan_map_for_robot(&map, robot_radius, s, g, &cfg)
+    })?
+    .map(|(inner, _)| PyPlan { inner })
+    .map_err(|e| {
+        if e.is_no_route() {
+            // An answer, not bad input: its own exception (a `ValueError` still).
+            NoRoute::new_err(e.to_string())
+        } else {
+            bad(e.to_string())
+        }
+    })
 }
 
 pyo3::create_exception!(

@@ -290,12 +290,15 @@ fn execute<'w>(shop: &Shop<'w>, pos: usize, job: Job<'w>) -> (ClassTask<'w>, Don
                 *gcost,
                 shop.graph_cell,
             );
-            let more = task.step(model);
+            let more = !shop.cfg.interrupt.is_raised() && task.step(model);
             let score = shop.cfg.prune.map(|_| task.score(class, model));
             (task, Done::Start(more, score))
         }
         Job::Round { mut task, ahead } => {
-            let more = if ahead {
+            let more = if shop.cfg.interrupt.is_raised() {
+                // Raised: the class ends where it is; the plan returns `Interrupted`.
+                Some(false)
+            } else if ahead {
                 let stop = &shop.stops[pos];
                 task.step_unless(model, &|| stop.load(Ordering::Relaxed))
             } else {

@@ -134,6 +134,46 @@ pub struct PlanConfig {
     /// as far as before, and `safe` says whether the path keeps this margin. `None`: the
     /// cost's `dm` as it is (a scene, or a map given `--weight dm=`).
     pub map_dm: Option<Real>,
+    /// A flag another thread may raise to end the plan early (a front end's Ctrl-C): no
+    /// further growth round starts once it is raised, and the plan returns
+    /// [`PlanError::Interrupted`]. Not a setting: two configurations compare equal whatever
+    /// their flags.
+    pub interrupt: Interrupt,
+}
+
+/// The flag of [`PlanConfig::interrupt`]: shared by its clones, raised by any of them.
+///
+/// # Examples
+/// ```
+/// use homospline_optim::{Interrupt, PlanConfig, PlanError, plan};
+/// use homospline_geom::Scene;
+///
+/// let text = include_str!("../../../../fixtures/scenes/convex.yaml");
+/// let scene = Scene::from_str(text, "convex.yaml").unwrap();
+/// let cfg = PlanConfig::default();
+/// cfg.interrupt.raise(); // as a signal handler on another thread would
+/// assert!(matches!(plan(&scene, &cfg), Err(PlanError::Interrupted)));
+/// ```
+#[derive(Clone, Debug, Default)]
+pub struct Interrupt(std::sync::Arc<std::sync::atomic::AtomicBool>);
+
+impl Interrupt {
+    /// Raises the flag: every plan holding it stops after its running growth rounds.
+    pub fn raise(&self) {
+        self.0.store(true, std::sync::atomic::Ordering::Relaxed);
+    }
+
+    /// Whether it was raised.
+    pub fn is_raised(&self) -> bool {
+        self.0.load(std::sync::atomic::Ordering::Relaxed)
+    }
+}
+
+impl PartialEq for Interrupt {
+    /// Always: the flag is no part of what a plan is asked for.
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 /// The rule of [`PlanConfig::detour`]: when a shorter class is as good as the chosen one.
@@ -176,6 +216,7 @@ impl Default for PlanConfig {
             finish_within: Some(DEFAULT_FINISH_WITHIN),
             detour: None,
             map_dm: None,
+            interrupt: Interrupt::default(),
         }
     }
 }
@@ -208,6 +249,9 @@ pub enum PlanError {
     /// Thread pool.
     #[error("cannot start worker threads: {0}")]
     Threads(String),
+    /// [`PlanConfig::interrupt`] was raised.
+    #[error("interrupted")]
+    Interrupted,
 }
 
 /// Why `text` names no class of a scene or map with `rays` rays, if it does not: a class is
