@@ -105,7 +105,7 @@ def plan(
     soft_dm: bool = False,
     prune: Optional[Union[str, float]] = None,
     clearance_search: Optional[str] = None,
-    polish: int = 0,
+    polish: Optional[int] = None,
     finish_within: Optional[Union[str, int]] = None,
 ) -> Plan:
     """Plans a scene (the `plan` command); `classes` is 1 to 64 (default 5; the straight
@@ -115,7 +115,12 @@ def plan(
     polish rounds, 0 to 10 (`--polish`; default 0); `finish_within` is `"off"` or the work
     budget, in cost evaluations, under which the chosen class gets its interior-point
     finish (`--finish-within`; default 1500; 0 or `"off"`: never; `polish` > 0 replaces
-    it)."""
+    it). A count out of range raises `ValueError` naming its keyword.
+
+    The plan runs with the GIL released and Ctrl-C (any signal handler that raises) stops
+    it between growth rounds: `KeyboardInterrupt` is raised within a round or so. A grid
+    larger than the process's address-space limit (`ulimit -v`) raises `MemoryError` with
+    what it needs, before anything of its size is allocated."""
 
 def plan_map(
     occupancy: npt.NDArray[np.bool_],
@@ -124,14 +129,15 @@ def plan_map(
     resolution: float = 1.0,
     origin: tuple[float, float] = (0.0, 0.0),
     y_down: bool = False,
-    classes: int = 5,
+    classes: Optional[int] = None,
     robot_radius: float = 0.0,
 ) -> Plan:
     """Plans on a 2-D bool occupancy array (True = occupied; rows are y, columns x; y up
     from `origin` as in ROS, or rows down the page with `y_down=True`). `robot_radius`
     (map units) is kept from every occupied cell and the array's edge. Raises `NoRoute`
     when no route at that radius joins start and goal, `ValueError` for bad input (a start
-    or goal closer than the radius among it)."""
+    or goal closer than the radius among it). `classes` defaults to 5. Interruptible and
+    memory-checked as `plan`."""
 
 class NoRoute(ValueError):
     """No route joins start and goal for the robot at its radius; the message names the
@@ -148,8 +154,8 @@ def bench_scen(
     files: Sequence[_Path],
     sample: Optional[int] = None,
     limit: Optional[int] = None,
-    shard: tuple[int, int] = (1, 1),
-    classes: int = 5,
+    shard: Optional[tuple[int, int]] = None,
+    classes: Optional[int] = None,
     time_limit: Optional[float] = None,
     robot_radius: float = 0.0,
 ) -> str:

@@ -155,6 +155,28 @@ fn a_saved_graph_gives_the_same_plan() {
         ],
         "another start or goal",
     );
+    // A map's complete graph said "built for another start or goal": it has none.
+    let map_graph = tmp("map-graph-for-a-scene.json");
+    assert_ok(
+        &homospline()
+            .args([
+                "graph",
+                "fixtures/maps/movingai/random-32-32-10.map",
+                "--out",
+                map_graph.to_str().unwrap(),
+            ])
+            .output()
+            .unwrap(),
+    );
+    assert_refused(
+        &[
+            "plan",
+            "fixtures/scenes/convex.yaml",
+            "--graph",
+            map_graph.to_str().unwrap(),
+        ],
+        "the graph is a map's complete graph (no start or goal; saved by `homospline graph MAP`): it serves plans on that map (`plan MAP --graph`), not on a scene",
+    );
     // So is one of the same start and goal but other obstacles: a wall added across the
     // scene gave "no collision-free class" (every class through the wall), an obstacle
     // taken away a dearer class, both silently.

@@ -24,6 +24,22 @@ impl std::fmt::Display for Num {
     }
 }
 
+/// A measured value for a message: three decimals where that says something (`-2.500`),
+/// else three significant digits in scientific notation (`-5.000e-170`, not `-0.000`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Short(pub Real);
+
+impl std::fmt::Display for Short {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let a = self.0.abs();
+        if a == 0.0 || !a.is_finite() || (1e-3..1e6).contains(&a) {
+            write!(f, "{:.3}", self.0)
+        } else {
+            write!(f, "{:.3e}", self.0)
+        }
+    }
+}
+
 /// 2-D cross product (the z component of `a x b`).
 #[inline]
 pub fn cross(a: &Vector, b: &Vector) -> Real {

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 use serde_saphyr::Spanned;
 use thiserror::Error;
 
-use crate::math::{Point, Real};
+use crate::math::{Num, Point, Real, Short};
 use crate::query::CircleSet;
 use crate::shape::{Bounds, Circle, Obstacle, TopoObstacle, topological_obstacles};
 pub use crate::yaml::{MAX_YAML_NODES, from_yaml, from_yaml_within, yaml_problem};
@@ -18,6 +18,12 @@ pub use crate::yaml::{MAX_YAML_NODES, from_yaml, from_yaml_within, yaml_problem}
 /// Largest coordinate or length magnitude a scene may hold. Far beyond any map, and small
 /// enough that squared distances stay finite.
 pub const MAX_MAGNITUDE: Real = 1e9;
+
+/// Smallest side the bounds may have: the scale's other end. The planner's geometric
+/// tolerances are absolute near `1e-12`, and squared distances underflow on scenes scaled
+/// to `1e-160`: a scene scaled by `1e-170` had its start "inside" an obstacle it was 35
+/// units clear of.
+pub const MIN_EXTENT: Real = 1e-9;
 
 /// The scene file version this crate reads and writes.
 pub const SCENE_VERSION: u32 = 1;
@@ -420,6 +426,17 @@ impl Scene {
                 ),
             ));
         }
+        let ext = b.extent();
+        if ext.x.min(ext.y) < MIN_EXTENT {
+            return Err((
+                "bounds".to_owned(),
+                format!(
+                    "{} x {} across: each side must be at least {MIN_EXTENT:e}; scale the scene's units up",
+                    Num(ext.x),
+                    Num(ext.y)
+                ),
+            ));
+        }
         check_point("start", &self.start)?;
         check_point("goal", &self.goal)?;
         check_number("robot_radius", "robot_radius", self.robot_radius)?;
@@ -506,21 +523,32 @@ impl Scene {
                     field.to_owned(),
                     format!(
                         "[{}, {}] is outside the bounds [{}, {}] .. [{}, {}]",
-                        p.x, p.y, b.min.x, b.min.y, b.max.x, b.max.y
+                        Num(p.x),
+                        Num(p.y),
+                        Num(b.min.x),
+                        Num(b.min.y),
+                        Num(b.max.x),
+                        Num(b.max.y)
                     ),
                 ));
             }
             if let Some((o, j, d)) = self.deepest_circle_at(p) {
                 let inflated = if self.robot_radius > 0.0 {
-                    format!(" after inflating by robot_radius {}", self.robot_radius)
+                    format!(
+                        " after inflating by robot_radius {}",
+                        Num(self.robot_radius)
+                    )
                 } else {
                     String::new()
                 };
                 return Err((
                     field.to_owned(),
                     format!(
-                        "[{}, {}] is inside obstacle '{}' (circle {j}, clearance {d:.3}{inflated})",
-                        p.x, p.y, self.obstacles[o].name
+                        "[{}, {}] is inside obstacle '{}' (circle {j}, clearance {}{inflated})",
+                        Num(p.x),
+                        Num(p.y),
+                        self.obstacles[o].name,
+                        Short(d)
                     ),
                 ));
             }

@@ -25,7 +25,16 @@ impl Circle {
     /// Signed distance from `p` to the circle's boundary: negative inside.
     #[inline]
     pub fn signed_distance(&self, p: &Point) -> Real {
-        (p - self.center).norm() - self.radius
+        let v = p - self.center;
+        let n2 = v.x * v.x + v.y * v.y;
+        // The squares underflow (or overflow) on scenes scaled to 1e-160 (or 1e160): a start
+        // 35 units clear at scale 1e-170 measured 0 from the centre, inside the circle.
+        let norm = if n2.is_normal() {
+            n2.sqrt()
+        } else {
+            v.x.hypot(v.y)
+        };
+        norm - self.radius
     }
 
     /// Whether the two closed discs share at least one point.
@@ -229,6 +238,18 @@ pub fn topological_obstacles(circles: &[Circle]) -> Vec<TopoObstacle> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn signed_distance_holds_at_any_scale() {
+        // The squares of 1e-170 underflow to 0 and those of 1e170 overflow: the point, 15
+        // radii from the centre, was measured inside at the first scale.
+        for k in [1e-170, 1e-160, 1.0, 1e150, 1e170] {
+            let c = Circle::new(20.0 * k, 28.0 * k, 5.0 * k);
+            let d = c.signed_distance(&Point::new(5.0 * k, 30.0 * k));
+            let expect = (15.0f64.hypot(2.0) - 5.0) * k;
+            assert!((d - expect).abs() <= 1e-12 * expect, "{k}: {d} vs {expect}");
+        }
+    }
 
     #[test]
     fn discs_are_placed_at_the_edges_of_the_bounds() {

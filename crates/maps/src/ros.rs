@@ -80,7 +80,7 @@ pub fn read_yaml(text: &str, source: &str) -> Result<RosMapYaml, MapError> {
             None,
             format!(
                 "origin: yaw {} is not supported (rotate the map image instead)",
-                y.origin[2]
+                Num(y.origin[2])
             ),
         ));
     }
@@ -268,5 +268,16 @@ mod tests {
         }
         let ok = "image: m.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
         assert!(read_yaml(ok, "m.yaml").is_ok());
+    }
+
+    #[test]
+    fn a_yaw_is_refused_with_its_value_written_short() {
+        // 1e-300 was written out with 300 digits.
+        let text = "image: m.pgm\nresolution: 0.05\norigin: [0, 0, 1e-300]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
+        let e = read_yaml(text, "m.yaml").unwrap_err().to_string();
+        assert!(
+            e.contains("origin: yaw 1e-300 is not supported (rotate the map image instead)"),
+            "{e}"
+        );
     }
 }

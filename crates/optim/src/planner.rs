@@ -73,6 +73,12 @@ pub fn plan(scene: &Scene, cfg: &PlanConfig) -> Result<Plan, PlanError> {
 /// checked by its start and goal only), or at another resolution than `cfg.resolution` asks.
 pub fn graph_misfit(graph: &VoronoiGraph, scene: &Scene, cfg: &PlanConfig) -> Option<String> {
     let at = |n: Option<usize>| n.and_then(|i| graph.nodes.get(i)).map(|n| n.at);
+    if graph.start.is_none() && graph.goal.is_none() && graph.built_for.is_none() {
+        return Some(
+            "the graph is a map's complete graph (no start or goal; saved by `homospline graph MAP`): it serves plans on that map (`plan MAP --graph`), not on a scene"
+                .into(),
+        );
+    }
     if at(graph.start) != Some([scene.start.x, scene.start.y])
         || at(graph.goal) != Some([scene.goal.x, scene.goal.y])
     {

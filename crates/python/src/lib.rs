@@ -66,6 +66,27 @@ fn interruptible<T: Send>(
 /// How often [`interruptible`] looks for Python signals.
 const SIGNAL_POLL: std::time::Duration = std::time::Duration::from_millis(50);
 
+/// A count given by keyword: `None` (or Python's `None`) when left out, else an int from 0
+/// up. Another int is a `ValueError` naming the keyword (it was an `OverflowError` that
+/// named nothing), anything else a `TypeError`.
+fn count(keyword: &str, v: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
+    let Some(v) = v.filter(|v| !v.is_none()) else {
+        return Ok(None);
+    };
+    if v.is_instance_of::<pyo3::types::PyBool>() || !v.is_instance_of::<pyo3::types::PyInt>() {
+        return Err(PyTypeError::new_err(format!(
+            "{keyword}: expected an int, got {}",
+            v.get_type().name()?
+        )));
+    }
+    v.extract::<usize>().map(Some).map_err(|_| {
+        bad(format!(
+            "{keyword}={}: must be a whole number >= 0",
+            v.repr().map_or_else(|_| "?".into(), |r| r.to_string())
+        ))
+    })
+}
+
 /// `MemoryError` when a grid of `cells` cells may need more memory than the process may use.
 fn check_memory(what: impl FnOnce() -> String, cells: u64) -> PyResult<()> {
     homospline_front::memory::check(what, cells).map_err(|e| PyMemoryError::new_err(e.to_string()))
@@ -404,23 +425,26 @@ fn off_or<'py, T: std::str::FromStr + FromPyObjectOwned<'py>>(
             ))
         });
     }
+    let keyword = opt.keyword().replace('-', "_");
     v.extract::<T>().map(|x| Some(OrOff::On(x))).map_err(|_| {
-        PyTypeError::new_err(format!(
-            "{}: expected {expected}",
-            opt.keyword().replace('-', "_")
-        ))
+        if v.is_instance_of::<pyo3::types::PyInt>() && !v.is_instance_of::<pyo3::types::PyBool>() {
+            // A number of the wrong range (-1): the value is wrong, not its type.
+            bad(format!("{keyword}={v}: expected {expected}"))
+        } else {
+            PyTypeError::new_err(format!("{keyword}: expected {expected}"))
+        }
     })
 }
 
 /// Plans a scene: the k best homotopy classes, each optimised and checked (the `plan`
 /// command). `weights` maps names (`safety`, `dm`, ...) to values.
 #[pyfunction]
-#[pyo3(signature = (scene, classes=None, preset="paper-voronoi", weights=None, optimizer=None, seed="voronoi", roughness=None, clearance_floor=0.0, graph=None, soft_dm=false, prune=None, clearance_search=None, polish=0, finish_within=None))]
+#[pyo3(signature = (scene, classes=None, preset="paper-voronoi", weights=None, optimizer=None, seed="voronoi", roughness=None, clearance_floor=0.0, graph=None, soft_dm=false, prune=None, clearance_search=None, polish=None, finish_within=None))]
 #[allow(clippy::too_many_arguments)]
 fn plan(
     py: Python<'_>,
     scene: &PyScene,
-    classes: Option<usize>,
+    classes: Option<&Bound<'_, PyAny>>,
     preset: &str,
     weights: Option<&Bound<'_, PyDict>>,
     optimizer: Option<String>,
@@ -431,9 +455,11 @@ fn plan(
     soft_dm: bool,
     prune: Option<&Bound<'_, PyAny>>,
     clearance_search: Option<String>,
-    polish: usize,
+    polish: Option<&Bound<'_, PyAny>>,
     finish_within: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyPlan> {
+    let classes = count("classes", classes)?;
+    let polish = count("polish", polish)?.unwrap_or(0);
     let options = PlanOptions {
         seed: named(Opt::Seed, Some(seed))?.unwrap_or_default(),
         classes,
@@ -510,7 +536,7 @@ fn occupancy_of(a: &Bound<'_, PyAny>) -> PyResult<(usize, usize, Vec<bool>)> {
 /// `[origin + i * resolution, origin + (i + 1) * resolution]` in x and likewise in y, with
 /// y up from `origin` (ROS) or, with `y_down=True`, rows down the page (images, MovingAI).
 #[pyfunction]
-#[pyo3(signature = (occupancy, start, goal, resolution=1.0, origin=(0.0, 0.0), y_down=false, classes=5, robot_radius=0.0))]
+#[pyo3(signature = (occupancy, start, goal, resolution=1.0, origin=(0.0, 0.0), y_down=false, classes=None, robot_radius=0.0))]
 #[allow(clippy::too_many_arguments)]
 fn plan_map(
     py: Python<'_>,
@@ -520,9 +546,10 @@ fn plan_map(
     resolution: f64,
     origin: (f64, f64),
     y_down: bool,
-    classes: usize,
+    classes: Option<&Bound<'_, PyAny>>,
     robot_radius: f64,
 ) -> PyResult<PyPlan> {
+    let classes = count("classes", classes)?.unwrap_or(5);
     let (rows, cols, cells) = occupancy_of(occupancy)?;
     // The checks a ROS map's YAML gets, named by keyword.
     homospline_maps::check_geometry(resolution, [origin.0, origin.1], cols, rows).map_err(
@@ -590,8 +617,9 @@ fn simulate<'py>(
     py: Python<'py>,
     world: PathBuf,
     policy: &str,
-    scouts: Option<usize>,
+    scouts: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
+    let scouts = count("scouts", scouts)?;
     let w = homospline_mission::world::load_any(&world, |p| std::fs::read(p)).map_err(bad)?;
     let policy = match policy {
         "none" => Policy::None,
@@ -626,18 +654,28 @@ fn simulate<'py>(
 /// `limit`, or all), and only slice `shard = (k, n)` of them. Returns the CSV text of
 /// `docs/formats.md`; `bench_summary` merges the CSVs of several shards.
 #[pyfunction]
-#[pyo3(signature = (files, sample=None, limit=None, shard=(1, 1), classes=5, time_limit=None, robot_radius=0.0))]
+#[pyo3(signature = (files, sample=None, limit=None, shard=None, classes=None, time_limit=None, robot_radius=0.0))]
 #[allow(clippy::too_many_arguments)]
 fn bench_scen(
     py: Python<'_>,
     files: Vec<PathBuf>,
-    sample: Option<usize>,
-    limit: Option<usize>,
-    shard: (usize, usize),
-    classes: usize,
+    sample: Option<&Bound<'_, PyAny>>,
+    limit: Option<&Bound<'_, PyAny>>,
+    shard: Option<(Bound<'_, PyAny>, Bound<'_, PyAny>)>,
+    classes: Option<&Bound<'_, PyAny>>,
     time_limit: Option<f64>,
     robot_radius: f64,
 ) -> PyResult<String> {
+    let sample = count("sample", sample)?;
+    let limit = count("limit", limit)?;
+    let classes = count("classes", classes)?.unwrap_or(5);
+    let shard = match &shard {
+        Some((k, n)) => (
+            count("shard[0]", Some(k))?.unwrap_or(1),
+            count("shard[1]", Some(n))?.unwrap_or(1),
+        ),
+        None => (1, 1),
+    };
     let shard = homospline_maps::bench::Shard::parse(&format!("{}/{}", shard.0, shard.1))
         .map_err(|e| bad(format!("shard {e}")))?;
     let job = homospline_front::bench::BenchJob {

@@ -5,6 +5,7 @@ import json
 import os
 import pathlib
 import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -279,3 +280,71 @@ def test_finish_within_equals_the_cli_flag(tmp_path):
         homospline.plan(scene, finish_within="never")
     with pytest.raises(TypeError, match="finish_within"):
         homospline.plan(scene, finish_within=1.5)
+
+
+def _lattice_scene(n=30):
+    """A square of n x n discs: many classes, a plan of seconds with many of them."""
+    obstacles = [
+        {"name": f"o{i}_{j}", "circles": [[3 + i * 3.1, 3 + j * 3.1, 0.8]]}
+        for i in range(n)
+        for j in range(n)
+    ]
+    return homospline.Scene.from_dict(
+        {"name": "lattice", "bounds": {"min": [0, 0], "max": [96, 96]}, "start": [1, 1],
+         "goal": [95, 95], "obstacles": obstacles}
+    )
+
+
+def test_ctrl_c_interrupts_a_plan_within_a_round():
+    # KeyboardInterrupt arrived only when the plan returned: 7 s with 20 classes, twice
+    # that with 40.
+    import signal
+    import threading
+    import time
+
+    scene = _lattice_scene()
+    timer = threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT))
+    start = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            homospline.plan(scene, classes=40)
+    finally:
+        timer.cancel()
+    assert time.monotonic() - start < 5.0
+    # The next plan is not interrupted.
+    assert homospline.plan(homospline.Scene.example()).classes
+
+
+def test_a_grid_beyond_the_address_space_limit_is_a_memory_error():
+    # Under `ulimit -v` the interpreter aborted (SIGABRT) half way through the map.
+    code = (
+        "import resource, numpy as np, homospline\n"
+        "resource.setrlimit(resource.RLIMIT_AS, (400_000_000, resource.RLIM_INFINITY))\n"
+        "try:\n"
+        "    homospline.plan_map(np.zeros((2048, 2048), bool), (10.5, 10.5), (2000.5, 2000.5))\n"
+        "except MemoryError as e:\n"
+        "    print('MemoryError:', e)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert "MemoryError: occupancy (2048 x 2048 cells) needs up to about 713 MB" in out.stdout
+    assert "this process may use 400 MB" in out.stdout
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        (lambda s: homospline.plan(s, classes=-1), "classes=-1: must be a whole number >= 0"),
+        (lambda s: homospline.plan(s, polish=-1), "polish=-1: must be a whole number >= 0"),
+        (lambda s: homospline.plan(s, finish_within=-1), 'finish_within=-1: expected "off" or a number of evaluations'),
+        (lambda s: homospline.plan_map(np.zeros((4, 4), bool), (0.5, 0.5), (3.5, 3.5), classes=-2),
+         "classes=-2: must be a whole number >= 0"),
+        (lambda s: homospline.simulate(ROOT / "fixtures/worlds/convex-blocked.yaml", scouts=-1),
+         "scouts=-1: must be a whole number >= 0"),
+    ],
+)
+def test_negative_counts_are_value_errors_naming_the_keyword(call, message):
+    # They were OverflowError (or TypeError for finish_within) naming nothing.
+    with pytest.raises(ValueError, match=message.replace("(", r"\(").replace(")", r"\)")):
+        call(homospline.Scene.example())

@@ -140,7 +140,14 @@ pub(super) fn run_classes<'w>(
     for slot in board.slots {
         // Every slot is reported before the last worker leaves (a job that panicked has
         // re-raised its panic from the scope).
-        debug_assert!(slot.run.is_some(), "class {} not reported", slot.class);
+        debug_assert!(
+            slot.run.is_some() || cfg.interrupt.is_raised(),
+            "class {} not reported",
+            slot.class
+        );
+        if cfg.interrupt.is_raised() {
+            continue;
+        }
         if let Some(task) = slot.task {
             let run = slot.run.unwrap_or_else(|| task.report(world, cfg));
             tasks.push((slot.class, task));
@@ -164,7 +171,11 @@ fn lock<'m, 'w>(m: &'m Mutex<Board<'w>>) -> std::sync::MutexGuard<'m, Board<'w>>
 fn work<'s, 'w: 's>(s: &rayon::Scope<'s>, shop: &'s Shop<'w>) {
     let mut b = lock(&shop.board);
     loop {
-        let Some((pos, job)) = pick(&mut b) else {
+        // Interrupted: no further job; the plan returns `Interrupted`.
+        let job = (!shop.cfg.interrupt.is_raised())
+            .then(|| pick(&mut b))
+            .flatten();
+        let Some((pos, job)) = job else {
             b.active -= 1;
             return;
         };
@@ -290,19 +301,26 @@ fn execute<'w>(shop: &Shop<'w>, pos: usize, job: Job<'w>) -> (ClassTask<'w>, Don
                 *gcost,
                 shop.graph_cell,
             );
-            let more = !shop.cfg.interrupt.is_raised() && task.step(model);
+            let more = task
+                .step_unless(model, &|| shop.cfg.interrupt.is_raised())
+                .unwrap_or(false);
             let score = shop.cfg.prune.map(|_| task.score(class, model));
             (task, Done::Start(more, score))
         }
         Job::Round { mut task, ahead } => {
-            let more = if shop.cfg.interrupt.is_raised() {
-                // Raised: the class ends where it is; the plan returns `Interrupted`.
-                Some(false)
-            } else if ahead {
+            // An interrupt calls the round off part-way (the class ends where it is; the plan
+            // returns `Interrupted`); a round ahead is also called off by the decision.
+            let interrupt = &shop.cfg.interrupt;
+            let more = if ahead {
                 let stop = &shop.stops[pos];
-                task.step_unless(model, &|| stop.load(Ordering::Relaxed))
+                task.step_unless(model, &|| {
+                    stop.load(Ordering::Relaxed) || interrupt.is_raised()
+                })
             } else {
-                Some(task.step(model))
+                Some(
+                    task.step_unless(model, &|| interrupt.is_raised())
+                        .unwrap_or(false),
+                )
             };
             (task, Done::Round(more))
         }

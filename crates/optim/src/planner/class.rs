@@ -16,7 +16,7 @@ use super::rank::Score;
 use super::report::{ClassPlan, Origin, ms, report_class};
 use super::via::{last_resort, seed_points, subdivided_seed};
 use super::world::{World, keeps_dm};
-use crate::growth::{Growth, GrowthConfig, Guard, SHORT_OF_TARGET, grow};
+use crate::growth::{Growth, GrowthConfig, Guard, SHORT_OF_TARGET};
 
 /// A scene's dense seed (a last resort that stayed in collision) has at most this many times
 /// the points of a normal one (`max_via_points` and the ends); past that it is not tried.
@@ -291,12 +291,6 @@ impl<'w> ClassTask<'w> {
         while self.step(model) {}
     }
 
-    /// The task with every round run, for a caller that does not stop classes early.
-    pub(super) fn optimised(mut self, model: &dyn ClearanceModel) -> Self {
-        self.run(model);
-        self
-    }
-
     /// Where the class came from, for its report.
     fn origin(&self) -> Origin<'_> {
         Origin {
@@ -354,7 +348,16 @@ impl<'w> ClassTask<'w> {
             cell,
             Some(DENSE_SEED_SHARE * (growth.max_via_points + 2)),
         )?;
-        let mut grown = grow(&dense, model, growth, guard).ok()?;
+        // `grow`, with every round called off by an interrupt (the plan then returns
+        // `Interrupted`: this class's result is never read).
+        let mut g = Growth::new(&dense, model, growth, guard).ok()?;
+        let interrupted = || cfg.interrupt.is_raised();
+        while g.step_unless(model, growth, guard, &interrupted) == Some(true) {}
+        if interrupted() {
+            return None;
+        }
+        g.repair(model, growth, guard);
+        let mut grown = g.result(model, growth, guard);
         if !is_collision_free(&grown.spline, model) {
             return None;
         }

@@ -44,6 +44,9 @@ pub(super) fn optimise_classes(
     } = in_pool(pool, || {
         board::run_classes(world, cfg, seeds, raw, graph_cell, &order)
     });
+    if cfg.interrupt.is_raised() {
+        return Vec::new();
+    }
     // A class whose loop ended on a curve that its cost's `m(C)` (searched around the
     // worst quadrature node) took to keep its target, but that is not proven to, was
     // optimised against a constraint it did not see ([`Growth::needs_repair`]). If it
@@ -64,6 +67,9 @@ pub(super) fn optimise_classes(
         repair_contenders(world, cfg, pool, &mut tasks, &mut runs);
     }
     polish_chosen(world, cfg, &mut tasks, &mut runs);
+    if cfg.interrupt.is_raised() {
+        return Vec::new();
+    }
     retry_dense(world, cfg, pool, graph_cell, &mut tasks, runs)
 }
 

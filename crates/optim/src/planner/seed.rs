@@ -218,9 +218,16 @@ fn stream_classes(
                 let (i, seed, done) = (made.len(), made_seed(world, cell, c), &done);
                 made.push(seed.clone());
                 s.spawn(move |_| {
+                    if cfg.interrupt.is_raised() {
+                        return;
+                    }
                     let (poly, sig, gcost) = &seed;
-                    let task = start_class(world, cfg, poly, sig.as_ref(), *gcost, Some(cell))
-                        .optimised(world.model);
+                    let mut task = start_class(world, cfg, poly, sig.as_ref(), *gcost, Some(cell));
+                    let interrupted = || cfg.interrupt.is_raised();
+                    while task.step_unless(world.model, &interrupted) == Some(true) {}
+                    if cfg.interrupt.is_raised() {
+                        return;
+                    }
                     let (plan, _) = task.report(world, cfg);
                     done.lock()
                         .unwrap_or_else(|e| e.into_inner())
