@@ -103,11 +103,19 @@ pub const LBFGS_VALUE_TOLERANCE: Real = 1e-3;
 /// a path that comes closer to a wall than that cuts a corner.
 pub const MAP_DM_CELLS: Real = 0.25;
 
-/// The configuration `cfg` on a map of cells of `cell` map units: with [`PlanConfig::map_dm`]
+/// The most the certified clearance's tolerance may be on a map, in cells
+/// ([`resolve_map_dm`]): the planner's default (1e-3 map units) is 0.02 of a ROS map's 5 cm
+/// cell and 0.001 of a MovingAI cell, but a thousand cells of a map at 1 micrometre a cell,
+/// where no path could be certified `safe`.
+pub const CERTIFY_TOLERANCE_CELLS: Real = 0.02;
+
+/// The configuration `cfg` on a map of cells of `cell` map units: the certificate's
+/// tolerance at most [`CERTIFY_TOLERANCE_CELLS`] of a cell; with [`PlanConfig::map_dm`]
 /// set, the cost's `dm` becomes that many cells and the safety weight keeps the push of the
 /// `dm` it replaces; the reason, for the plan's report.
 pub fn resolve_map_dm(cfg: &PlanConfig, cell: Real) -> (PlanConfig, Option<String>) {
     let mut cfg = cfg.clone();
+    cfg.certify_tolerance = cfg.certify_tolerance.min(CERTIFY_TOLERANCE_CELLS * cell);
     let Some(cells) = cfg.map_dm else {
         return (cfg, None);
     };
