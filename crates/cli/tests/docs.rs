@@ -47,6 +47,44 @@ fn the_guide_documents_every_option_of_every_command() {
     assert!(missing.is_empty(), "not in docs/guide.md: {missing:?}");
 }
 
+/// Every field of a class in the plan JSON has its row in docs/formats.md, and the two
+/// clearances say which polyline each measures: `certified_clearance` could exceed
+/// `min_clearance` at tight turns with nothing saying why.
+#[test]
+fn formats_documents_every_class_field_and_which_polyline_each_clearance_measures() {
+    let formats = std::fs::read_to_string(root().join("docs/formats.md")).unwrap();
+    let json = tmp("formats-plan.json");
+    let out = homospline()
+        .args(["plan", "fixtures/scenes/convex.yaml", "--json"])
+        .arg(&json)
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let plan = read_json(&json);
+    let class = plan["classes"][0].as_object().unwrap();
+    // A field's own row, else a row naming several (`optimum_length`, ...).
+    let row = |key: &str| {
+        let lines = || formats.lines();
+        lines()
+            .find(|l| l.starts_with(&format!("| `{key}` |")))
+            .or_else(|| lines().find(|l| l.starts_with("| `") && l.contains(&format!("`{key}`"))))
+            .map(str::to_owned)
+    };
+    let missing: Vec<&String> = class.keys().filter(|k| row(k).is_none()).collect();
+    assert!(
+        missing.is_empty(),
+        "class fields not in docs/formats.md: {missing:?}"
+    );
+    let min = row("min_clearance").unwrap();
+    let cert = row("certified_clearance").unwrap();
+    assert!(min.contains("the clearance of `path`"), "{min}");
+    assert!(
+        cert.contains("the curve's own minimum clearance")
+            && cert.contains("`path` is its samples"),
+        "{cert}"
+    );
+}
+
 #[test]
 fn the_readme_is_short_and_starts_with_the_two_commands() {
     let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
