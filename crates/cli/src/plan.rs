@@ -198,6 +198,9 @@ fn plan_scene(
     {
         let _ = writeln!(std::io::stderr().lock(), "{n}");
     }
+    if let Some(n) = homospline_front::clutter_note(scene, &result) {
+        let _ = writeln!(std::io::stderr().lock(), "{n}");
+    }
     let alpha = cfg.growth.cost.alpha;
     let pic = a
         .svg
