@@ -1,5 +1,6 @@
 //! Criterion bench of the class search: k = 7 on the Voronoi graph of a 1024 x 1024 map with
-//! 50 compound obstacles; and the signature of a long polyline among 200 obstacles.
+//! 50 compound obstacles; the signature of a long polyline among 200 obstacles; and the exact
+//! shortest path among 500 and 2,000 random circles (`plan --optimum`'s tangent graph).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use homospline_geom::Point;
@@ -36,6 +37,29 @@ fn bench(c: &mut Criterion) {
     g.bench_function("signature/1000_segments_200_obstacles", |b| {
         b.iter(|| rays200.signature(black_box(&path)))
     });
+    g.finish();
+    // Circles of radius 0.3 to 0.8 at random in [3, 97]^2, corner to corner, clearance 0.5.
+    let mut g = c.benchmark_group("shortest");
+    g.sample_size(10);
+    for n in [500, 2000] {
+        let mut rng = homospline_testkit::SplitMix(5);
+        let circles: Vec<homospline_geom::Circle> = (0..n)
+            .map(|_| {
+                homospline_geom::Circle::new(
+                    3.0 + 94.0 * rng.next_unit(),
+                    3.0 + 94.0 * rng.next_unit(),
+                    0.3 + 0.5 * rng.next_unit(),
+                )
+            })
+            .collect();
+        let (s, t) = (Point::new(1.0, 1.0), Point::new(99.0, 99.0));
+        g.bench_function(format!("tangent_graph_optimum/{n}_circles"), |b| {
+            b.iter(|| {
+                homospline_geom::shortest::shortest_path_length(&s, &t, black_box(&circles), 0.5)
+                    .unwrap()
+            })
+        });
+    }
     g.finish();
 }
 
