@@ -369,7 +369,7 @@ pub struct BenchArgs {
     /// Set a weight or parameter over the map defaults, e.g. --weight dm=1 (repeatable).
     #[arg(long = "weight", value_name = "NAME=VALUE", help_heading = COST)]
     pub weights: Vec<String>,
-    /// A plan slower than this many milliseconds counts as a timeout (not interrupted).
+    /// A plan still running after this many milliseconds is stopped and counts as a timeout.
     #[arg(long, value_name = "MS", help_heading = ADVANCED)]
     pub time_limit: Option<f64>,
     /// Write one line per scenario here.

@@ -490,3 +490,35 @@ fn bench_merge_reads_rounded_and_infinite_ratios() {
         "off.csv:2: ratio: '1.0031' is not length / optimal = 1.00274",
     );
 }
+
+/// `--time-limit` stops a plan at the limit (its interrupt raised): such a row is a
+/// timeout without a length. It only labelled plans that ended late, so a plan that ran on
+/// (past 100 s at radius 0.49 once) held the run; and the rows read back and merge.
+#[test]
+fn the_time_limit_stops_a_plan_at_the_limit() {
+    let csv = scratch("time-limit").join("rows.csv");
+    let out = run(&[
+        "bench-scen",
+        "fixtures/maps/full-scale/maze512-8-0.map.scen",
+        "--sample",
+        "2",
+        "--time-limit",
+        "1",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert_ok(&out);
+    let written = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<&str> = written.lines().skip(1).collect();
+    assert_eq!(rows.len(), 2);
+    // The longer scenario (a path of 2,400 cells) cannot plan in 1 ms: stopped, no length.
+    let last: Vec<&str> = rows[1].split(',').collect();
+    assert_eq!(last[last.len() - 1], "timeout", "{}", rows[1]);
+    assert_eq!(last[9], "NaN", "{}", rows[1]);
+    let merged = run(&["bench-merge", text(&csv)]);
+    assert!(
+        stdout_of(&merged).contains("timeout"),
+        "{}",
+        stdout_of(&merged)
+    );
+}

@@ -5,7 +5,7 @@
 use std::fmt::Write;
 
 use homospline_geom::Point;
-use homospline_optim::PlanConfig;
+use homospline_optim::{PlanConfig, PlanError};
 
 use crate::movingai::Scenario;
 use crate::{MapError, PreparedMap};
@@ -20,9 +20,10 @@ pub enum Outcome {
         /// Minimum clearance.
         clearance: f64,
     },
-    /// Planned collision-free, but past the time limit.
+    /// Past the time limit: planned collision-free but late (its length), or stopped at the
+    /// limit (`NaN`: the plan's interrupt was raised, [`PlanConfig::interrupt`]).
     Timeout {
-        /// Length.
+        /// Length, `NaN` when the plan was stopped.
         length: f64,
     },
     /// Classes were optimised; none is collision-free.
@@ -344,7 +345,12 @@ impl<'a> Fields<'a> {
             self.zero_classes()?;
             Outcome::Planned { length, clearance }
         } else if what == "timeout" {
-            let length = self.amount(9)?;
+            // NaN: stopped at the limit, no path.
+            let length = if self.number(9)?.is_nan() {
+                f64::NAN
+            } else {
+                self.amount(9)?
+            };
             self.nothing(11, "the clearance is written for `ok` only")?;
             self.zero_classes()?;
             Outcome::Timeout { length }
@@ -436,8 +442,9 @@ fn ratio_agrees(given: f64, ratio: f64, optimal: f64) -> bool {
     (given - ratio).abs() <= tolerance
 }
 
-/// Plans scenario `index` of `file` on its prepared map; a plan that took longer than
-/// `time_limit` ms counts as a timeout (it is not interrupted).
+/// Plans scenario `index` of `file` on its prepared map; a plan still running at
+/// `time_limit` ms is stopped there (its interrupt raised by a watchdog thread: it ends
+/// within a growth round) and counts as a timeout, as does a plan that ended past the limit.
 pub fn run(
     prepared: &PreparedMap,
     file: &str,
@@ -447,8 +454,31 @@ pub fn run(
     time_limit: Option<f64>,
 ) -> Row {
     let t = std::time::Instant::now();
-    let outcome = prepared.plan(s.start, s.goal, cfg);
-    let ms = t.elapsed().as_secs_f64() * 1e3;
+    let (outcome, ms) = match time_limit {
+        None => {
+            let outcome = prepared.plan(s.start, s.goal, cfg);
+            (outcome, t.elapsed().as_secs_f64() * 1e3)
+        }
+        Some(limit) => {
+            let cfg = PlanConfig {
+                interrupt: Default::default(),
+                ..cfg.clone()
+            };
+            let (done, wait) = std::sync::mpsc::channel::<()>();
+            let flag = cfg.interrupt.clone();
+            let limit = std::time::Duration::from_secs_f64(limit.max(0.0) / 1e3);
+            let watchdog = std::thread::spawn(move || {
+                if let Err(std::sync::mpsc::RecvTimeoutError::Timeout) = wait.recv_timeout(limit) {
+                    flag.raise();
+                }
+            });
+            let outcome = prepared.plan(s.start, s.goal, &cfg);
+            let ms = t.elapsed().as_secs_f64() * 1e3;
+            drop(done);
+            let _ = watchdog.join();
+            (outcome, ms)
+        }
+    };
     let outcome = match outcome {
         Ok(p) => match p.best {
             Some(b) => {
@@ -466,6 +496,7 @@ pub fn run(
                 classes: p.classes.len(),
             },
         },
+        Err(MapError::Plan(PlanError::Interrupted)) => Outcome::Timeout { length: f64::NAN },
         Err(e) => Outcome::Error(e.to_string()),
     };
     Row {
