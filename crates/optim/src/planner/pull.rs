@@ -162,7 +162,26 @@ fn pull_pass(
             .copied()
             .fold(Real::INFINITY, Real::min)
     };
+    // The chord keeps the stretch's class when the straight-line homotopy from the stretch
+    // to the chord (point k to the chord's point k) meets no obstacle's representative
+    // ([`Rays::sweep_is_clear`], a few buckets); else the loop's word decides (the whole
+    // signature of the stretch: most of a 4096^2 map's string pulling went to it).
     let loop_is_trivial = |i: usize, j: usize| {
+        let (a, b) = (dense[i], dense[j]);
+        let n = (j - i) as Real;
+        // Exactly `a` and `b` at the ends, as the sweep asks.
+        let chord: Vec<Point> = (0..=j - i)
+            .map(|k| {
+                if k == j - i {
+                    b
+                } else {
+                    a + (b - a) * (k as Real / n)
+                }
+            })
+            .collect();
+        if rays.sweep_is_clear(&dense[i..=j], &chord) {
+            return true;
+        }
         let mut w = rays.signature(&dense[i..=j]);
         rays.cross_segment(&dense[j], &dense[i], &mut w);
         w.is_identity()
