@@ -83,7 +83,7 @@ pub struct PlanConfig {
     /// first round's curve, marked [`ClassPlan::pruned`](super::ClassPlan::pruned). A heuristic: a first round can be a
     /// poor guide (a class's cost fell by 54 % in its second round on one generated scene).
     /// On 1,020 scenes (the fixtures and 1,000 generated ones; the ignored test
-    /// `scan_the_ratio` in `tests/prune.rs`, with [`PlanConfig::finish_within`] off), the
+    /// `scan_the_ratio` in `tests/it/prune.rs`, with [`PlanConfig::finish_within`] off), the
     /// default [`DEFAULT_PRUNE`] of 1.5 changes one chosen class against running every
     /// class to its end (world-030: a class whose
     /// first round cost 1.98 times the reference's won, and the plan chosen instead costs

@@ -1,8 +1,6 @@
 //! `homospline plan` on maps and `homospline bench-scen`, end to end.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 
 #[test]
 fn plans_on_a_movingai_map_with_json_and_a_picture() {

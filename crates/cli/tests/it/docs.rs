@@ -2,9 +2,7 @@
 //! lists is in the user guide (docs/guide.md), the README stays a short manual, and no file
 //! of the repository reads as a lab notebook.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 
 /// The long options of `homospline ARGS --help`.
 fn long_options(args: &[&str]) -> Vec<String> {

@@ -3,9 +3,7 @@
 //! signal (SIGINT, SIGTERM, SIGHUP) during a write leaves no temporary file behind.
 #![cfg(unix)]
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use std::os::unix::process::ExitStatusExt;
 use std::process::Stdio;
 

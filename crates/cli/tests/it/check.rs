@@ -1,8 +1,6 @@
 //! `homospline check` end to end: exit codes and messages on the shipped fixtures.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 
 #[test]
 fn valid_scenes_exit_0_with_a_summary() {

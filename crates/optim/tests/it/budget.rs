@@ -53,7 +53,7 @@ fn budgets_from_env() -> Option<Vec<(usize, usize)>> {
     })
 }
 
-/// Run by hand: `cargo test --release -p homospline-optim --test budget -- --ignored
+/// Run by hand: `cargo test --release -p homospline-optim --test it budget:: -- --ignored
 /// --nocapture` (about 80 s on 2 cores). For each budget (evaluations per dimension, rounds):
 /// the evaluations against the first budget's (the default), and the chosen plan's cost
 /// against the cheapest chosen plan of any budget on the same scene (its regret): geometric
@@ -142,7 +142,7 @@ fn scan_the_budget() {
 /// file-name order: its length target is 5 % over these.
 const ISSUE_DAY_LENGTHS: [f64; 5] = [57.28, 56.42, 80.02, 94.91, 85.01];
 
-/// Run by hand: `cargo test --release -p homospline-optim --test budget scan_the_jitter --
+/// Run by hand: `cargo test --release -p homospline-optim --test it budget::scan_the_jitter --
 /// --ignored --nocapture` (a few seconds). Plans each paper scene with its start and goal
 /// moved by up to `0.01` units (`SCAN_JITTER=N` draws, 16 by default; the first draw is the
 /// scene itself) at each budget (`SCAN_BUDGETS`, as above; default 30x3), and prints the
@@ -205,7 +205,7 @@ fn scan_the_jitter() {
     }
 }
 
-/// Run by hand: `cargo test --release -p homospline-optim --test budget scan_the_convergence
+/// Run by hand: `cargo test --release -p homospline-optim --test it budget::scan_the_convergence
 /// -- --ignored --nocapture` (about a minute). How far each paper scene's chosen curve is
 /// from the best curve of its class with as many via-points, under the same guard (class,
 /// bounds, the dm rule's target): one more round of the default budget from the chosen

@@ -1,9 +1,7 @@
 //! `homospline plan` and `homospline graph` end to end: exit codes, the plan JSON of
 //! formats.md, well-formed SVG with every layer, saved graphs reused.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use std::path::Path;
 
 #[test]

@@ -26,9 +26,17 @@ pub fn root() -> &'static Path {
     Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
 }
 
-/// A scratch file for this test process.
+/// A scratch file for this test process, in a folder of the calling test file's own (the
+/// test files share one process: two may use one name).
+#[track_caller]
 pub fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("homospline-cli-test-{}", std::process::id()));
+    let caller = Path::new(std::panic::Location::caller().file());
+    let module = caller
+        .file_stem()
+        .map_or_else(|| "common".to_owned(), |s| s.to_string_lossy().into_owned());
+    let dir = std::env::temp_dir()
+        .join(format!("homospline-cli-test-{}", std::process::id()))
+        .join(module);
     std::fs::create_dir_all(&dir).unwrap();
     dir.join(name)
 }

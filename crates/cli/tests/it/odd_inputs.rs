@@ -3,9 +3,7 @@
 //! past the limit from the environment, and parser messages that named Rust types or no
 //! field. Each case failed before its fix.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use std::path::Path;
 
 /// A scratch directory of its own, emptied.

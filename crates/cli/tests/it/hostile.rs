@@ -3,9 +3,7 @@
 //! world that lists a cleared obstacle twice. Each is refused with exit 2 (or fails with
 //! exit 3) and a message; none panics or hangs.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use homospline_voronoi::VoronoiGraph;
 use std::process::Stdio;
 

@@ -4,13 +4,11 @@
 //! when it refuses, a message. Cases: `HOMOSPLINE_CLI_FUZZ_CASES` (default 64; every case
 //! runs the command six times).
 
-mod common;
-
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{homospline, mutate, root, tmp};
+use crate::common::{homospline, mutate, root, tmp};
 use proptest::prelude::*;
 
 /// Most seconds one run may take: far above any fixture's plan in a debug build.

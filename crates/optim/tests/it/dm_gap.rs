@@ -6,7 +6,7 @@ use homospline_geom::Scene;
 use homospline_optim::{PlanConfig, plan};
 use homospline_testkit::scan_scenes;
 
-/// Run by hand: `cargo test --release -p homospline-optim --test dm_gap -- --ignored
+/// Run by hand: `cargo test --release -p homospline-optim --test it dm_gap:: -- --ignored
 /// --nocapture` (a few seconds). `SCAN_SCENES=N` generated scenes (300). Prints every such
 /// class (scene, signature, rounds, the cost's `m(C)`, the reported path's sampled clearance,
 /// the certified clearance) and a summary. Measured at the default settings without the

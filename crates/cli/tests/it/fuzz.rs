@@ -11,8 +11,7 @@ use homospline_mission::WorldFile;
 use homospline_voronoi::VoronoiGraph;
 use proptest::prelude::*;
 
-mod common;
-use common::mutate;
+use crate::common::mutate;
 
 fn fixture(path: &str) -> Vec<u8> {
     std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/../../").to_owned() + path).unwrap()

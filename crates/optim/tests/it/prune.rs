@@ -105,7 +105,7 @@ fn a_ratio_below_one_is_refused() {
 }
 
 /// The scan behind the default ratio (run by hand: `cargo test --release -p homospline-optim
-/// --test prune -- --ignored --nocapture`, about 3 minutes on 2 cores): on the fixture
+/// --test it prune:: -- --ignored --nocapture`, about 3 minutes on 2 cores): on the fixture
 /// scenes, the random fixtures and 1000 generated 60 x 60 scenes (the mission worlds'
 /// generator), how many plans choose another class or curve than the plan without pruning,
 /// at each ratio, how much more the chosen plan then costs (its regret against the full

@@ -1,9 +1,7 @@
 //! Every picture the command line writes, on the fixture scenes, maps and worlds: its text
 //! stays inside its canvas, and its legend stays off the start, the goal and every curve.
 
-mod common;
-
-use common::{assert_ok, homospline, root, tmp};
+use crate::common::{assert_ok, homospline, root, tmp};
 use quick_xml::events::{BytesStart, Event};
 
 /// A box on the page: `[x0, x1] x [y0, y1]`, pixels, y down.

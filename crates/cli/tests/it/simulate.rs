@@ -2,9 +2,7 @@
 //! the JSON holds the timeline and the tracks, the SVG animates the robots, and a bad world
 //! file is refused with its file, line and field.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 
 #[test]
 fn a_blocked_world_is_reached_with_a_timeline_and_an_animated_picture() {

@@ -20,7 +20,7 @@ fn with_quadrature(nodes: usize, pieces: usize) -> PlanConfig {
     cfg
 }
 
-/// Run by hand: `cargo test --release -p homospline-optim --test quadrature -- --ignored
+/// Run by hand: `cargo test --release -p homospline-optim --test it quadrature:: -- --ignored
 /// --nocapture`. `SCAN_SCENES=N` generated scenes (300), `SCAN_QUADS=5x2,5x1` the
 /// quadratures (nodes x pieces; the default's first).
 #[test]

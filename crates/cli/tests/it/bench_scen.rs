@@ -2,12 +2,10 @@
 //! given twice, an empty shard, CSV fields checked on merge, `.scen` and `.map` headers, and
 //! the count of scenarios picked.
 
-mod common;
-
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
-use common::*;
+use crate::common::*;
 
 const ROOM_SCEN: &str = "fixtures/maps/movingai/room-32-32-4-random-1.scen";
 const MAZE_SCEN: &str = "fixtures/maps/movingai/maze-32-32-2-random-1.scen";

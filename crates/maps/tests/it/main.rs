@@ -1,0 +1,6 @@
+//! The integration tests of `homospline-maps` in one binary, one module per former
+//! `tests/NAME.rs` (one link instead of one per file: most of a cold `cargo test` was
+//! linking). Run one with `cargo test -p homospline-maps --test it NAME::`.
+
+mod maps;
+mod radius;
