@@ -3,7 +3,7 @@
 //! when a scout or its own sensor finds the blockage; prints what happened.
 //! `cargo run --release -p homospline-mission --example mission [WORLD.yaml]`
 
-use homospline_mission::{AnyWorld, MissionConfig, simulate, simulate_map};
+use homospline_mission::{AnyWorld, MissionConfig, Policy, simulate, simulate_map};
 
 fn main() -> std::process::ExitCode {
     match run() {
@@ -25,7 +25,12 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     });
     let world =
         homospline_mission::world::load_any(std::path::Path::new(&path), |p| std::fs::read(p))?;
-    let cfg = MissionConfig::default();
+    // Scouts inspect the far half of the UGV's route (`simulate --policy ahead`); the
+    // library's default flies none.
+    let cfg = MissionConfig {
+        policy: Policy::Ahead,
+        ..MissionConfig::default()
+    };
     let result = match &world {
         AnyWorld::Scene(w) => simulate(w, &cfg)?,
         AnyWorld::Map(w) => simulate_map(w, &cfg)?,
