@@ -252,10 +252,7 @@ fn plan_map(
 /// Refuses `map` when preparing it for a robot of `radius` may need more memory than the
 /// process may use (exit 3, the run's failure, not the input's).
 pub(crate) fn check_map_memory(map: &OccupancyMap, radius: f64) -> anyhow::Result<()> {
-    Ok(homospline_front::memory::check(
-        || format!("map {} ({} x {} cells)", map.name, map.width, map.height),
-        homospline_front::memory::map_cells(map.width, map.height, radius),
-    )?)
+    Ok(homospline_front::memory::check_map(&map.name, map, radius)?)
 }
 
 /// Prints the table (and the optima, when asked for) and writes the outputs.

@@ -296,18 +296,8 @@ fn prepare(
                 was.1
             ));
         }
-        crate::memory::check(
-            || {
-                format!(
-                    "map {} ({} x {} cells)",
-                    map_path.display(),
-                    map.width,
-                    map.height
-                )
-            },
-            crate::memory::map_cells(map.width, map.height, robot_radius),
-        )
-        .map_err(|e| e.to_string())?;
+        crate::memory::check_map(&map_path.display().to_string(), &map, robot_radius)
+            .map_err(|e| e.to_string())?;
         let t = std::time::Instant::now();
         let prepared = PreparedMap::for_robot(&map, robot_radius).map_err(|e| e.to_string())?;
         prepare_ms += t.elapsed().as_secs_f64() * 1e3;

@@ -2,6 +2,8 @@
 //! before anything grid-sized is allocated: a map or scene too large for `ulimit -v` is
 //! refused with what it needs, instead of the allocator aborting the process half way.
 
+use homospline_maps::OccupancyMap;
+use homospline_maps::footprint::Lattice;
 use thiserror::Error;
 
 /// Address space a process planning on a grid of `cells` cells may need, at most, beyond
@@ -43,18 +45,24 @@ pub fn needed(cells: u64) -> u64 {
     BASE_BYTES.saturating_add(cells.saturating_mul(BYTES_PER_CELL))
 }
 
-/// The grid cells a map of `width x height` cells is prepared on for a robot of `radius`:
-/// the half-cell lattice (`homospline_maps::footprint`) for a disc, when it fits, else the
-/// map's own cells.
-pub fn map_cells(width: usize, height: usize, radius: f64) -> u64 {
-    let cells = (width as u64).saturating_mul(height as u64);
+/// The grid cells `map` is prepared on for a robot of `radius`: the lattice of
+/// [`Lattice::of`] for a disc (half-cell, or the cell centres on maps too large for it),
+/// the map's own cells for a point.
+pub fn map_cells(map: &OccupancyMap, radius: f64) -> u64 {
     if radius > 0.0 {
-        let lattice = (2 * width as u64 + 1).saturating_mul(2 * height as u64 + 1);
-        if lattice <= homospline_maps::MAX_MAP_CELLS as u64 {
-            return lattice;
-        }
+        let l = Lattice::of(map);
+        (l.cols as u64).saturating_mul(l.rows as u64)
+    } else {
+        (map.width as u64).saturating_mul(map.height as u64)
     }
-    cells
+}
+
+/// [`check`] for preparing `map` (named `name` in the message) for a robot of `radius`.
+pub fn check_map(name: &str, map: &OccupancyMap, radius: f64) -> Result<(), OutOfMemory> {
+    check(
+        || format!("map {name} ({} x {} cells)", map.width, map.height),
+        map_cells(map, radius),
+    )
 }
 
 /// The grid cells of a scene's graph at `resolution` cells per unit: its bounds' extent and
@@ -120,8 +128,17 @@ mod tests {
 
     #[test]
     fn a_disc_is_prepared_on_the_half_cell_lattice() {
-        assert_eq!(map_cells(10, 20, 0.0), 200);
-        assert_eq!(map_cells(10, 20, 0.5), 21 * 41);
-        assert_eq!(map_cells(4096, 4096, 0.5), 4096 * 4096);
+        let map = |width: usize, height: usize| OccupancyMap {
+            name: "m".into(),
+            width,
+            height,
+            cell: 1.0,
+            origin: homospline_geom::Point::origin(),
+            occupied: vec![false; width * height],
+            y_down: false,
+        };
+        assert_eq!(map_cells(&map(10, 20), 0.0), 200);
+        assert_eq!(map_cells(&map(10, 20), 0.5), 21 * 41);
+        assert_eq!(map_cells(&map(4096, 4096), 0.5), 4096 * 4096);
     }
 }

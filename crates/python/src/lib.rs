@@ -585,7 +585,7 @@ fn plan_map(
     }
     check_memory(
         || format!("occupancy ({rows} x {cols} cells)"),
-        homospline_front::memory::map_cells(cols, rows, robot_radius),
+        homospline_front::memory::map_cells(&map, robot_radius),
     )?;
     interruptible(py, &cfg.interrupt, || {
         homospline_maps::plan_map_for_robot(&map, robot_radius, s, g, &cfg)
