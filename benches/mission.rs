@@ -76,7 +76,7 @@ fn percentile(sorted: &[f64], q: f64) -> f64 {
 
 fn bench(c: &mut Criterion) {
     let cfg = MissionConfig {
-        policy: Policy::Ahead,
+        policy: Policy::AHEAD,
         ..MissionConfig::default()
     };
     let mut worlds = homospline_testkit::fixture_worlds();
@@ -91,7 +91,7 @@ fn bench(c: &mut Criterion) {
     let (mut in_missions, mut solvable): (Vec<f64>, Vec<f64>) = (Vec::new(), Vec::new());
     for _ in 0..3 {
         for w in &worlds {
-            for policy in Policy::ALL {
+            for &policy in Policy::all() {
                 let c = MissionConfig {
                     policy,
                     ..MissionConfig::default()
@@ -203,7 +203,7 @@ fn bench_map(c: &mut Criterion) {
     let (mut replan, mut field, mut graph, mut model, mut local) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new(), 0);
     for _ in 0..3 {
-        for policy in Policy::ALL {
+        for &policy in Policy::all() {
             let cfg = MissionConfig {
                 policy,
                 ..MissionConfig::default()
@@ -288,7 +288,7 @@ fn bench_hidden(c: &mut Criterion) {
     let world =
         MissionWorld::new("hidden-20000", scene, hidden, Vec::new(), team).expect("a valid world");
     let cfg = MissionConfig {
-        policy: Policy::None,
+        policy: Policy::NONE,
         ..MissionConfig::default()
     };
     let mut g = c.benchmark_group("mission");

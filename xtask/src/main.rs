@@ -487,19 +487,21 @@ fn mean(v: &[f64]) -> f64 {
 /// Every scout policy on `count` generated worlds, and the limited-overlap measurement.
 fn missions(count: usize) -> Result<()> {
     let (worlds, seeds) = generated_worlds(count);
+    let maps = homospline_testkit::map_worlds(count.div_ceil(4));
     println!(
-        "{} generated worlds (seeds 0..{seeds}; every other one with its second class blocked too), 2 scouts",
-        worlds.len()
+        "{} scene worlds (seeds 0..{seeds}: hidden blockages in the best class, in the two best, late on the route, and pebbles that block nothing) and {} map worlds (doors blocked, dead ends, pebbles); 2 scouts; a world counts as worse than none when its distance / truth plan is more than 1 % above none's (or none reaches the goal and the policy does not)",
+        worlds.len(),
+        maps.len()
     );
     println!(
-        "{:<13} {:>8} {:>10} {:>10} {:>8} {:>9} {:>10} {:>9} {:>10}",
+        "{:<13} {:>8} {:>9} {:>9} {:>9} {:>8} {:>9} {:>9} {:>16}",
         "policy",
         "reached",
         "dist/opt",
+        "worst",
         "time/opt",
         "replans",
         "switches",
-        "abandoned",
         "UAV dist",
         "worse than none"
     );
@@ -507,10 +509,35 @@ fn missions(count: usize) -> Result<()> {
         least: f64::INFINITY,
         missions: 0,
     };
-    let mut baseline: Vec<f64> = Vec::new();
-    for policy in homospline_mission::Policy::ALL {
-        let figures = policy_figures(&worlds, policy, &mut clearance)?;
-        print_policy_row(policy, &figures, &mut baseline);
+    let mut rows = Vec::new();
+    for &policy in homospline_mission::Policy::all() {
+        let mut figures = policy_figures(&worlds, policy, &mut clearance)?;
+        map_policy_figures(&maps, policy, &mut figures, &mut clearance)?;
+        rows.push((policy, figures));
+    }
+    let none = rows
+        .iter()
+        .find(|(p, _)| *p == homospline_mission::Policy::NONE)
+        .map(|(_, f)| f.per_world.clone())
+        .unwrap_or_default();
+    for (policy, f) in &rows {
+        print_policy_row(*policy, f, &none);
+    }
+    for (policy, f) in &rows {
+        let worse = worse_than(f, &none);
+        if !worse.is_empty() {
+            let list: Vec<String> = worse
+                .iter()
+                .take(12)
+                .map(|&(k, a, b)| format!("{} {a:.3} (none {b:.3})", f.names[k]))
+                .collect();
+            println!(
+                "  {} worse than none: {}{}",
+                policy.name(),
+                list.join(", "),
+                if worse.len() > 12 { ", ..." } else { "" }
+            );
+        }
     }
     println!(
         "UGV tracks: least clearance to the true obstacles, robot radius included, segment by segment: {:.4} over {} missions{}",
@@ -535,7 +562,7 @@ fn generated_worlds(count: usize) -> (Vec<homospline_mission::MissionWorld>, u64
     let mut worlds = Vec::new();
     let mut seed = 0;
     while worlds.len() < count && seed < 20 * count as u64 {
-        if let Some(w) = homospline_testkit::random_world(seed, 2) {
+        if let Some(w) = homospline_testkit::suite_world(seed, 2) {
             worlds.push(w);
         }
         seed += 1;
@@ -562,13 +589,36 @@ struct PolicyFigures {
     time: Vec<f64>,
     replans: Vec<f64>,
     switches: Vec<f64>,
-    abandoned: Vec<f64>,
     uav: Vec<f64>,
-    /// Time over the truth plan's for every world (NaN where there is none).
-    times: Vec<f64>,
+    /// Per world (scene worlds, then map worlds): its name and distance over the truth
+    /// plan's (infinite where the goal was not reached, NaN where the truth plan has none).
+    names: Vec<String>,
+    per_world: Vec<f64>,
 }
 
-/// Runs `policy` on every world; each UGV track's clearance goes to `clearance`.
+impl PolicyFigures {
+    /// Adds one mission's result.
+    fn add(&mut self, r: &homospline_mission::MissionResult, speed: f64) {
+        if r.truth_plan_length.is_some() {
+            self.solvable += 1;
+            self.reached += usize::from(r.reached);
+        }
+        if let (Some(d), Some(t)) = (r.distance_ratio(), r.time_ratio(speed)) {
+            self.dist.push(d);
+            self.time.push(t);
+        }
+        self.names.push(r.world.clone());
+        self.per_world.push(match r.truth_plan_length {
+            None => f64::NAN,
+            Some(_) => r.distance_ratio().unwrap_or(f64::INFINITY),
+        });
+        self.replans.push(r.replans as f64);
+        self.switches.push(r.switches as f64);
+        self.uav.push(r.uav_distance);
+    }
+}
+
+/// Runs `policy` on every scene world; each UGV track's clearance goes to `clearance`.
 fn policy_figures(
     worlds: &[homospline_mission::MissionWorld],
     policy: homospline_mission::Policy,
@@ -583,56 +633,91 @@ fn policy_figures(
     let mut f = PolicyFigures::default();
     for w in worlds {
         let r = simulate(w, &cfg)?;
+        if std::env::var("DBG_WORLD").is_ok_and(|n| n == w.name) {
+            eprintln!(
+                "== {} {} dist {:.2} truth {:?}",
+                w.name,
+                policy.name(),
+                r.ugv_distance,
+                r.truth_plan_length
+            );
+            for e in &r.events {
+                eprintln!("  {:7.2} ({:6.2},{:6.2}) {:?}", e.t, e.at.x, e.at.y, e.kind);
+            }
+        }
         let track: Vec<homospline_geom::Point> = r.ugv.samples.iter().map(|s| s.1).collect();
         let truth = CircleModel::new(w.truth.circles());
         clearance.least = clearance.least.min(truth.polyline_clearance(&track));
         clearance.missions += 1;
-        if r.truth_plan_length.is_some() {
-            f.solvable += 1;
-            f.reached += usize::from(r.reached);
-        }
-        if let (Some(d), Some(t)) = (r.distance_ratio(), r.time_ratio(w.team.ugv.speed)) {
-            f.dist.push(d);
-            f.time.push(t);
-        }
-        f.times
-            .push(r.time_ratio(w.team.ugv.speed).unwrap_or(f64::NAN));
-        f.replans.push(r.replans as f64);
-        f.switches.push(r.switches as f64);
-        f.abandoned.push(r.abandoned_distance);
-        f.uav.push(r.uav_distance);
+        f.add(&r, w.team.ugv.speed);
     }
     Ok(f)
 }
 
-/// Prints `policy`'s row: means, and in how many worlds it took longer than the policy
-/// `none`, whose times are kept in `baseline`.
-fn print_policy_row(
+/// Runs `policy` on every map world into `f`; each UGV track's clearance to the true map's
+/// occupied cells, less the robot's radius, goes to `clearance`.
+fn map_policy_figures(
+    worlds: &[homospline_mission::MapWorld],
     policy: homospline_mission::Policy,
-    f: &PolicyFigures,
-    baseline: &mut Vec<f64>,
-) {
-    let worse = if policy == homospline_mission::Policy::None {
-        *baseline = f.times.clone();
+    f: &mut PolicyFigures,
+    clearance: &mut TrackClearance,
+) -> Result<()> {
+    use homospline_mission::{MissionConfig, simulate_map};
+    let cfg = MissionConfig {
+        policy,
+        ..MissionConfig::default()
+    };
+    for w in worlds {
+        let r = simulate_map(w, &cfg)?;
+        let track: Vec<homospline_geom::Point> = r.ugv.samples.iter().map(|s| s.1).collect();
+        clearance.least = clearance.least.min(
+            homospline_testkit::track_clearance(
+                &w.truth,
+                &track,
+                w.team.ugv.radius + 2.0 * w.truth.cell,
+            ) - w.team.ugv.radius,
+        );
+        clearance.missions += 1;
+        f.add(&r, w.team.ugv.speed);
+    }
+    Ok(())
+}
+
+/// The worlds where `f` drove more than 1 % farther over the truth plan than `none` (or
+/// did not reach a goal `none` reached): `(index, ratio, none's ratio)`.
+fn worse_than(f: &PolicyFigures, none: &[f64]) -> Vec<(usize, f64, f64)> {
+    f.per_world
+        .iter()
+        .zip(none)
+        .enumerate()
+        .filter(|&(_, (&a, &b))| b.is_finite() && (a.is_nan() || a > 1.01 * b))
+        .map(|(k, (&a, &b))| (k, a, b))
+        .collect()
+}
+
+/// Prints `policy`'s row: means, the worst distance over the truth plan, and in how many
+/// worlds it drove more than 1 % farther than `none`.
+fn print_policy_row(policy: homospline_mission::Policy, f: &PolicyFigures, none: &[f64]) {
+    let worse = if policy == homospline_mission::Policy::NONE {
         "-".to_owned()
     } else {
-        let n = f
-            .times
-            .iter()
-            .zip(baseline.iter())
-            .filter(|(a, b)| **a > **b + 1e-9)
-            .count();
-        format!("{n}/{}", f.times.len())
+        format!("{}/{}", worse_than(f, none).len(), f.per_world.len())
     };
+    let worst = f
+        .per_world
+        .iter()
+        .copied()
+        .filter(|r| !r.is_nan())
+        .fold(0.0, f64::max);
     println!(
-        "{:<13} {:>8} {:>10.3} {:>10.3} {:>8.2} {:>9.2} {:>10.2} {:>9.1} {:>10}",
+        "{:<13} {:>8} {:>9.3} {:>9.3} {:>9.3} {:>8.2} {:>9.2} {:>9.1} {:>16}",
         policy.name(),
         format!("{}/{}", f.reached, f.solvable),
         mean(&f.dist),
+        worst,
         mean(&f.time),
         mean(&f.replans),
         mean(&f.switches),
-        mean(&f.abandoned),
         mean(&f.uav),
         worse
     );

@@ -118,25 +118,15 @@ impl From<ClearanceSearchArg> for ClearanceSearch {
     }
 }
 
-/// How the scouts are used.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum PolicyArg {
-    /// No scouts fly (the baseline).
-    None,
-    /// Scouts inspect the far half of the UGV's route.
-    Ahead,
-    /// Scouts verify the next best classes.
-    Alternatives,
-}
-
-impl From<PolicyArg> for Policy {
-    fn from(a: PolicyArg) -> Self {
-        match a {
-            PolicyArg::None => Policy::None,
-            PolicyArg::Ahead => Policy::Ahead,
-            PolicyArg::Alternatives => Policy::Alternatives,
-        }
-    }
+/// The registered scout policies as `--policy`'s values, each with its summary.
+fn policy_arg() -> impl clap::builder::TypedValueParser<Value = Policy> {
+    use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+    PossibleValuesParser::new(
+        Policy::all()
+            .iter()
+            .map(|p| PossibleValue::new(p.name()).help(p.summary())),
+    )
+    .map(|name| Policy::named(&name).unwrap_or_default())
 }
 
 /// `--prune RATIO|off`.
@@ -313,9 +303,9 @@ pub struct SimulateArgs {
     /// Scouts to fly [default: every UAV of the world; more are added at the start].
     #[arg(long, help_heading = TEAM)]
     pub scouts: Option<usize>,
-    /// How the scouts are used.
-    #[arg(long, value_enum, default_value = "ahead", help_heading = TEAM)]
-    pub policy: PolicyArg,
+    /// How the scouts are used [default: the library's, `Policy::default()`].
+    #[arg(long, value_parser = policy_arg(), help_heading = TEAM)]
+    pub policy: Option<Policy>,
     /// Homotopy classes per plan, 1 to 64.
     #[arg(long, default_value_t = 5, help_heading = CLASSES)]
     pub classes: usize,

@@ -50,7 +50,7 @@ pub fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
             diverse: a.diverse,
             ..base.plan.clone()
         },
-        policy: a.policy.into(),
+        policy: a.policy.unwrap_or_default(),
         scouts: a.scouts,
         dt: a.dt,
         switch_margin: a.switch_margin,

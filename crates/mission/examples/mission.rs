@@ -28,7 +28,7 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     // Scouts inspect the far half of the UGV's route (`simulate --policy ahead`); the
     // library's default flies none.
     let cfg = MissionConfig {
-        policy: Policy::Ahead,
+        policy: Policy::AHEAD,
         ..MissionConfig::default()
     };
     let result = match &world {

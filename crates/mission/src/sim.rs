@@ -2,7 +2,9 @@
 //! which the UGV drives its plan, the scouts fly their routes, discoveries update the map,
 //! and the UGV re-plans from where it is, keeping its heading, when its path is blocked.
 //!
-//! - `config`: the settings ([`MissionConfig`], [`Policy`]) and their ranges.
+//! - `config`: the settings ([`MissionConfig`]) and their ranges.
+//! - [`policy`]: the scout policies ([`ScoutPolicy`], one module each) and their registry
+//!   ([`Policy::all`]); `coverage`: what the robots have seen.
 //! - `mission`: the mission's state and one tick of it (sense, discover, re-plan, assign
 //!   scouts, move, record), run until it is done.
 //! - `sense`, `replan`, `scouts`: the phases of a tick.
@@ -12,8 +14,10 @@
 //! - `simulate`: [`simulate`] and [`simulate_map`].
 
 mod config;
+mod coverage;
 mod mission;
 mod planner;
+pub mod policy;
 mod record;
 mod replan;
 mod route;
@@ -23,8 +27,9 @@ mod sense;
 mod simulate;
 
 pub use config::{
-    MAX_SCOUTS, MAX_STEPS, MIN_DT, MissionConfig, MissionError, Policy, TURN_ANGLE_DEG, time_step,
+    MAX_SCOUTS, MAX_STEPS, MIN_DT, MissionConfig, MissionError, TURN_ANGLE_DEG, time_step,
 };
+pub use policy::{Policy, ScoutPolicy};
 pub use record::{Adopted, Event, EventKind, MissionResult, Robot, Track};
 pub use replan::should_switch;
 pub use scene::replan_scene;

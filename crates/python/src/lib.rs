@@ -612,7 +612,7 @@ pyo3::create_exception!(
 /// Runs the mission of a world file, on a scene or an occupancy map (`homospline simulate`),
 /// and returns its JSON as a dict.
 #[pyfunction]
-#[pyo3(signature = (world, policy="ahead", scouts=None))]
+#[pyo3(signature = (world, policy="guard", scouts=None))]
 fn simulate<'py>(
     py: Python<'py>,
     world: PathBuf,
@@ -621,16 +621,12 @@ fn simulate<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     let scouts = count("scouts", scouts)?;
     let w = homospline_mission::world::load_any(&world, |p| std::fs::read(p)).map_err(bad)?;
-    let policy = match policy {
-        "none" => Policy::None,
-        "ahead" => Policy::Ahead,
-        "alternatives" => Policy::Alternatives,
-        other => {
-            return Err(bad(format!(
-                "policy='{other}': expected none, ahead or alternatives"
-            )));
-        }
-    };
+    let policy = Policy::named(policy).ok_or_else(|| {
+        bad(format!(
+            "policy='{policy}': expected one of {}",
+            Policy::names()
+        ))
+    })?;
     let cfg = MissionConfig {
         policy,
         scouts,

@@ -1,4 +1,4 @@
-//! A mission's settings: the scout policy, the planner offline and on the move, the time
+//! A mission's settings: the scout policy's choice, the planner offline and on the move, the time
 //! step and the hysteresis, with their ranges.
 
 use homospline_geom::math::Num;
@@ -6,33 +6,8 @@ use homospline_geom::{Real, Scene, Vector};
 use homospline_optim::{GrowthConfig, Optimizer, PlanConfig, default_resolution};
 use thiserror::Error;
 
+use super::policy::Policy;
 use crate::world::types::{Uav, Ugv};
-
-/// How the scouts are used.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Policy {
-    /// No scouts fly: the UGV finds blockages itself (the baseline).
-    #[default]
-    None,
-    /// Scouts inspect the far half of the UGV's route while it drives the near half.
-    Ahead,
-    /// Scouts verify the next best classes, one each; scouts left over fly `ahead`.
-    Alternatives,
-}
-
-impl Policy {
-    /// Every policy.
-    pub const ALL: [Policy; 3] = [Policy::None, Policy::Ahead, Policy::Alternatives];
-
-    /// `none`, `ahead` or `alternatives`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Policy::None => "none",
-            Policy::Ahead => "ahead",
-            Policy::Alternatives => "alternatives",
-        }
-    }
-}
 
 /// Settings of [`simulate`](crate::sim::simulate).
 #[derive(Clone, Debug, PartialEq)]
@@ -40,7 +15,7 @@ pub struct MissionConfig {
     /// The planner, offline and for every re-plan. Defaults to 5 classes and L-BFGS (re-plans
     /// are on the clock).
     pub plan: PlanConfig,
-    /// Scout policy.
+    /// Scout policy (default [`Policy::GUARD`]).
     pub policy: Policy,
     /// Scouts to fly (`None`: every UAV of the world). More than the world lists are added
     /// at the UGV's start with speed 3 and sensor range 10.
@@ -126,7 +101,7 @@ impl Default for MissionConfig {
                 finish_within: None,
                 ..PlanConfig::default()
             },
-            policy: Policy::None,
+            policy: Policy::default(),
             scouts: None,
             dt: 0.25,
             switch_margin: 0.1,

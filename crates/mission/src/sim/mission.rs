@@ -5,6 +5,7 @@ use homospline_geom::{Point, Real};
 use homospline_homotopy::Rays;
 
 use super::config::{MissionConfig, MissionError, check_steps, time_step};
+use super::coverage::Coverage;
 use super::planner::Planner;
 use super::record::{EventKind, MissionResult, Record};
 use super::replan::replan;
@@ -13,6 +14,19 @@ use super::scouts::{Scout, assign, assign_idle, launch};
 use super::sense::{discover, look};
 use crate::known::Known;
 use crate::world::types::{Team, Ugv};
+
+/// The side of the cells that record what the robots have seen: a quarter of the least
+/// sensor range, so that a look marks most of its disc.
+fn coverage_cell(ugv: &Ugv, scouts: &[Scout]) -> Real {
+    scouts
+        .iter()
+        .map(|sc| sc.uav.sensor_range)
+        .chain(std::iter::once(ugv.sensor_range))
+        .filter(|r| *r > 0.0)
+        .fold(Real::INFINITY, Real::min)
+        .min(1e6)
+        * 0.25
+}
 
 /// A mission in progress, on any known world.
 pub(super) struct Mission<'a, K: Known> {
@@ -62,6 +76,7 @@ impl<'a, K: Known> Mission<'a, K> {
                 known,
                 rays,
                 pending_ms: 0.0,
+                seen: Coverage::new(coverage_cell(&team.ugv, &scouts)),
             },
             ugv: team.ugv.clone(),
             drive: Drive::new(Route::standing(start), Vec::new()),
@@ -113,11 +128,13 @@ impl<'a, K: Known> Mission<'a, K> {
         );
         self.drive
             .take(first, offline[1..].to_vec(), 0.0, &mut self.record.adopted);
+        self.look_around();
         assign(
             &mut self.scouts,
             self.cfg.policy,
             &self.drive,
             self.ugv.sensor_range,
+            &self.planner.seen,
         );
         if start == goal {
             // Already there: reached before anything moves.
@@ -147,10 +164,18 @@ impl<'a, K: Known> Mission<'a, K> {
             &mut self.record,
             self.t,
         );
-        if found.any() {
+        self.look_around();
+        let verified = self.awaited_class_seen();
+        let due = self.drive.replan_at.is_some_and(|s| self.drive.s >= s);
+        if due {
+            self.drive.replan_at = None;
+        }
+        if found.any() || verified || due {
             let (planner, drive, record) = (&mut self.planner, &mut self.drive, &mut self.record);
-            discover(planner, drive, record, &found, (self.t, at));
-            if !replan(planner, drive, record, self.t) {
+            if found.any() {
+                discover(planner, drive, record, &found, (self.t, at));
+            }
+            if !replan(planner, drive, record, self.t, self.ugv.sensor_range) {
                 self.done = true;
                 return;
             }
@@ -159,6 +184,7 @@ impl<'a, K: Known> Mission<'a, K> {
                 self.cfg.policy,
                 &self.drive,
                 self.ugv.sensor_range,
+                &self.planner.seen,
             );
         } else if self.scouts.iter().any(|sc| sc.route.is_empty()) {
             assign_idle(
@@ -166,6 +192,7 @@ impl<'a, K: Known> Mission<'a, K> {
                 self.cfg.policy,
                 &self.drive,
                 self.ugv.sensor_range,
+                &self.planner.seen,
             );
         }
         if self.t >= self.max_time {
@@ -173,6 +200,30 @@ impl<'a, K: Known> Mission<'a, K> {
         } else {
             self.move_robots();
         }
+    }
+
+    /// What every robot sees now is marked seen.
+    fn look_around(&mut self) {
+        let seen = &mut self.planner.seen;
+        seen.look(&self.drive.position(), self.ugv.sensor_range);
+        for sc in &self.scouts {
+            seen.look(&sc.pos, sc.uav.sensor_range);
+        }
+    }
+
+    /// Whether the class the UGV waits to switch into has now been seen all along (and is
+    /// so recorded): the UGV then weighs the switch again.
+    fn awaited_class_seen(&mut self) -> bool {
+        let drive = &mut self.drive;
+        let Some(route) = &drive.awaiting else {
+            return false;
+        };
+        if !self.planner.seen.unseen(&route.line, 0.0).is_empty() {
+            return false;
+        }
+        drive.verified.push(route.class.clone());
+        drive.awaiting = None;
+        true
     }
 
     /// The time is up: the mission stops where the UGV is.

@@ -10,6 +10,7 @@ use homospline_optim::Plan;
 use homospline_spline::{EndCondition, Spline, evaluate};
 
 use super::config::MissionConfig;
+use super::coverage::Coverage;
 use super::record::Record;
 use super::route::{Polyline, Route};
 use crate::known::Known;
@@ -22,6 +23,8 @@ pub(super) struct Planner<'a, K: Known> {
     pub(super) rays: Rays,
     /// Wall time of map updates not yet counted in a re-plan.
     pub(super) pending_ms: Real,
+    /// What the robots have seen so far.
+    pub(super) seen: Coverage,
 }
 
 impl<K: Known> Planner<'_, K> {

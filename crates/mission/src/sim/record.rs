@@ -3,7 +3,7 @@
 
 use homospline_geom::{Point, Real};
 
-use super::config::Policy;
+use super::policy::Policy;
 use crate::map::known::MapUpdate;
 
 /// Who saw something.

@@ -40,6 +40,7 @@ pub(super) fn replan<K: Known>(
     drive: &mut Drive,
     record: &mut Record,
     t: Real,
+    range: Real,
 ) -> bool {
     let at = drive.position();
     let heading = drive.route.line.heading(drive.s);
@@ -51,6 +52,7 @@ pub(super) fn replan<K: Known>(
         t,
         at,
         heading,
+        range,
     };
     if replan.planner.clear(&remaining) {
         replan.maybe_switch();
@@ -58,6 +60,18 @@ pub(super) fn replan<K: Known>(
     } else {
         replan.blocked()
     }
+}
+
+/// The route a forced re-plan takes among `routes` (best first): the UGV's `class` if it
+/// costs at most `margin` more than the best, else the best.
+fn pick(routes: &[Route], class: &str, margin: Real) -> usize {
+    let Some(best) = routes.first() else {
+        return 0;
+    };
+    routes
+        .iter()
+        .position(|r| r.class == class && r.cost <= (1.0 + margin) * best.cost)
+        .unwrap_or(0)
 }
 
 /// A re-plan at time `t`, the UGV at `at` along `heading`.
@@ -68,6 +82,8 @@ struct Replan<'m, 'a, K: Known> {
     t: Real,
     at: Point,
     heading: Vector,
+    /// The UGV's sensor range.
+    range: Real,
 }
 
 impl<K: Known> Replan<'_, '_, K> {
@@ -125,20 +141,28 @@ impl<K: Known> Replan<'_, '_, K> {
                 *first += second;
             }
         }
-        let Some(best) = routes.first() else {
+        if routes.is_empty() {
             self.event(EventKind::Stuck {
                 reason: "no collision-free class on the known map".into(),
             });
             self.record.abandoned += self.drive.on_route();
             return false;
-        };
+        }
         // Bonus for the current class: kept if within the margin of the best.
-        let margin = self.planner.cfg.switch_margin;
-        let pick = routes
-            .iter()
-            .position(|r| r.class == self.drive.route.class && r.cost <= (1.0 + margin) * best.cost)
-            .unwrap_or(0);
+        let pick = pick(
+            &routes,
+            &self.drive.route.class,
+            self.planner.cfg.switch_margin,
+        );
         let next = routes[pick].clone();
+        if self.planner.cfg.policy.get().weighs_driving_on() && self.drives_on(&next) {
+            self.event(EventKind::Replanned {
+                forced: true,
+                classes: routes.len(),
+                class: self.drive.route.class.clone(),
+            });
+            return true;
+        }
         self.event(EventKind::Replanned {
             forced: true,
             classes: routes.len(),
@@ -156,6 +180,51 @@ impl<K: Known> Replan<'_, '_, K> {
             .collect();
         self.take(next, alternatives);
         true
+    }
+
+    /// Whether driving on until the UGV would see the blockage itself, and re-planning
+    /// there, is shorter than taking `next` now (as a robot without scouts would have to):
+    /// then it drives on and re-plans at that point (`Drive::replan_at`). The UGV sees the
+    /// blockage where its route first comes within its sensor range of the first point the
+    /// known map blocks; a re-plan from there is planned now, on the same known map.
+    fn drives_on(&mut self, next: &Route) -> bool {
+        let line = &self.drive.route.line;
+        let model = self.planner.known.model();
+        let step = 0.25 * self.range.max(1e-6);
+        let mut s = self.drive.s;
+        let end = line.length();
+        let blocked_at = loop {
+            if s >= end {
+                return false;
+            }
+            if model.clearance(&line.at(s).0).0 <= 0.0 {
+                break s;
+            }
+            s += step;
+        };
+        let sight = blocked_at - self.range;
+        if sight <= self.drive.s + step {
+            return false;
+        }
+        let (p, _) = line.at(sight);
+        let heading = line.heading(sight);
+        let class = self.drive.route.class.clone();
+        let later = self
+            .planner
+            .routes_from(p, Some(heading), true, &mut *self.record);
+        // One re-plan, one time: both plans count in it.
+        let replan_ms = &mut self.record.replan_ms;
+        if let (Some(second), Some(first)) = (replan_ms.pop(), replan_ms.last_mut()) {
+            *first += second;
+        }
+        let Some(then) = later.get(pick(&later, &class, self.planner.cfg.switch_margin)) else {
+            return false;
+        };
+        let on = sight - self.drive.s + then.line.length() < next.line.length();
+        if on {
+            self.drive.replan_at = Some(sight);
+        }
+        on
     }
 
     /// The map changed but the path is still clear: a better class may have opened (a
@@ -192,6 +261,14 @@ impl<K: Known> Replan<'_, '_, K> {
                 self.t - self.drive.last_switch,
                 self.planner.cfg,
             );
+        // A policy that verifies before switching waits until the robots have seen the
+        // better class all along (its scouts look there); the UGV drives on meanwhile.
+        let wait = better
+            && self.planner.cfg.policy.get().verify_before_switch()
+            && !self.drive.verified.contains(&best.class)
+            && !self.planner.seen.unseen(&best.line, 0.0).is_empty();
+        self.drive.awaiting = wait.then(|| best.clone());
+        let better = better && !wait;
         let class = if better {
             best.class.clone()
         } else {

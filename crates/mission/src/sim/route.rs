@@ -8,13 +8,16 @@ use super::record::{Adopted, Track};
 
 /// A path being driven or flown, with cumulative arc length.
 #[derive(Clone, Debug)]
-pub(super) struct Polyline {
-    pub(super) pts: Vec<Point>,
-    pub(super) cum: Vec<Real>,
+pub struct Polyline {
+    /// Its points.
+    pub pts: Vec<Point>,
+    /// Arc length at each point.
+    pub cum: Vec<Real>,
 }
 
 impl Polyline {
-    pub(super) fn new(pts: Vec<Point>) -> Self {
+    /// The polyline through `pts`.
+    pub fn new(pts: Vec<Point>) -> Self {
         let mut cum = Vec::with_capacity(pts.len());
         let mut acc = 0.0;
         for (i, p) in pts.iter().enumerate() {
@@ -26,12 +29,13 @@ impl Polyline {
         Self { pts, cum }
     }
 
-    pub(super) fn length(&self) -> Real {
+    /// Its length.
+    pub fn length(&self) -> Real {
         self.cum.last().copied().unwrap_or(0.0)
     }
 
     /// The point at arc length `s` and the index of the segment it is on.
-    pub(super) fn at(&self, s: Real) -> (Point, usize) {
+    pub fn at(&self, s: Real) -> (Point, usize) {
         let n = self.pts.len();
         if n == 1 || s <= 0.0 {
             return (self.pts[0], 0);
@@ -50,7 +54,7 @@ impl Polyline {
     }
 
     /// The direction of travel at arc length `s`.
-    pub(super) fn heading(&self, s: Real) -> Vector {
+    pub fn heading(&self, s: Real) -> Vector {
         let (_, i) = self.at(s);
         let d = self.pts[(i + 1).min(self.pts.len() - 1)] - self.pts[i];
         if d.norm() > 0.0 {
@@ -61,7 +65,7 @@ impl Polyline {
     }
 
     /// The part from arc length `a` to `b`.
-    pub(super) fn slice(&self, a: Real, b: Real) -> Vec<Point> {
+    pub fn slice(&self, a: Real, b: Real) -> Vec<Point> {
         let (pa, ia) = self.at(a);
         let (pb, ib) = self.at(b);
         let mut out = vec![pa];
@@ -125,6 +129,15 @@ pub(super) struct Drive {
     pub(super) adopted_at: Real,
     /// When the UGV last switched class.
     pub(super) last_switch: Real,
+    /// A better class the UGV waits to see all along before it switches into it (policies
+    /// that verify before switching), as planned when it was found.
+    pub(super) awaiting: Option<Route>,
+    /// Classes seen all along since they were last planned: a switch into one needs no
+    /// further look.
+    pub(super) verified: Vec<String>,
+    /// Where along `route` the UGV re-plans, having driven on toward a blockage found
+    /// ahead until it would see it itself (policies that weigh driving on).
+    pub(super) replan_at: Option<Real>,
 }
 
 impl Drive {
@@ -137,6 +150,9 @@ impl Drive {
             driven: 0.0,
             adopted_at: 0.0,
             last_switch: Real::NEG_INFINITY,
+            awaiting: None,
+            verified: Vec::new(),
+            replan_at: None,
         }
     }
 
@@ -162,6 +178,8 @@ impl Drive {
         self.alternatives = alternatives;
         self.route = route;
         self.s = 0.0;
+        self.awaiting = None;
+        self.replan_at = None;
         self.adopted_at = self.driven;
         adopted.push(Adopted {
             t,

@@ -1,11 +1,12 @@
-//! The scouts: their flight along waypoints, and their jobs after each (re-)plan (policy
-//! `ahead`: the far half of the UGV's route; `alternatives`: the next best classes).
+//! The scouts: their flight along waypoints, and their jobs after each (re-)plan, as the
+//! scout policy ([`super::policy`]) gives them.
 
 use homospline_geom::{Point, Real};
 
-use super::config::{MissionConfig, Policy};
+use super::config::MissionConfig;
+use super::policy::{Coverage, Lane, Policy, ScoutView, Situation};
 use super::record::Track;
-use super::route::{Drive, Route};
+use super::route::Drive;
 use crate::world::types::{Team, Uav};
 
 /// A scout in flight.
@@ -16,8 +17,8 @@ pub(super) struct Scout {
     pub(super) route: Vec<Point>,
     pub(super) flown: Real,
     pub(super) track: Track,
-    /// Jobs since the last (re-)plan: the classes verified (policy `alternatives`), or ""
-    /// for a part of the UGV's route.
+    /// Jobs since the last (re-)plan: the classes verified, or "" for a part of the UGV's
+    /// route.
     jobs: Vec<String>,
 }
 
@@ -49,9 +50,10 @@ impl Scout {
 /// The scouts the policy flies, on the ground: the team's UAVs, and beyond them scouts at
 /// the UGV's `start` with speed 3 and sensor range 10 ([`MissionConfig::scouts`]).
 pub(super) fn launch(team: &Team, cfg: &MissionConfig, start: Point) -> Vec<Scout> {
-    let n_scouts = match cfg.policy {
-        Policy::None => 0,
-        _ => cfg.scouts.unwrap_or(team.uavs.len()),
+    let n_scouts = if cfg.policy.get().flies() {
+        cfg.scouts.unwrap_or(team.uavs.len())
+    } else {
+        0
     };
     (0..n_scouts)
         .map(|i| {
@@ -75,78 +77,66 @@ pub(super) fn launch(team: &Team, cfg: &MissionConfig, start: Point) -> Vec<Scou
         .collect()
 }
 
-/// The part of the route a scout `ahead` inspects: scout `j` of `n` takes the `j`-th of `n`
-/// equal parts of the far half of what is left.
-fn ahead_route(from: Point, route: &Route, s: Real, j: usize, n: usize) -> Vec<Point> {
-    let left = route.line.length() - s;
-    let a = s + left * (0.5 + 0.5 * j as Real / n as Real);
-    let b = s + left * (0.5 + 0.5 * (j + 1) as Real / n as Real);
-    let mut out = vec![from];
-    out.extend(route.line.slice(a, b));
-    out
-}
-
-/// An alternative's route for a scout: to where it leaves the UGV's route (farther than the
-/// UGV's sensor range from it), then along it to the goal.
-fn alternative_route(from: Point, alt: &Route, route: &Route, s: Real, range: Real) -> Vec<Point> {
-    let rest = route.line.slice(s, route.line.length());
-    let far = |p: &Point| {
-        rest.windows(2)
-            .map(|w| homospline_geom::math::distance_point_segment(p, &w[0], &w[1]))
-            .fold(Real::INFINITY, Real::min)
-            > range
-    };
-    let k = alt.line.pts.iter().position(far).unwrap_or(0);
-    let mut out = vec![from];
-    out.extend(alt.line.pts[k..].iter().copied());
-    out
-}
-
-/// Routes for every scout after a (re-)plan of the UGV's `drive`; `range`: the UGV's sensor
-/// range.
-pub(super) fn assign(scouts: &mut [Scout], policy: Policy, drive: &Drive, range: Real) {
+/// Routes for every scout after a (re-)plan of the UGV's `drive`: every job is given up
+/// and the policy assigns them afresh. `range`: the UGV's sensor range.
+pub(super) fn assign(
+    scouts: &mut [Scout],
+    policy: Policy,
+    drive: &Drive,
+    range: Real,
+    seen: &Coverage,
+) {
     for sc in scouts.iter_mut() {
         sc.route.clear();
         sc.jobs.clear();
     }
-    assign_idle(scouts, policy, drive, range);
+    assign_idle(scouts, policy, drive, range, seen);
 }
 
-/// Routes for the scouts that have none: an alternative no scout has taken since the last
-/// (re-)plan (policy `alternatives`), else, for a scout with no job yet, a part of the far
-/// half of the UGV's route; a scout whose job is done and has nothing left holds.
-pub(super) fn assign_idle(scouts: &mut [Scout], policy: Policy, drive: &Drive, range: Real) {
-    if policy == Policy::None {
+/// Routes for the scouts that have none, as the policy decides ([`super::policy::ScoutPolicy::assign`]);
+/// a scout given none holds.
+pub(super) fn assign_idle(
+    scouts: &mut [Scout],
+    policy: Policy,
+    drive: &Drive,
+    range: Real,
+    seen: &Coverage,
+) {
+    if scouts.is_empty() {
         return;
     }
-    let (route, s, alts) = (&drive.route, drive.s, &drive.alternatives);
-    let mut taken: Vec<String> = scouts
+    let lanes: Vec<Lane<'_>> = drive
+        .alternatives
         .iter()
-        .flat_map(|sc| sc.jobs.iter().cloned())
+        .map(|a| Lane {
+            class: &a.class,
+            line: &a.line,
+        })
         .collect();
-    // First the alternatives, one scout each; then the scouts left without a job share the
-    // far half of the UGV's route between them.
-    let mut ahead = Vec::new();
-    for (j, sc) in scouts.iter_mut().enumerate() {
-        if !sc.route.is_empty() {
-            continue;
+    let views: Vec<ScoutView<'_>> = scouts
+        .iter()
+        .map(|sc| ScoutView {
+            at: sc.pos,
+            uav: &sc.uav,
+            busy: !sc.route.is_empty(),
+            jobs: &sc.jobs,
+        })
+        .collect();
+    let situation = Situation {
+        ugv: drive.position(),
+        ugv_range: range,
+        route: &drive.route.line,
+        s: drive.s,
+        class: &drive.route.class,
+        alternatives: &lanes,
+        scouts: &views,
+        seen,
+    };
+    let jobs = policy.get().assign(&situation);
+    for (i, job) in jobs {
+        if let Some(sc) = scouts.get_mut(i).filter(|sc| sc.route.is_empty()) {
+            sc.route = job.waypoints;
+            sc.jobs.push(job.label);
         }
-        if policy == Policy::Alternatives
-            && let Some(alt) = alts
-                .iter()
-                .find(|a| !taken.contains(&a.class) && a.class != route.class)
-        {
-            sc.route = alternative_route(sc.pos, alt, route, s, range);
-            sc.jobs.push(alt.class.clone());
-            taken.push(alt.class.clone());
-        } else if sc.jobs.is_empty() {
-            ahead.push(j);
-        }
-    }
-    let n = ahead.len();
-    for (part, &j) in ahead.iter().enumerate() {
-        let sc = &mut scouts[j];
-        sc.route = ahead_route(sc.pos, route, s, part, n);
-        sc.jobs.push(String::new());
     }
 }

@@ -113,9 +113,9 @@ fn a_small_map_world_is_reached_under_every_policy_deterministically_and_safely(
     let w = map_world("room-blocked.yaml");
     assert_eq!(w.changes.len(), 2, "{:?}", w.changes);
     assert!(w.changes.iter().any(|c| c.blocked && c.cells == [(12, 14)]));
-    let truth_plan = run(&w, Policy::None).truth_plan_length;
+    let truth_plan = run(&w, Policy::NONE).truth_plan_length;
     assert!(truth_plan.is_some(), "the truth has a path");
-    for policy in Policy::ALL {
+    for &policy in Policy::all() {
         let r = run(&w, policy);
         assert!(
             r.reached,
@@ -165,12 +165,12 @@ fn the_offline_plan_would_drive_through_the_blocked_door() {
     // Without the truth map's blockage the mission never re-plans: the prior's best path
     // itself goes through the door the truth blocks, so the test world tests something.
     let mut w = map_world("room-blocked.yaml");
-    let r = run(&w, Policy::None);
+    let r = run(&w, Policy::NONE);
     let first = &r.adopted[0].path;
     assert!(entered_cell(&w.truth, first).is_some());
     w.truth = w.prior.clone();
     w.changes.clear();
-    let r = run(&w, Policy::Ahead);
+    let r = run(&w, Policy::AHEAD);
     assert!(r.reached);
     assert_eq!(r.replans, 0);
 }
@@ -267,7 +267,7 @@ fn a_blockage_beside_which_the_robot_can_pass_does_not_close_the_corridor() {
         homospline_mission::Team::default(),
     )
     .unwrap();
-    let r = run(&world, Policy::None);
+    let r = run(&world, Policy::NONE);
     assert!(r.reached, "not reached");
     assert_eq!(r.map_updates.len(), 1);
     assert!(!r.map_updates[0].graph_rebuilt, "the graph was kept");

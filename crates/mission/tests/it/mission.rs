@@ -26,7 +26,7 @@ fn every_policy_reaches_the_goal_on_the_paper_worlds_and_runs_are_deterministic(
     let worlds = fixture_worlds();
     assert_eq!(worlds.len(), 5);
     for w in &worlds {
-        for policy in Policy::ALL {
+        for &policy in Policy::all() {
             let r = run(w, policy);
             assert!(
                 r.truth_plan_length.is_some(),
@@ -89,8 +89,8 @@ fn a_scout_ahead_finds_the_blockage_before_the_ugv_would() {
             })
             .unwrap()
     };
-    let alone = run(&w, Policy::None);
-    let ahead = run(&w, Policy::Ahead);
+    let alone = run(&w, Policy::NONE);
+    let ahead = run(&w, Policy::AHEAD);
     let (t_alone, by_alone) = found(&alone);
     let (t_ahead, by_ahead) = found(&ahead);
     assert_eq!(by_alone, Robot::Ugv);
@@ -103,7 +103,7 @@ fn a_scout_ahead_finds_the_blockage_before_the_ugv_would() {
 #[test]
 fn a_re_plan_on_the_move_keeps_the_heading_unless_it_turns_around() {
     for w in fixture_worlds() {
-        let r = run(&w, Policy::None);
+        let r = run(&w, Policy::NONE);
         for e in r
             .events
             .iter()
@@ -182,7 +182,7 @@ fn generated_worlds_are_reached_whenever_the_truth_has_a_path() {
             continue;
         };
         tried += 1;
-        for policy in Policy::ALL {
+        for &policy in Policy::all() {
             let r = run(&w, policy);
             if r.truth_plan_length.is_some() {
                 assert!(
@@ -276,7 +276,7 @@ fn a_blockage_found_a_unit_ahead_is_left_by_turning_around() {
         team,
     )
     .unwrap();
-    let r = run(&w, Policy::None);
+    let r = run(&w, Policy::NONE);
     assert!(r.reached, "{:#?}", r.events);
     let blocked = r
         .events
@@ -306,7 +306,7 @@ fn a_blockage_found_a_unit_ahead_is_left_by_turning_around() {
 fn a_winding_passage_too_narrow_for_ten_via_points_is_still_planned() {
     let w = random_world(139, 2).unwrap();
     let cfg = MissionConfig {
-        policy: Policy::None,
+        policy: Policy::NONE,
         replan_classes: 3,
         replan_coarsening: 1.0,
         ..MissionConfig::default()
@@ -375,7 +375,7 @@ fn a_re_plan_falls_back_to_the_full_graph_when_the_coarse_one_has_no_clear_class
 #[test]
 fn a_tight_spot_whose_every_way_is_narrower_than_a_cell_is_left() {
     let w = random_world(359, 2).unwrap();
-    let r = run(&w, Policy::None);
+    let r = run(&w, Policy::NONE);
     assert!(r.truth_plan_length.is_some(), "the truth has a path");
     assert!(r.reached, "{:#?}", r.events);
 }
@@ -408,7 +408,7 @@ fn a_fast_ugv_with_a_coarse_step_never_drives_through_what_it_has_not_seen() {
     for mut w in fixture_worlds() {
         w.team.ugv.speed = 5.0;
         let cfg = MissionConfig {
-            policy: Policy::None,
+            policy: Policy::NONE,
             dt: 10.0,
             ..MissionConfig::default()
         };
@@ -450,7 +450,7 @@ fn a_mission_whose_goal_is_its_start_is_reached_at_once() {
     let mut w = fixture_worlds().into_iter().next().unwrap();
     w.truth.goal = w.truth.start;
     w.prior.goal = w.prior.start;
-    let r = run(&w, Policy::Ahead);
+    let r = run(&w, Policy::AHEAD);
     assert!(r.reached);
     assert_eq!(r.time, 0.0);
     assert_eq!(r.ugv_distance, 0.0);
@@ -477,7 +477,7 @@ fn every_timed_re_plan_is_a_counted_one_even_when_the_mission_ends_stuck() {
     w.hidden.push("wall".into());
     let mut runs = 0;
     for world in [&w].into_iter().chain(fixture_worlds().iter()) {
-        for policy in Policy::ALL {
+        for &policy in Policy::all() {
             let r = run(world, policy);
             assert_eq!(
                 r.replan_ms.len(),
@@ -490,7 +490,7 @@ fn every_timed_re_plan_is_a_counted_one_even_when_the_mission_ends_stuck() {
             runs += 1;
         }
     }
-    let stuck = run(&w, Policy::None);
+    let stuck = run(&w, Policy::NONE);
     assert!(!stuck.reached, "the wall has no way through");
     assert!(runs > 3);
 }
@@ -505,7 +505,7 @@ fn a_step_refined_past_the_limit_says_which_robot_setting_to_change() {
         u.sensor_range = 0.01;
     }
     let cfg = MissionConfig {
-        policy: Policy::Ahead,
+        policy: Policy::AHEAD,
         ..MissionConfig::default()
     };
     let e = match simulate(&w, &cfg) {

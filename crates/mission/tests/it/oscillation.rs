@@ -121,7 +121,7 @@ fn voluntary_switches(r: &MissionResult) -> usize {
 
 fn run(world: &MissionWorld, switch_margin: f64, min_switch_interval: f64) -> MissionResult {
     let cfg = MissionConfig {
-        policy: Policy::Alternatives,
+        policy: Policy::ALTERNATIVES,
         switch_margin,
         min_switch_interval,
         ..MissionConfig::default()

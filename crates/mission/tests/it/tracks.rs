@@ -94,7 +94,7 @@ fn a_map_mission_keeps_the_robot_radius_from_the_true_walls() {
         team,
     )
     .unwrap();
-    for policy in Policy::ALL {
+    for &policy in Policy::all() {
         let r = simulate_map(&world, &cfg(policy)).unwrap();
         assert!(r.reached, "{}: not reached", policy.name());
         let track: Vec<Point> = r.ugv.samples.iter().map(|(_, p)| *p).collect();
@@ -140,7 +140,7 @@ fn the_fixture_map_world_tracks_stay_out_of_every_true_cell() {
         Ok(AnyWorld::Map(w)) => w,
         other => panic!("{:?}", other.err()),
     };
-    for policy in Policy::ALL {
+    for &policy in Policy::all() {
         let r = simulate_map(&w, &cfg(policy)).unwrap();
         let track: Vec<Point> = r.ugv.samples.iter().map(|(_, p)| *p).collect();
         let c = track_clearance(&w.truth, &track, 1.0);
@@ -166,7 +166,7 @@ fn scene_world_tracks_keep_the_robot_radius_from_the_true_circles() {
         };
         // Circles inflated by the robot radius: a clearance >= 0 keeps the radius.
         let truth = CircleModel::new(w.truth.circles());
-        for policy in Policy::ALL {
+        for &policy in Policy::all() {
             let r = simulate(&w, &cfg(policy)).unwrap();
             let track: Vec<Point> = r.ugv.samples.iter().map(|(_, p)| *p).collect();
             let c = truth.polyline_clearance(&track);

@@ -1,0 +1,130 @@
+//! Policy `guard`: the scouts look first where a blockage would cost the UGV most, its own
+//! route ahead, sweeping the stretches no robot has seen yet from near to far; then they
+//! verify the alternatives, best first; and the UGV gives up a valid route for a better
+//! class only once that class has been seen all along.
+
+use homospline_geom::{Point, Real};
+
+use super::{Job, Polyline, ScoutPolicy, Situation};
+
+/// The UGV's route first, then the alternatives; switches only into classes seen clear.
+pub struct Guard;
+
+impl ScoutPolicy for Guard {
+    fn name(&self) -> &'static str {
+        "guard"
+    }
+
+    fn summary(&self) -> &'static str {
+        "scouts sweep the unseen rest of the UGV's route, then verify the alternatives; the UGV \
+         switches only into a class seen clear (the default)"
+    }
+
+    fn verify_before_switch(&self) -> bool {
+        true
+    }
+
+    fn weighs_driving_on(&self) -> bool {
+        true
+    }
+
+    fn assign(&self, s: &Situation<'_>) -> Vec<(usize, Job)> {
+        let mut idle: Vec<usize> = (0..s.scouts.len())
+            .filter(|&i| !s.scouts[i].busy)
+            .collect();
+        let mut out = Vec::new();
+        let busy_on = |label: &str| {
+            s.scouts
+                .iter()
+                .any(|sc| sc.busy && sc.jobs.last().is_some_and(|j| j == label))
+        };
+        // What to look at, most at stake first: the UGV's route ahead, then each
+        // alternative's stretches away from it. Each is one job, to the nearest idle scout.
+        let route_unseen = s.seen.unseen(s.route, s.s);
+        let mut lanes: Vec<(String, &Polyline, Vec<(Real, Real)>)> = Vec::new();
+        if !route_unseen.is_empty() && !busy_on("") {
+            lanes.push((String::new(), s.route, route_unseen.clone()));
+        }
+        let rest = s.route.slice(s.s, s.route.length());
+        for alt in s.alternatives {
+            if alt.class == s.class || busy_on(alt.class) {
+                continue;
+            }
+            let away = away_from(alt.line, &rest, s.ugv_range);
+            let unseen = s.seen.unseen(alt.line, away);
+            if !unseen.is_empty() {
+                lanes.push((alt.class.to_owned(), alt.line, unseen));
+            }
+        }
+        for (label, line, stretches) in lanes {
+            let Some(k) = nearest(s, &idle, line.at(stretches[0].0).0) else {
+                break;
+            };
+            idle.retain(|&i| i != k);
+            out.push((
+                k,
+                Job {
+                    waypoints: sweep(s.scouts[k].at, line, &stretches),
+                    label,
+                },
+            ));
+        }
+        // Scouts left over help on the route: the far half of what is unseen of it.
+        if let (Some(&first), Some(&last)) = (route_unseen.first(), route_unseen.last()) {
+            let mid = 0.5 * (first.0 + last.1);
+            let far: Vec<(Real, Real)> = route_unseen
+                .iter()
+                .filter(|&&(_, b)| b >= mid)
+                .map(|&(a, b)| (a.max(mid), b))
+                .collect();
+            for k in idle {
+                if s.scouts[k].jobs.is_empty() && !far.is_empty() {
+                    out.push((
+                        k,
+                        Job {
+                            waypoints: sweep(s.scouts[k].at, s.route, &far),
+                            label: String::new(),
+                        },
+                    ));
+                }
+            }
+        }
+        out
+    }
+}
+
+/// Arc length along `line` where it first leaves the UGV's `rest` of route by more than
+/// `range` (0 when it never comes near).
+fn away_from(line: &Polyline, rest: &[Point], range: Real) -> Real {
+    let far = |p: &Point| {
+        rest.windows(2)
+            .map(|w| homospline_geom::math::distance_point_segment(p, &w[0], &w[1]))
+            .fold(Real::INFINITY, Real::min)
+            > range
+    };
+    line.pts
+        .iter()
+        .position(far)
+        .map_or(line.length(), |k| line.cum[k])
+}
+
+/// The idle scout nearest to `p`.
+fn nearest(s: &Situation<'_>, idle: &[usize], p: Point) -> Option<usize> {
+    idle.iter()
+        .copied()
+        .min_by(|&a, &b| {
+            (s.scouts[a].at - p)
+                .norm()
+                .total_cmp(&(s.scouts[b].at - p).norm())
+                .then(a.cmp(&b))
+        })
+}
+
+/// Waypoints from `from` along `line`'s `stretches`, in order.
+fn sweep(from: Point, line: &Polyline, stretches: &[(Real, Real)]) -> Vec<Point> {
+    let mut out = vec![from];
+    for &(a, b) in stretches {
+        out.extend(line.slice(a, b));
+    }
+    out
+}
