@@ -633,18 +633,6 @@ fn policy_figures(
     let mut f = PolicyFigures::default();
     for w in worlds {
         let r = simulate(w, &cfg)?;
-        if std::env::var("DBG_WORLD").is_ok_and(|n| n == w.name) {
-            eprintln!(
-                "== {} {} dist {:.2} truth {:?}",
-                w.name,
-                policy.name(),
-                r.ugv_distance,
-                r.truth_plan_length
-            );
-            for e in &r.events {
-                eprintln!("  {:7.2} ({:6.2},{:6.2}) {:?}", e.t, e.at.x, e.at.y, e.kind);
-            }
-        }
         let track: Vec<homospline_geom::Point> = r.ugv.samples.iter().map(|s| s.1).collect();
         let truth = CircleModel::new(w.truth.circles());
         clearance.least = clearance.least.min(truth.polyline_clearance(&track));

@@ -165,12 +165,11 @@ impl<'a, K: Known> Mission<'a, K> {
             self.t,
         );
         self.look_around();
-        let verified = self.awaited_class_seen();
         let due = self.drive.replan_at.is_some_and(|s| self.drive.s >= s);
         if due {
             self.drive.replan_at = None;
         }
-        if found.any() || verified || due {
+        if found.any() || due {
             let (planner, drive, record) = (&mut self.planner, &mut self.drive, &mut self.record);
             if found.any() {
                 discover(planner, drive, record, &found, (self.t, at));
@@ -209,21 +208,6 @@ impl<'a, K: Known> Mission<'a, K> {
         for sc in &self.scouts {
             seen.look(&sc.pos, sc.uav.sensor_range);
         }
-    }
-
-    /// Whether the class the UGV waits to switch into has now been seen all along (and is
-    /// so recorded): the UGV then weighs the switch again.
-    fn awaited_class_seen(&mut self) -> bool {
-        let drive = &mut self.drive;
-        let Some(route) = &drive.awaiting else {
-            return false;
-        };
-        if !self.planner.seen.unseen(&route.line, 0.0).is_empty() {
-            return false;
-        }
-        drive.verified.push(route.class.clone());
-        drive.awaiting = None;
-        true
     }
 
     /// The time is up: the mission stops where the UGV is.

@@ -72,9 +72,9 @@ pub struct Situation<'a> {
 /// A way of using the scouts.
 ///
 /// The mission asks [`ScoutPolicy::assign`] for jobs right after every (re-)plan of the
-/// UGV (every scout idle) and whenever a scout has finished its job; and, before the UGV
-/// gives up a valid route for a better class, whether it must wait until that class has been
-/// seen ([`ScoutPolicy::verify_before_switch`]).
+/// UGV (every scout idle) and whenever a scout has finished its job; and, when the robots
+/// find the UGV's route blocked ahead, whether the UGV weighs driving on against re-planning
+/// at once ([`ScoutPolicy::weighs_driving_on`]).
 pub trait ScoutPolicy: Sync {
     /// The name on the command line, in Python and in the JSON.
     fn name(&self) -> &'static str;
@@ -87,11 +87,6 @@ pub trait ScoutPolicy: Sync {
     /// Jobs for the idle scouts (`situation.scouts[i].busy == false`), as `(index, job)`;
     /// an idle scout given none holds where it is.
     fn assign(&self, situation: &Situation<'_>) -> Vec<(usize, Job)>;
-    /// Whether a voluntary switch to a better class waits until the robots have seen all
-    /// of that class's route (a forced re-plan after a blockage never waits).
-    fn verify_before_switch(&self) -> bool {
-        false
-    }
     /// Whether, when the robots find the UGV's route blocked ahead, the UGV compares
     /// re-planning now with driving on until it would see the blockage itself and
     /// re-planning there (what a UGV without scouts does), and takes the shorter.
@@ -127,8 +122,8 @@ impl Policy {
     pub const AHEAD: Policy = Policy(&ahead::Ahead);
     /// Scouts verify the next best classes.
     pub const ALTERNATIVES: Policy = Policy(&alternatives::Alternatives);
-    /// Scouts sweep the UGV's route ahead, then verify alternatives; the UGV switches only
-    /// into a class seen clear (the default).
+    /// Scouts sweep the UGV's route ahead, then verify alternatives; the UGV re-plans early
+    /// only when that is shorter (the default).
     pub const GUARD: Policy = Policy(&guard::Guard);
 
     /// Every registered policy, in registry order.

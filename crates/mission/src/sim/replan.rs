@@ -261,14 +261,6 @@ impl<K: Known> Replan<'_, '_, K> {
                 self.t - self.drive.last_switch,
                 self.planner.cfg,
             );
-        // A policy that verifies before switching waits until the robots have seen the
-        // better class all along (its scouts look there); the UGV drives on meanwhile.
-        let wait = better
-            && self.planner.cfg.policy.get().verify_before_switch()
-            && !self.drive.verified.contains(&best.class)
-            && !self.planner.seen.unseen(&best.line, 0.0).is_empty();
-        self.drive.awaiting = wait.then(|| best.clone());
-        let better = better && !wait;
         let class = if better {
             best.class.clone()
         } else {

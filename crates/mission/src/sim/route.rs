@@ -129,12 +129,6 @@ pub(super) struct Drive {
     pub(super) adopted_at: Real,
     /// When the UGV last switched class.
     pub(super) last_switch: Real,
-    /// A better class the UGV waits to see all along before it switches into it (policies
-    /// that verify before switching), as planned when it was found.
-    pub(super) awaiting: Option<Route>,
-    /// Classes seen all along since they were last planned: a switch into one needs no
-    /// further look.
-    pub(super) verified: Vec<String>,
     /// Where along `route` the UGV re-plans, having driven on toward a blockage found
     /// ahead until it would see it itself (policies that weigh driving on).
     pub(super) replan_at: Option<Real>,
@@ -150,8 +144,6 @@ impl Drive {
             driven: 0.0,
             adopted_at: 0.0,
             last_switch: Real::NEG_INFINITY,
-            awaiting: None,
-            verified: Vec::new(),
             replan_at: None,
         }
     }
@@ -178,7 +170,6 @@ impl Drive {
         self.alternatives = alternatives;
         self.route = route;
         self.s = 0.0;
-        self.awaiting = None;
         self.replan_at = None;
         self.adopted_at = self.driven;
         adopted.push(Adopted {

@@ -1,13 +1,14 @@
 //! Policy `guard`: the scouts look first where a blockage would cost the UGV most, its own
 //! route ahead, sweeping the stretches no robot has seen yet from near to far; then they
-//! verify the alternatives, best first; and the UGV gives up a valid route for a better
-//! class only once that class has been seen all along.
+//! verify the alternatives, best first. When they find the UGV's route blocked ahead, the
+//! UGV weighs re-planning now against driving on until it would see the blockage itself
+//! (what it would do without scouts) and takes the shorter.
 
 use homospline_geom::{Point, Real};
 
 use super::{Job, Polyline, ScoutPolicy, Situation};
 
-/// The UGV's route first, then the alternatives; switches only into classes seen clear.
+/// The UGV's route first, then the alternatives; re-plans early only when that is shorter.
 pub struct Guard;
 
 impl ScoutPolicy for Guard {
@@ -16,12 +17,8 @@ impl ScoutPolicy for Guard {
     }
 
     fn summary(&self) -> &'static str {
-        "scouts sweep the unseen rest of the UGV's route, then verify the alternatives; the UGV \
-         switches only into a class seen clear (the default)"
-    }
-
-    fn verify_before_switch(&self) -> bool {
-        true
+        "scouts sweep the unseen rest of the UGV's route, then verify the alternatives; a \
+         blockage found ahead makes the UGV re-plan early only when that is shorter (the default)"
     }
 
     fn weighs_driving_on(&self) -> bool {
