@@ -25,10 +25,10 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     });
     let world =
         homospline_mission::world::load_any(std::path::Path::new(&path), |p| std::fs::read(p))?;
-    // Scouts inspect the far half of the UGV's route (`simulate --policy ahead`); the
-    // library's default flies none.
+    // The default scout policy, `guard` (`simulate --policy guard`); `Policy::all()` lists
+    // the others.
     let cfg = MissionConfig {
-        policy: Policy::AHEAD,
+        policy: Policy::GUARD,
         ..MissionConfig::default()
     };
     let result = match &world {

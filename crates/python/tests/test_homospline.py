@@ -348,3 +348,10 @@ def test_negative_counts_are_value_errors_naming_the_keyword(call, message):
     # They were OverflowError (or TypeError for finish_within) naming nothing.
     with pytest.raises(ValueError, match=message.replace("(", r"\(").replace(")", r"\)")):
         call(homospline.Scene.example())
+
+
+def test_simulate_takes_every_registered_policy_and_names_them_when_one_is_unknown():
+    r = homospline.simulate(ROOT / "fixtures/worlds/narrow-pass-blocked.yaml")
+    assert r["policy"] == "guard" and r["reached"]
+    with pytest.raises(ValueError, match="none, ahead, alternatives, guard"):
+        homospline.simulate(ROOT / "fixtures/worlds/narrow-pass-blocked.yaml", policy="bogus")

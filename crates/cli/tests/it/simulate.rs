@@ -112,3 +112,25 @@ fn a_coarse_step_is_refined_and_said_so() {
     assert_eq!(v["dt"], 0.6);
     assert_eq!(v["reached"], true);
 }
+
+#[test]
+fn policies_come_from_the_registry_and_an_unknown_one_is_refused_with_the_list() {
+    let help = homospline().args(["simulate", "--help"]).output().unwrap();
+    assert_ok(&help);
+    let text = String::from_utf8(help.stdout).unwrap();
+    for p in homospline_mission::Policy::all() {
+        assert!(text.contains(p.name()), "{} in --help:\n{text}", p.name());
+    }
+    let out = homospline()
+        .args([
+            "simulate",
+            "fixtures/worlds/narrow-pass-blocked.yaml",
+            "--policy",
+            "bogus",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("bogus") && err.contains("guard"), "{err}");
+}

@@ -5,4 +5,5 @@
 mod maps;
 mod mission;
 mod oscillation;
+mod policies;
 mod tracks;

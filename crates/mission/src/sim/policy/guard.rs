@@ -38,7 +38,7 @@ impl ScoutPolicy for Guard {
         // What to look at, most at stake first: the UGV's route ahead, then each
         // alternative's stretches away from it. Each is one job, to the nearest idle scout.
         let route_unseen = s.seen.unseen(s.route, s.s);
-        let mut lanes: Vec<(String, &Polyline, Vec<(Real, Real)>)> = Vec::new();
+        let mut lanes: Vec<Look<'_>> = Vec::new();
         if !route_unseen.is_empty() && !busy_on("") {
             lanes.push((String::new(), s.route, route_unseen.clone()));
         }
@@ -89,6 +89,9 @@ impl ScoutPolicy for Guard {
         out
     }
 }
+
+/// Something to look at: the job's label, the line and its unseen stretches (arc lengths).
+type Look<'a> = (String, &'a Polyline, Vec<(Real, Real)>);
 
 /// Arc length along `line` where it first leaves the UGV's `rest` of route by more than
 /// `range` (0 when it never comes near).

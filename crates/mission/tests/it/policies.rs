@@ -1,0 +1,106 @@
+//! The scout policies: one registry that names each once, `guard` as the default, what the
+//! robots have seen (`Coverage`), and `guard` against flying no scouts on generated worlds.
+
+use homospline_geom::Point;
+use homospline_mission::sim::policy::{Coverage, Polyline};
+use homospline_mission::{EventKind, MissionConfig, MissionResult, MissionWorld, Policy, simulate};
+use homospline_testkit::suite_world;
+
+fn run(world: &MissionWorld, policy: Policy) -> MissionResult {
+    simulate(
+        world,
+        &MissionConfig {
+            policy,
+            ..MissionConfig::default()
+        },
+    )
+    .unwrap()
+}
+
+#[test]
+fn the_registry_names_every_policy_once_and_finds_it_by_name() {
+    let all = Policy::all();
+    assert!(all.len() >= 4);
+    for (i, p) in all.iter().enumerate() {
+        assert_eq!(Policy::named(p.name()), Some(*p));
+        assert!(!p.summary().is_empty());
+        assert!(all[..i].iter().all(|q| q.name() != p.name()), "{p} twice");
+        assert!(Policy::names().contains(p.name()));
+    }
+    assert_eq!(Policy::named("nonesuch"), None);
+    assert!(!Policy::NONE.get().flies());
+    assert!(Policy::GUARD.get().flies());
+}
+
+#[test]
+fn guard_is_the_default_of_the_library() {
+    assert_eq!(Policy::default(), Policy::GUARD);
+    assert_eq!(MissionConfig::default().policy, Policy::GUARD);
+}
+
+#[test]
+fn a_look_marks_the_cells_its_disc_holds_whole_and_a_route_reports_what_is_unseen() {
+    let mut seen = Coverage::new(1.0);
+    seen.look(&Point::new(0.5, 0.5), 2.0);
+    // The centre's cell and its side neighbours lie whole within 2 (their farthest
+    // corners are sqrt(0.5) and sqrt(2.5) from the centre).
+    assert!(seen.seen(&Point::new(0.5, 0.5)));
+    assert!(seen.seen(&Point::new(1.5, 0.5)));
+    assert!(seen.seen(&Point::new(-0.5, 0.5)));
+    // A diagonal neighbour's far corner is sqrt(1.5^2 + 1.5^2) = 2.12 away: not whole.
+    assert!(!seen.seen(&Point::new(1.5, 1.5)));
+    assert!(!seen.seen(&Point::new(5.5, 0.5)));
+    let line = Polyline::new(vec![Point::new(0.5, 0.5), Point::new(10.5, 0.5)]);
+    let unseen = seen.unseen(&line, 0.0);
+    assert_eq!(unseen.len(), 1, "{unseen:?}");
+    let (a, b) = unseen[0];
+    assert!((1.5..=2.5).contains(&a), "{a}");
+    assert!((b - 10.0).abs() < 1e-9, "{b}");
+    seen.look(&Point::new(6.0, 0.5), 6.0);
+    assert!(seen.unseen(&line, 0.0).is_empty());
+}
+
+/// Distance over the truth plan of each policy on the first `n` generated scene worlds.
+fn ratios(n: usize, policy: Policy) -> Vec<f64> {
+    (0..)
+        .filter_map(|seed| suite_world(seed, 2))
+        .take(n)
+        .map(|w| {
+            let r = run(&w, policy);
+            assert!(r.reached, "{} {policy}: not reached", w.name);
+            r.distance_ratio().expect("a truth plan")
+        })
+        .collect()
+}
+
+#[test]
+fn guard_drives_less_than_no_scouts_on_generated_worlds() {
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let (none, guard) = (ratios(12, Policy::NONE), ratios(12, Policy::GUARD));
+    assert!(
+        mean(&guard) < mean(&none),
+        "guard {:.3} none {:.3}",
+        mean(&guard),
+        mean(&none)
+    );
+}
+
+#[test]
+fn guard_drives_on_toward_a_blockage_when_replanning_there_is_shorter() {
+    // Somewhere among the generated worlds a scout finds the route blocked far ahead and
+    // the UGV keeps its class (a forced re-plan that keeps the class, with no switch),
+    // re-planning again later without a new discovery.
+    let drove_on = (0..40).filter_map(|seed| suite_world(seed, 2)).any(|w| {
+        let r = run(&w, Policy::GUARD);
+        let ev = &r.events;
+        ev.windows(2).enumerate().any(|(k, pair)| {
+            matches!(&pair[0].kind, EventKind::Blocked { class: from }
+                if matches!(&pair[1].kind, EventKind::Replanned { forced: true, class, .. } if class == from))
+                && ev[k + 2..].iter().any(|e| matches!(e.kind, EventKind::Blocked { .. }))
+        })
+    });
+    assert!(
+        drove_on,
+        "no world where guard drove on toward a blockage found ahead"
+    );
+}
