@@ -190,9 +190,10 @@ impl<K: Known> Replan<'_, '_, K> {
     fn drives_on(&mut self, next: &Route) -> bool {
         let line = &self.drive.route.line;
         let model = self.planner.known.model();
-        let step = 0.25 * self.range.max(1e-6);
-        let mut s = self.drive.s;
         let end = line.length();
+        // A quarter of the sensor range, and at most 4,000 probes along the route.
+        let step = (0.25 * self.range).max(end / 4000.0).max(1e-9);
+        let mut s = self.drive.s;
         let blocked_at = loop {
             if s >= end {
                 return false;
