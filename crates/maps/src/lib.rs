@@ -486,6 +486,30 @@ impl OccupancyMap {
         Ok(out)
     }
 
+    /// A disc robot's space on this map: where a robot of `radius` (map units, `> 0`) can
+    /// stand, as an occupancy map of the half-cell lattice ([`footprint`]: a lattice cell is
+    /// free where its centre keeps more than `radius` from every occupied cell and the edge),
+    /// and the exact clearance model of this map less `radius`
+    /// ([`GridModel::for_radius`]), whose clearances are the robot body's. The lattice gives
+    /// the topology a plan searches; the model its costs and certificates. This is the free
+    /// space of `plan --robot-radius` and of map missions.
+    ///
+    /// Errors when the radius blocks every lattice point ([`MapError::NoRoom`]), or as
+    /// [`OccupancyMap::to_grid`].
+    pub fn robot_space(&self, radius: Real) -> Result<(OccupancyMap, GridModel), MapError> {
+        if !(radius.is_finite() && radius > 0.0) {
+            return Err(MapError::Radius(radius));
+        }
+        let grid = self.to_grid()?;
+        let model = GridModel::new(&grid, &DistanceField::build(&grid));
+        drop(grid);
+        let free = self.free_for_robot(radius, &model)?;
+        if free.occupied.iter().all(|&o| o) {
+            return Err(MapError::NoRoom(radius));
+        }
+        Ok((free, model.for_radius(radius)))
+    }
+
     /// Where a disc robot of radius `radius` can stand, as an occupancy map of the
     /// half-cell lattice ([`footprint`]): exact, by `truth`, the model of this map.
     fn free_for_robot(&self, radius: Real, truth: &GridModel) -> Result<OccupancyMap, MapError> {
@@ -674,14 +698,8 @@ impl PreparedMap {
         if radius == 0.0 {
             return Ok((map.clone(), None, None));
         }
-        let grid = map.to_grid()?;
-        let model = GridModel::new(&grid, &DistanceField::build(&grid));
-        drop(grid);
-        let free = map.free_for_robot(radius, &model)?;
-        if free.occupied.iter().all(|&o| o) {
-            return Err(MapError::NoRoom(radius));
-        }
-        Ok((free, Some(model.for_radius(radius)), Some(map.clone())))
+        let (free, model) = map.robot_space(radius)?;
+        Ok((free, Some(model), Some(map.clone())))
     }
 
     /// The same with a complete graph built before (`homospline graph MAP --out`, with the

@@ -581,3 +581,47 @@ fn radii_just_under_half_a_corridor_plan_within_5_s() {
     // has a route.
     assert_eq!(planned, 3 * 2 * 6);
 }
+
+#[test]
+fn a_disc_turns_through_a_diagonal_door_up_to_its_half_width() {
+    // A wall across a 16 x 10 map: column 7 from one edge to y = 4, column 9 from y = 5 to
+    // the other (map rows, y down). The only way across is the door between the corners
+    // (8, 4) and (9, 5), sqrt 2 wide, and the route turns in it: its lattice keeps the
+    // diagonal join by freeing a common neighbour whose centre is 0.5 from a corner, and
+    // the ridge passed there. Radii 0.6 and 0.7 were "no collision-free class" (the pulled
+    // seed kept a vertex 0.008 inside the radius); the door takes up to 0.7071.
+    let (w, h) = (16, 10);
+    let m = OccupancyMap {
+        name: "diagonal-door".into(),
+        width: w,
+        height: h,
+        cell: 1.0,
+        origin: Point::origin(),
+        occupied: (0..w * h)
+            .map(|k| {
+                let (i, j) = (k % w, k / w);
+                (i == 7 && j <= 3) || (i == 9 && j >= 5)
+            })
+            .collect(),
+        y_down: true,
+    };
+    let cfg = homospline_maps::map_config();
+    for radius in [0.3, 0.5, 0.6, 0.65, 0.7] {
+        let (plan, _) = plan_map_for_robot(
+            &m,
+            radius,
+            Point::new(3.5, 4.5),
+            Point::new(13.5, 3.5),
+            &cfg,
+        )
+        .unwrap_or_else(|e| panic!("radius {radius}: {e}"));
+        let c = plan
+            .chosen()
+            .unwrap_or_else(|| panic!("radius {radius}: no plan through the door"));
+        let d = track_clearance(&m, &c.path, radius + 2.0);
+        assert!(
+            d >= radius && c.collision_free,
+            "radius {radius}: the path keeps {d}"
+        );
+    }
+}

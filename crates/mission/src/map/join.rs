@@ -137,12 +137,13 @@ impl WorldFile {
         Ok(())
     }
 
-    /// Both maps as the robot's centre sees them (inflated by `team.ugv.radius` when it is
-    /// positive); the start and the goal must keep the radius, and their cells too.
+    /// With a positive `team.ugv.radius`, the start and the goal must keep the radius on both
+    /// maps, and stand in cells of the robot's lattice (`OccupancyMap::robot_space`, the free
+    /// space the mission plans in); the maps are kept as given.
     fn keep_radius(
         &self,
-        mut prior: OccupancyMap,
-        mut truth: OccupancyMap,
+        prior: OccupancyMap,
+        truth: OccupancyMap,
         spec: &MapSpec,
     ) -> Result<(OccupancyMap, OccupancyMap), SceneError> {
         let r = self.team.ugv.radius;
@@ -154,13 +155,12 @@ impl WorldFile {
         }
         if r > 0.0 {
             self.check_ends_clear(&prior, &truth, spec)?;
-            let inflate = |m: &OccupancyMap| {
-                m.inflated(r)
+            let lattice = |m: &OccupancyMap| {
+                m.robot_space(r)
+                    .map(|(free, _)| free)
                     .map_err(|e| self.field_error("team.ugv.radius", format!("{r}: {e}")))
             };
-            prior = inflate(&prior)?;
-            truth = inflate(&truth)?;
-            self.check_end_cells_clear(&prior, &truth, spec)?;
+            self.check_end_cells_clear(&lattice(&prior)?, &lattice(&truth)?, spec)?;
         }
         Ok((prior, truth))
     }
@@ -190,7 +190,8 @@ impl WorldFile {
         Ok(())
     }
 
-    /// On the inflated maps, the start's and the goal's cells are free and touch no obstacle.
+    /// On the robot's lattices of both maps, the start's and the goal's cells are free and
+    /// touch no blocked cell.
     fn check_end_cells_clear(
         &self,
         prior: &OccupancyMap,
@@ -204,7 +205,7 @@ impl WorldFile {
                     return Err(self.field_error(
                         field,
                         format!(
-                            "({}, {}) keeps team.ugv.radius {r} on the {which}, but its cell does not (free space is the cells all of whose points keep the radius): move it up to one cell away from the wall",
+                            "({}, {}) keeps team.ugv.radius {r} on the {which}, but the nearest point of the robot's lattice does not (free space is sampled every half cell): move it up to half a cell away from the wall",
                             p.x, p.y
                         ),
                     ));

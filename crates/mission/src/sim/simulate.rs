@@ -68,10 +68,11 @@ pub fn simulate_map(world: &MapWorld, cfg: &MissionConfig) -> Result<MissionResu
         ..cfg.clone()
     };
     // The truth plan: the best-cost plan on the true map.
-    let truth_plan_length = homospline_maps::PreparedMap::new(&world.truth)
-        .ok()
-        .and_then(|m| m.plan(world.start, world.goal, &cfg.plan).ok())
-        .and_then(|p| p.chosen().map(|c| c.length));
+    let truth_plan_length =
+        homospline_maps::PreparedMap::for_robot(&world.truth, world.team.ugv.radius)
+            .ok()
+            .and_then(|m| m.plan(world.start, world.goal, &cfg.plan).ok())
+            .and_then(|p| p.chosen().map(|c| c.length));
     let known =
         MapKnown::new(world).map_err(|e| MissionError::Config(format!("{}: {e}", world.name)))?;
     let rays = known.naming_rays();

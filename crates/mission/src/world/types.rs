@@ -16,8 +16,9 @@ pub struct Ugv {
     pub sensor_range: Real,
     /// The robot's radius, map units (`team.ugv.radius`, default 0): its plans and its track
     /// keep it from every obstacle. On a scene world it replaces the scene's `robot_radius`
-    /// when positive; on a map world both maps are inflated by it
-    /// (`OccupancyMap::inflated`).
+    /// when positive; on a map world the missions plan in the robot's exact free space
+    /// (`OccupancyMap::robot_space`: the half-cell lattice of points that keep the radius,
+    /// and the maps' exact clearance less it), as `plan --robot-radius` does.
     pub radius: Real,
 }
 

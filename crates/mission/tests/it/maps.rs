@@ -279,3 +279,54 @@ fn a_blockage_beside_which_the_robot_can_pass_does_not_close_the_corridor() {
     let track: Vec<Point> = r.ugv.samples.iter().map(|(_, p)| *p).collect();
     assert_eq!(entered_cell(&world.truth, &track), None);
 }
+
+#[test]
+fn a_disc_drives_through_a_diagonal_door_and_keeps_its_radius_from_every_true_cell() {
+    // A wall splits a 16 x 10 map: column 7 from the bottom edge up to y = 4, column 9 from
+    // y = 5 to the top edge. The only way across is the diagonal door between the corners
+    // (8, 4) and (9, 5), 1.414 wide: a disc of radius 0.6 passes (0.707 at its middle), but
+    // inflating the map square by square by 0.6 closes it (cell (8, 4) touches cell (7, 3)
+    // at a corner). A hidden blockage in the open right-hand room makes it a mission.
+    let (w, h) = (16, 10);
+    let map = |extra: Option<(usize, usize)>| OccupancyMap {
+        name: "diagonal-door".into(),
+        width: w,
+        height: h,
+        cell: 1.0,
+        origin: Point::origin(),
+        occupied: (0..w * h)
+            .map(|k| {
+                let (i, j) = (k % w, k / w);
+                (i == 7 && j <= 3) || (i == 9 && j >= 5) || Some((i, j)) == extra
+            })
+            .collect(),
+        y_down: false,
+    };
+    let radius = 0.6;
+    let mut team = homospline_mission::Team::default();
+    team.ugv.radius = radius;
+    let world = MapWorld::new(
+        "diagonal-door",
+        map(None),
+        map(Some((13, 2))),
+        Point::new(3.5, 5.5),
+        Point::new(13.5, 6.5),
+        team,
+    )
+    .unwrap();
+    for &policy in Policy::all() {
+        let r = run(&world, policy);
+        assert!(r.reached, "{policy}: not reached: {:?}", r.events.last());
+        let track: Vec<Point> = r.ugv.samples.iter().map(|(_, p)| *p).collect();
+        let through = track.windows(2).any(|s| {
+            homospline_geom::math::distance_point_segment(&Point::new(8.5, 4.5), &s[0], &s[1])
+                < 0.75
+        });
+        assert!(through, "{policy}: the track does not pass the door");
+        let least = homospline_testkit::track_clearance(&world.truth, &track, radius + 2.0);
+        assert!(
+            least > radius,
+            "{policy}: the track comes {least:.4} from a true occupied cell, inside the radius {radius}"
+        );
+    }
+}

@@ -71,13 +71,82 @@ pub(super) fn pull_taut(
                 break;
             }
         }
-        let pulled: Vec<Point> = path.into_iter().map(|(p, _)| p).collect();
+        let pulled = push_clear(path.into_iter().map(|(p, _)| p).collect(), model, cell);
         if rays.signature(&pulled) == *signature {
             return pulled;
         }
     }
     poly.to_vec()
 }
+
+/// The path with every vertex in collision moved out of it and every segment that dips into
+/// collision split, its middle moved out too (at most [`PUSH_DEPTH`] halvings), so that
+/// the via-points seeded from it can converge onto a clear polyline. A robot's lattice keeps
+/// a diagonal join by freeing the clearer of its two common neighbours, whose centre can be
+/// closer than the radius: the ridge, and chords ending on it, can pass there. A vertex is
+/// moved along the clearance's gradient until it keeps [`MIN_PULL_MARGIN`] cells; one that
+/// cannot be is left, and the class check and the seed's certification decide.
+fn push_clear(path: Vec<Point>, model: &dyn ClearanceModel, cell: Real) -> Vec<Point> {
+    let floor = MIN_PULL_MARGIN * cell;
+    if path.len() < 2 || path.iter().all(|p| model.exact_clearance(p) >= floor) {
+        // The segments between vertices that keep the floor were certified by their chords.
+        return path;
+    }
+    let push = |p: Point| -> Point {
+        let mut q = p;
+        for _ in 0..PUSH_STEPS {
+            let d = model.exact_clearance(&q);
+            if d >= floor {
+                return q;
+            }
+            let g = model.clearance(&q).1;
+            let n = g.norm();
+            if n.is_nan() || n <= 0.0 {
+                break;
+            }
+            q += g / n * (floor - d + 0.25 * floor);
+        }
+        if model.exact_clearance(&q) >= floor {
+            q
+        } else {
+            p
+        }
+    };
+    let last = path.len() - 1;
+    let mut out = vec![path[0]];
+    for (k, &p) in path.iter().enumerate().skip(1) {
+        let b = if k < last { push(p) } else { p };
+        fill(&mut out, b, PUSH_DEPTH, &push, model, 0.5 * floor, cell);
+    }
+    out
+}
+
+/// Appends `b` to `out`, first splitting the segment from `out`'s last point at its middle
+/// (moved out by `push`) while it does not keep `target`, up to `depth` times.
+fn fill(
+    out: &mut Vec<Point>,
+    b: Point,
+    depth: usize,
+    push: &dyn Fn(Point) -> Point,
+    model: &dyn ClearanceModel,
+    target: Real,
+    cell: Real,
+) {
+    let a = out[out.len() - 1];
+    if depth > 0 && !clear_at_least(model, a, b, target, cell) {
+        let m = push(Point::from((a.coords + b.coords) * 0.5));
+        fill(out, m, depth - 1, push, model, target, cell);
+        fill(out, b, depth - 1, push, model, target, cell);
+    } else {
+        out.push(b);
+    }
+}
+
+/// Most gradient steps of [`push_clear`] for one point.
+const PUSH_STEPS: usize = 8;
+
+/// Most halvings of a segment by [`push_clear`].
+const PUSH_DEPTH: usize = 4;
 
 /// Cuts each corner `V` of `path` (between `A` and `B`) by the chord between `V + s (A - V)`
 /// and `V + s (B - V)`, for the largest `s` of a halving search whose chord keeps the margin
