@@ -56,23 +56,28 @@ fn main() -> ExitCode {
         Some("gen-scenes") if args.len() == 1 => gen_scenes().map(|_| true),
         Some("gen-worlds") if args.len() == 1 => gen_worlds().map(|_| true),
         Some("missions") => {
-            let worlds = match &args[1..] {
-                [] => 50,
-                [flag, n] if flag == "--worlds" => match n.parse::<usize>() {
-                    Ok(n) if n > 0 => n,
+            let usage = "usage: cargo xtask missions [--worlds N] [--show WORLD]";
+            let (mut worlds, mut show) = (50, None);
+            let mut rest = args[1..].iter();
+            while let Some(flag) = rest.next() {
+                match (flag.as_str(), rest.next()) {
+                    ("--worlds", Some(n)) => match n.parse::<usize>() {
+                        Ok(n) if n > 0 => worlds = n,
+                        _ => {
+                            eprintln!(
+                                "cargo xtask missions --worlds N: N must be a positive number, got {n}"
+                            );
+                            return ExitCode::from(2);
+                        }
+                    },
+                    ("--show", Some(name)) => show = Some(name.clone()),
                     _ => {
-                        eprintln!(
-                            "cargo xtask missions --worlds N: N must be a positive number, got {n}"
-                        );
+                        eprintln!("{usage}  (unexpected {flag:?})");
                         return ExitCode::from(2);
                     }
-                },
-                other => {
-                    eprintln!("usage: cargo xtask missions [--worlds N]  (unexpected {other:?})");
-                    return ExitCode::from(2);
                 }
-            };
-            missions(worlds).map(|_| true)
+            }
+            missions(worlds, show.as_deref()).map(|_| true)
         }
         Some("bench-against") => {
             let usage = "usage: cargo xtask bench-against REV [--runs N] [FILTER]";
@@ -485,7 +490,7 @@ fn mean(v: &[f64]) -> f64 {
 }
 
 /// Every scout policy on `count` generated worlds, and the limited-overlap measurement.
-fn missions(count: usize) -> Result<()> {
+fn missions(count: usize, show: Option<&str>) -> Result<()> {
     let (worlds, seeds) = generated_worlds(count);
     let maps = homospline_testkit::map_worlds(count.div_ceil(4));
     println!(
@@ -511,8 +516,8 @@ fn missions(count: usize) -> Result<()> {
     };
     let mut rows = Vec::new();
     for &policy in homospline_mission::Policy::all() {
-        let mut figures = policy_figures(&worlds, policy, &mut clearance)?;
-        map_policy_figures(&maps, policy, &mut figures, &mut clearance)?;
+        let mut figures = policy_figures(&worlds, policy, &mut clearance, show)?;
+        map_policy_figures(&maps, policy, &mut figures, &mut clearance, show)?;
         rows.push((policy, figures));
     }
     let none = rows
@@ -528,14 +533,14 @@ fn missions(count: usize) -> Result<()> {
         if !worse.is_empty() {
             let list: Vec<String> = worse
                 .iter()
-                .take(12)
+                .take(30)
                 .map(|&(k, a, b)| format!("{} {a:.3} (none {b:.3})", f.names[k]))
                 .collect();
             println!(
                 "  {} worse than none: {}{}",
                 policy.name(),
                 list.join(", "),
-                if worse.len() > 12 { ", ..." } else { "" }
+                if worse.len() > 30 { ", ..." } else { "" }
             );
         }
     }
@@ -623,6 +628,7 @@ fn policy_figures(
     worlds: &[homospline_mission::MissionWorld],
     policy: homospline_mission::Policy,
     clearance: &mut TrackClearance,
+    show: Option<&str>,
 ) -> Result<PolicyFigures> {
     use homospline_mission::{MissionConfig, simulate};
     use homospline_spline::{CircleModel, ClearanceModel};
@@ -633,6 +639,7 @@ fn policy_figures(
     let mut f = PolicyFigures::default();
     for w in worlds {
         let r = simulate(w, &cfg)?;
+        print_events(&r, show);
         let track: Vec<homospline_geom::Point> = r.ugv.samples.iter().map(|s| s.1).collect();
         let truth = CircleModel::new(w.truth.circles());
         clearance.least = clearance.least.min(truth.polyline_clearance(&track));
@@ -649,6 +656,7 @@ fn map_policy_figures(
     policy: homospline_mission::Policy,
     f: &mut PolicyFigures,
     clearance: &mut TrackClearance,
+    show: Option<&str>,
 ) -> Result<()> {
     use homospline_mission::{MissionConfig, simulate_map};
     let cfg = MissionConfig {
@@ -657,6 +665,7 @@ fn map_policy_figures(
     };
     for w in worlds {
         let r = simulate_map(w, &cfg)?;
+        print_events(&r, show);
         let track: Vec<homospline_geom::Point> = r.ugv.samples.iter().map(|s| s.1).collect();
         clearance.least = clearance.least.min(
             homospline_testkit::track_clearance(
@@ -669,6 +678,26 @@ fn map_policy_figures(
         f.add(&r, w.team.ugv.speed);
     }
     Ok(())
+}
+
+/// With `--show WORLD`, the mission's events on that world, to standard error.
+fn print_events(r: &homospline_mission::MissionResult, show: Option<&str>) {
+    if show != Some(r.world.as_str()) {
+        return;
+    }
+    eprintln!(
+        "{} {}: drove {:.2}, truth plan {:.2}",
+        r.world,
+        r.policy,
+        r.ugv_distance,
+        r.truth_plan_length.unwrap_or(f64::NAN)
+    );
+    for e in &r.events {
+        eprintln!(
+            "  {:8.2} s  ({:.2}, {:.2})  {:?}",
+            e.t, e.at.x, e.at.y, e.kind
+        );
+    }
 }
 
 /// The worlds where `f` drove more than 1 % farther over the truth plan than `none` (or
@@ -691,14 +720,19 @@ fn print_policy_row(policy: homospline_mission::Policy, f: &PolicyFigures, none:
     } else {
         format!("{}/{}", worse_than(f, none).len(), f.per_world.len())
     };
-    let worst = f
+    let (worst, worst_world) = f
         .per_world
         .iter()
-        .copied()
-        .filter(|r| !r.is_nan())
-        .fold(0.0, f64::max);
+        .zip(&f.names)
+        .filter(|(r, _)| !r.is_nan())
+        .fold(
+            (0.0, ""),
+            |acc, (&r, n)| {
+                if r > acc.0 { (r, n.as_str()) } else { acc }
+            },
+        );
     println!(
-        "{:<13} {:>8} {:>9.3} {:>9.3} {:>9.3} {:>8.2} {:>9.2} {:>9.1} {:>16}",
+        "{:<13} {:>8} {:>9.3} {:>9.3} {:>9.3} {:>8.2} {:>9.2} {:>9.1} {:>16}  worst: {worst_world}",
         policy.name(),
         format!("{}/{}", f.reached, f.solvable),
         mean(&f.dist),

@@ -489,7 +489,8 @@ const WORLD_MAPS: [&str; 4] = [
 /// turn, a start and a goal far apart, and in the truth map one of three kinds in turn: the
 /// chosen path's narrowest point (a door) blocked; its narrowest point past half way blocked
 /// (a dead end found late); or single-cell pebbles beside the path in open space that block
-/// nothing. Only worlds whose truth map still joins start and goal are kept.
+/// nothing. The UGV is a point, and in every other world a disc of radius 0.3 (planned in
+/// its exact free space). Only worlds whose truth map still joins start and goal are kept.
 pub fn map_worlds(count: usize) -> Vec<homospline_mission::MapWorld> {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/maps/movingai");
     let maps: Vec<OccupancyMap> = WORLD_MAPS
@@ -531,7 +532,8 @@ fn map_world(prior: &OccupancyMap, seed: u64) -> Option<homospline_mission::MapW
         .map(|_| (pick(&mut rng), pick(&mut rng)))
         .find(|(s, g)| (s - g).norm() > 0.6 * diag)?;
     let cfg = homospline_maps::map_config();
-    let prepared = homospline_maps::PreparedMap::new(prior).ok()?;
+    let radius = if seed % 2 == 1 { 0.3 } else { 0.0 };
+    let prepared = homospline_maps::PreparedMap::for_robot(prior, radius).ok()?;
     let plan = prepared.plan(start, goal, &cfg).ok()?;
     let path = &plan.chosen()?.path;
     let clear = |q: &Point| prior.clearance_within(q, 8.0 * prior.cell);
@@ -595,7 +597,7 @@ fn map_world(prior: &OccupancyMap, seed: u64) -> Option<homospline_mission::MapW
         return None;
     }
     // Keep worlds whose truth still has a route.
-    homospline_maps::PreparedMap::new(&truth)
+    homospline_maps::PreparedMap::for_robot(&truth, radius)
         .ok()?
         .plan(start, goal, &cfg)
         .ok()?
@@ -615,7 +617,8 @@ fn map_world(prior: &OccupancyMap, seed: u64) -> Option<homospline_mission::MapW
             ugv: Ugv {
                 speed: 1.0,
                 sensor_range: 4.0,
-                radius: 0.0,
+                // Every other world a disc that one-cell doors still let through.
+                radius,
             },
             uavs: vec![uav.clone(), uav],
         },

@@ -91,11 +91,14 @@ impl<K: Known> Replan<'_, '_, K> {
         self.record.event(self.t, self.at, kind);
     }
 
-    /// The routes from the UGV's position (on the move, or `from_standstill`).
+    /// The routes from the UGV's position (on the move, or `from_standstill`). Before the
+    /// UGV has moved (a blockage seen from the start, in the look before it sets off) it
+    /// plans as the offline plan does: standing, with every class and the full graph.
     fn routes(&mut self, from_standstill: bool) -> Vec<Route> {
-        let heading = (!from_standstill).then_some(self.heading);
+        let standing = self.drive.driven == 0.0;
+        let heading = (!from_standstill && !standing).then_some(self.heading);
         self.planner
-            .routes_from(self.at, heading, true, &mut *self.record)
+            .routes_from(self.at, heading, !standing, &mut *self.record)
     }
 
     /// The events of driving `next` instead of the current route: a class switch if the
@@ -185,8 +188,9 @@ impl<K: Known> Replan<'_, '_, K> {
     /// Whether driving on until the UGV would see the blockage itself, and re-planning
     /// there, is shorter than taking `next` now (as a robot without scouts would have to):
     /// then it drives on and re-plans at that point (`Drive::replan_at`). The UGV sees the
-    /// blockage where its route first comes within its sensor range of the first point the
-    /// known map blocks; a re-plan from there is planned now, on the same known map.
+    /// blockage where its route first comes within its sensor range (in a straight line) of
+    /// the first point the known map blocks; a re-plan from there is planned now, on the
+    /// same known map.
     fn drives_on(&mut self, next: &Route) -> bool {
         let line = &self.drive.route.line;
         let model = self.planner.known.model();
@@ -203,7 +207,13 @@ impl<K: Known> Replan<'_, '_, K> {
             }
             s += step;
         };
-        let sight = blocked_at - self.range;
+        // Where the UGV would see it: the first point of its route within its sensor range of
+        // the first blocked point (the obstacle reaches at least that close).
+        let b = line.at(blocked_at).0;
+        let mut sight = self.drive.s;
+        while sight < blocked_at && (line.at(sight).0 - b).norm() > self.range {
+            sight += step;
+        }
         if sight <= self.drive.s + step {
             return false;
         }
