@@ -46,7 +46,40 @@ pub struct CriticalPoint {
     pub max_distance: Real,
 }
 
-/// A validated planning problem.
+/// A validated planning problem: bounds, start, goal, obstacles as unions of circles, and
+/// optionally danger points, critical points and a robot radius (`docs/formats.md`,
+/// section 1). [`Scene::from_str`] reads YAML or JSON and names the file, line and field of
+/// any problem.
+///
+/// # Examples
+///
+/// ```
+/// use homospline_geom::Scene;
+///
+/// let scene = Scene::from_str(
+///     r#"
+/// name: two-discs
+/// bounds: {min: [0, 0], max: [40, 20]}
+/// start: [2, 10]
+/// goal: [38, 10]
+/// obstacles:
+///   - name: a
+///     circles: [[14, 10, 3]]
+///   - name: b
+///     circles: [[26, 10, 3]]
+/// "#,
+///     "two-discs.yaml",
+/// )?;
+/// assert_eq!(scene.circles().len(), 2);
+/// // A start inside an obstacle is refused with the field that is wrong.
+/// let bad = Scene::from_str(
+///     "name: x\nbounds: {min: [0, 0], max: [10, 10]}\nstart: [5, 5]\ngoal: [9, 9]\n\
+///      obstacles:\n  - name: a\n    circles: [[5, 5, 1]]\n",
+///     "x.yaml",
+/// );
+/// assert!(bad.unwrap_err().to_string().contains("start"));
+/// # Ok::<(), homospline_geom::SceneError>(())
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
     /// Name (the file stem when the file gives none).

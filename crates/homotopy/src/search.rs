@@ -231,7 +231,32 @@ fn edge_polyline(g: &VoronoiGraph, e: usize, forward: bool) -> Vec<Point> {
     pts
 }
 
-/// The k best classes of `graph` (start and goal attached) relative to `rays`.
+/// The k best classes of `graph` (start and goal attached) relative to `rays`: the cheapest
+/// path of each of the `cfg.k` cheapest homotopy classes, by a best-first search over
+/// (node, signature) states; classes are told apart by their h-signatures on `rays`.
+///
+/// # Examples
+///
+/// Between two discs on the line from start to goal, three ways: above both, below both,
+/// and between them (which crosses the line twice):
+///
+/// ```
+/// use homospline_geom::Scene;
+/// use homospline_homotopy::{Rays, SearchConfig, k_best_classes};
+///
+/// let scene = Scene::from_str(
+///     "name: two\nbounds: {min: [0, 0], max: [40, 20]}\nstart: [2, 10]\ngoal: [38, 10]\n\
+///      obstacles:\n  - name: a\n    circles: [[14, 10, 3]]\n  - name: b\n    circles: [[26, 10, 3]]\n",
+///     "two.yaml",
+/// )?;
+/// let (_, _, graph) = homospline_voronoi::build(&scene, 4.0)?;
+/// let rays = Rays::for_scene(&scene);
+/// let cfg = SearchConfig { k: 3, ..SearchConfig::default() };
+/// let found = k_best_classes(&graph, &rays, &cfg)?;
+/// assert_eq!(found.classes.len(), 3);
+/// assert!(found.classes[0].cost <= found.classes[1].cost);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn k_best_classes(
     graph: &VoronoiGraph,
     rays: &Rays,

@@ -141,7 +141,40 @@ use homospline_voronoi::{
 };
 use thiserror::Error;
 
-/// An occupancy map in map coordinates.
+/// An occupancy map in map coordinates: `width x height` square cells of side `cell` from
+/// `origin`, row-major (`occupied[j * width + i]` is cell `(i, j)`, whose square is
+/// `origin + [i, i + 1] x [j, j + 1]` cells); occupied cells are closed squares and the
+/// map's edge is a wall. Read from MovingAI `.map` files ([`movingai::read_map`]) and ROS
+/// map YAML with its image ([`ros`]).
+///
+/// # Examples
+///
+/// ```
+/// use homospline_geom::Point;
+/// use homospline_maps::OccupancyMap;
+///
+/// let (w, h) = (16, 10);
+/// // A wall across the map with a diagonal door between the corners (8, 4) and (9, 5).
+/// let map = OccupancyMap {
+///     name: "door".into(),
+///     width: w,
+///     height: h,
+///     cell: 1.0,
+///     origin: Point::origin(),
+///     occupied: (0..w * h)
+///         .map(|k| (k % w == 7 && k / w <= 3) || (k % w == 9 && k / w >= 5))
+///         .collect(),
+///     y_down: true,
+/// };
+/// assert_eq!(map.free_at(&Point::new(3.5, 4.5)), Some(true));
+/// assert_eq!(map.free_at(&Point::new(7.5, 1.5)), Some(false));
+/// // The door is sqrt 2 wide: a disc of radius 0.7 still stands in its middle.
+/// let (free, _model) = map.robot_space(0.7)?;
+/// assert_eq!(free.free_at(&Point::new(8.5, 4.5)), Some(true));
+/// # Ok::<(), homospline_maps::MapError>(())
+/// ```
+///
+/// See also [`PreparedMap`] (plan on it), [`OccupancyMap::robot_space`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct OccupancyMap {
     /// Name (the file stem).
@@ -638,6 +671,38 @@ impl OccupancyMap {
 /// Everything planning on a map needs, built once and shared by every query on the map: the
 /// grid, the brushfire, the complete Voronoi graph with its index, the clearance model and the
 /// rays that name homotopy classes.
+///
+/// # Examples
+///
+/// Prepare once, plan many; a disc robot plans in its exact free space
+/// ([`PreparedMap::for_robot`]):
+///
+/// ```
+/// use homospline_geom::Point;
+/// use homospline_maps::{OccupancyMap, PreparedMap, map_config};
+///
+/// let (w, h) = (16, 10);
+/// // A wall across the map with a diagonal door between the corners (8, 4) and (9, 5).
+/// let map = OccupancyMap {
+///     name: "door".into(),
+///     width: w,
+///     height: h,
+///     cell: 1.0,
+///     origin: Point::origin(),
+///     occupied: (0..w * h)
+///         .map(|k| (k % w == 7 && k / w <= 3) || (k % w == 9 && k / w >= 5))
+///         .collect(),
+///     y_down: true,
+/// };
+/// let prepared = PreparedMap::for_robot(&map, 0.6)?;
+/// let cfg = map_config();
+/// for goal in [Point::new(13.5, 3.5), Point::new(12.5, 1.5)] {
+///     let plan = prepared.plan(Point::new(3.5, 4.5), goal, &cfg)?;
+///     let chosen = plan.chosen().expect("through the door");
+///     assert!(chosen.collision_free && chosen.min_clearance >= 0.0);
+/// }
+/// # Ok::<(), homospline_maps::MapError>(())
+/// ```
 pub struct PreparedMap {
     /// Name (the map's).
     pub name: String,

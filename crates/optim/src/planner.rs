@@ -62,7 +62,42 @@ pub fn default_resolution(scene: &Scene) -> Real {
     256.0 / e.x.max(e.y)
 }
 
-/// Plans `scene`.
+/// Plans `scene`: the Voronoi graph of its free space, the k best homotopy classes on it,
+/// each class's spline optimised over its via-points, the classes ranked and the best
+/// collision-free one chosen ([`Plan::best`]).
+///
+/// Every class reported `collision_free` is certified on its whole curve, segment by
+/// segment, against the exact clearance. Errors when the graph cannot be built (start and
+/// goal in different regions, a grid too large) or a setting is out of range.
+///
+/// # Examples
+///
+/// ```
+/// use homospline_geom::Scene;
+/// use homospline_optim::{PlanConfig, plan};
+///
+/// let scene = Scene::from_str(
+///     r#"
+/// name: two-discs
+/// bounds: {min: [0, 0], max: [40, 20]}
+/// start: [2, 10]
+/// goal: [38, 10]
+/// obstacles:
+///   - name: a
+///     circles: [[14, 10, 3]]
+///   - name: b
+///     circles: [[26, 10, 3]]
+/// "#,
+///     "two-discs.yaml",
+/// )?;
+/// let plan = plan(&scene, &PlanConfig::default())?;
+/// let best = plan.chosen().expect("a collision-free class");
+/// assert!(best.collision_free && best.length < 45.0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// See also [`PlanConfig`], [`plan_world`] (the same on any graph and clearance model, as
+/// maps use it).
 pub fn plan(scene: &Scene, cfg: &PlanConfig) -> Result<Plan, PlanError> {
     plan_with_graph(scene, None, cfg)
 }

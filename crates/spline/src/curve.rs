@@ -77,6 +77,21 @@ pub enum SplineError {
 
 /// A cubic spline through `points`, stored per segment as `a + b s + c s^2 + d s^3`,
 /// `s = t - t_i`.
+///
+/// # Examples
+///
+/// ```
+/// use homospline_geom::Point;
+/// use homospline_spline::Spline;
+///
+/// let pts = [Point::new(0.0, 0.0), Point::new(5.0, 3.0), Point::new(10.0, 0.0)];
+/// let sp = Spline::natural(&pts)?;
+/// // It passes through its points; its length is more than the chords'.
+/// let (p, _, _) = sp.eval_segment(1, 0.0);
+/// assert!((p - pts[1]).norm() < 1e-12);
+/// assert!(sp.length() > 2.0 * 34f64.sqrt());
+/// # Ok::<(), homospline_spline::SplineError>(())
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Spline {
     knots: Vec<Real>,

@@ -65,6 +65,25 @@ pub enum BuildError {
 
 /// The Voronoi graph of `scene` at `resolution` cells per map unit, start and goal attached;
 /// with the grid and field it was built from.
+///
+/// # Examples
+///
+/// ```
+/// use homospline_geom::Scene;
+///
+/// let scene = Scene::from_str(
+///     "name: two\nbounds: {min: [0, 0], max: [40, 20]}\nstart: [2, 10]\ngoal: [38, 10]\n\
+///      obstacles:\n  - name: a\n    circles: [[14, 10, 3]]\n  - name: b\n    circles: [[26, 10, 3]]\n",
+///     "two.yaml",
+/// )?;
+/// let (grid, _field, graph) = homospline_voronoi::build(&scene, 4.0)?;
+/// assert_eq!(grid.width(), 40 * 4 + 2); // the bounds, and a wall ring
+/// let (s, t) = (graph.start.unwrap(), graph.goal.unwrap());
+/// assert!(graph.connected(s, t));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// See also [`MapGraph`] (the complete graph of a map, prepared once for many queries).
 pub fn build(
     scene: &Scene,
     resolution: Real,

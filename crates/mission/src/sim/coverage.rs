@@ -7,6 +7,21 @@ use rustc_hash::FxHashSet;
 use super::route::Polyline;
 
 /// The cells of the plane some robot has seen whole (the world is static: seen stays seen).
+///
+/// # Examples
+///
+/// ```
+/// use homospline_geom::Point;
+/// use homospline_mission::sim::policy::{Coverage, Polyline};
+///
+/// let mut seen = Coverage::new(1.0);
+/// seen.look(&Point::new(0.5, 0.5), 3.0);
+/// let route = Polyline::new(vec![Point::new(0.5, 0.5), Point::new(10.5, 0.5)]);
+/// // Seen up to about 2.5 along the route; the rest is to look at.
+/// let unseen = seen.unseen(&route, 0.0);
+/// assert_eq!(unseen.len(), 1);
+/// assert!(unseen[0].0 > 2.0 && unseen[0].1 == 10.0);
+/// ```
 #[derive(Clone, Debug)]
 pub struct Coverage {
     /// Side of a cell.

@@ -96,6 +96,17 @@ pub trait ScoutPolicy: Sync {
 }
 
 /// A registered scout policy: a cheap handle, compared by name.
+///
+/// # Examples
+///
+/// ```
+/// use homospline_mission::Policy;
+///
+/// assert_eq!(Policy::default(), Policy::GUARD);
+/// let names: Vec<&str> = Policy::all().iter().map(|p| p.name()).collect();
+/// assert_eq!(names, ["none", "ahead", "alternatives", "guard"]);
+/// assert_eq!(Policy::named("ahead"), Some(Policy::AHEAD));
+/// ```
 #[derive(Clone, Copy)]
 pub struct Policy(&'static dyn ScoutPolicy);
 

@@ -13,6 +13,30 @@ use crate::world::types::{MapWorld, MissionWorld};
 
 /// Simulates the mission in `world` with `cfg`. Deterministic: the same world and settings
 /// give the same events and tracks (only `replan_ms` varies).
+///
+/// # Examples
+///
+/// A hidden disc blocks the way between two obstacles; the UGV finds it, re-plans round it
+/// and reaches the goal:
+///
+/// ```
+/// use homospline_geom::{Circle, Obstacle, Point, Scene};
+/// use homospline_mission::{MissionConfig, MissionWorld, Policy, Team, Uav, simulate};
+///
+/// let scene = Scene::from_str(
+///     "name: gap\nbounds: {min: [0, 0], max: [40, 30]}\nstart: [2, 15]\ngoal: [38, 15]\n\
+///      obstacles:\n  - name: a\n    circles: [[20, 8, 5]]\n  - name: b\n    circles: [[20, 22, 5]]\n",
+///     "gap.yaml",
+/// )?;
+/// let hidden = vec![Obstacle { name: "rock".into(), circles: vec![Circle::new(20.0, 15.0, 2.5)] }];
+/// let mut team = Team::default();
+/// team.uavs.push(Uav { start: scene.start, speed: 3.0, sensor_range: 8.0 });
+/// let world = MissionWorld::new("gap-blocked", scene, hidden, Vec::new(), team)?;
+/// let cfg = MissionConfig { policy: Policy::GUARD, ..MissionConfig::default() };
+/// let r = simulate(&world, &cfg)?;
+/// assert!(r.reached && r.replans >= 1);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResult, MissionError> {
     check_config(cfg)?;
     // The scene's danger points, critical points and hazards join the cost of every plan.

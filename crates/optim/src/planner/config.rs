@@ -36,7 +36,23 @@ impl Seed {
 /// through the passage keeps somewhat less.
 pub const DM_RULE_SHARE: Real = 0.9;
 
-/// Settings of [`plan`](super::plan).
+/// Settings of [`plan`](super::plan): classes, seed, resolution, the growth loop and its
+/// cost, the class search, the clearance floor. `Default` is the scene profile (5 classes,
+/// Nelder-Mead); maps start from `homospline_maps::map_config()`.
+///
+/// # Examples
+///
+/// ```
+/// use homospline_optim::PlanConfig;
+///
+/// // Three classes, each kept at least 0.5 from every obstacle.
+/// let cfg = PlanConfig {
+///     classes: 3,
+///     clearance_floor: 0.5,
+///     ..PlanConfig::default()
+/// };
+/// assert_eq!(cfg.classes, 3);
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct PlanConfig {
     /// Seeding.

@@ -5,7 +5,19 @@ use homospline_geom::{Point, Real, Scene};
 
 use crate::roughness::RoughnessForm;
 
-/// Weights and parameters of the cost.
+/// Weights and parameters of the cost: the paper's criteria (potential, roughness, length,
+/// safety) and the optional ones, each with its weight, and `dm`, the clearance the safety
+/// term asks for.
+///
+/// # Examples
+///
+/// ```
+/// use homospline_spline::CostConfig;
+///
+/// // Ask for 2 units of clearance and weigh length more.
+/// let cfg = CostConfig { dm: 2.0, w_length: 1.0, ..CostConfig::default() };
+/// assert_eq!(cfg.dm, 2.0);
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct CostConfig {
     /// `g1`: topology (collision) term.

@@ -14,6 +14,25 @@ use crate::field::{ClearanceModel, FieldSample};
 use crate::roughness::roughness;
 
 /// The cost of `spline` against `model`: every term, weighted or not.
+///
+/// # Examples
+///
+/// ```
+/// use homospline_geom::{Circle, Point};
+/// use homospline_spline::{CircleModel, CostConfig, Spline, evaluate};
+///
+/// let model = CircleModel::new(vec![Circle::new(5.0, 0.0, 1.0)]);
+/// let straight = Spline::natural(&[Point::new(0.0, 0.0), Point::new(10.0, 0.0)])?;
+/// let round = Spline::natural(&[Point::new(0.0, 0.0), Point::new(5.0, 4.0), Point::new(10.0, 0.0)])?;
+/// let cfg = CostConfig::default();
+/// let (a, b) = (evaluate(&straight, &model, &cfg), evaluate(&round, &model, &cfg));
+/// // Through the disc the potential term dominates: going round is cheaper.
+/// assert!(b.total < a.total);
+/// assert!(b.length > a.length);
+/// # Ok::<(), homospline_spline::SplineError>(())
+/// ```
+///
+/// See also [`CostConfig`] (weights, `dm`, presets), [`ClearanceModel`].
 pub fn evaluate(spline: &Spline, model: &dyn ClearanceModel, cfg: &CostConfig) -> CostTerms {
     run(spline, model, cfg, None, true)
 }
