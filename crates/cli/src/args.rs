@@ -3,11 +3,11 @@
 
 use std::path::PathBuf;
 
-use clap::{Args, ValueEnum};
+use clap::Args;
 use homospline_front::OrOff;
 use homospline_mission::Policy;
 use homospline_optim::{Optimizer, Seed};
-use homospline_spline::{ClearanceSearch, Preset, RoughnessForm};
+use homospline_spline::{Choice, ClearanceSearch, Preset, RoughnessForm};
 
 /// The help heading of the options that say what is planned on.
 const INPUT: &str = "Input";
@@ -22,100 +22,16 @@ const ADVANCED: &str = "Advanced";
 /// `simulate`: the scouts and how they are used.
 const TEAM: &str = "Team";
 
-/// How the splines are seeded.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum SeedArg {
-    /// One seed per homotopy class of the Voronoi graph (the paper's planner).
-    Voronoi,
-    /// The straight line S-T (the original planner; one class).
-    Straight,
-}
-
-impl From<SeedArg> for Seed {
-    fn from(a: SeedArg) -> Self {
-        match a {
-            SeedArg::Voronoi => Seed::Voronoi,
-            SeedArg::Straight => Seed::Straight,
-        }
-    }
-}
-
-/// The cost presets.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum PresetArg {
-    /// Cost (10): the original cost and the safety term.
-    #[value(alias = "voronoi", alias = "paper")]
-    PaperVoronoi,
-    /// Cost (9): the original planner's cost.
-    #[value(alias = "original")]
-    PaperOriginal,
-}
-
-impl From<PresetArg> for Preset {
-    fn from(a: PresetArg) -> Self {
-        match a {
-            PresetArg::PaperVoronoi => Preset::PaperVoronoi,
-            PresetArg::PaperOriginal => Preset::PaperOriginal,
-        }
-    }
-}
-
-/// The local optimisers.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum OptimizerArg {
-    /// Nelder-Mead, the paper's method.
-    NelderMead,
-    /// L-BFGS on the analytic gradient.
-    Lbfgs,
-}
-
-impl From<OptimizerArg> for Optimizer {
-    fn from(a: OptimizerArg) -> Self {
-        match a {
-            OptimizerArg::NelderMead => Optimizer::NelderMead,
-            OptimizerArg::Lbfgs => Optimizer::Lbfgs,
-        }
-    }
-}
-
-/// The forms of roughness (4).
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum RoughnessArg {
-    /// integral |q''| dt: the paper's (4).
-    Paper,
-    /// integral |q''|^2 dt: the bending energy.
-    Energy,
-    /// sqrt(integral |q''|^2 dt): the authors' code.
-    Authors,
-}
-
-impl From<RoughnessArg> for RoughnessForm {
-    fn from(a: RoughnessArg) -> Self {
-        match a {
-            RoughnessArg::Paper => RoughnessForm::Paper,
-            RoughnessArg::Energy => RoughnessForm::Energy,
-            RoughnessArg::Authors => RoughnessForm::Authors,
-        }
-    }
-}
-
-/// Where the optimiser's `m(C)` is searched between the quadrature nodes.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum ClearanceSearchArg {
-    /// Around the worst node only: a class whose curve ends below its target there and could
-    /// rank first runs one more round with every-stretch.
-    WorstNode,
-    /// Between every two nodes, in every evaluation (1.6 times an evaluation's cost).
-    EveryStretch,
-}
-
-impl From<ClearanceSearchArg> for ClearanceSearch {
-    fn from(a: ClearanceSearchArg) -> Self {
-        match a {
-            ClearanceSearchArg::WorstNode => ClearanceSearch::WorstNode,
-            ClearanceSearchArg::EveryStretch => ClearanceSearch::EveryStretch,
-        }
-    }
+/// An option whose values are a library type's [`Choice`]s: each value with its help and
+/// aliases, read back to the type (no mirror enum here to keep in step).
+fn choice<T: Choice + Send + Sync>() -> impl clap::builder::TypedValueParser<Value = T> {
+    use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+    PossibleValuesParser::new(T::ALL.iter().map(|c| {
+        PossibleValue::new(c.name())
+            .help(c.help())
+            .aliases(c.aliases().iter().copied())
+    }))
+    .map(|name| T::choose(&name).unwrap_or(T::ALL[0]))
 }
 
 /// The registered scout policies as `--policy`'s values, each with its summary.
@@ -170,8 +86,8 @@ pub struct PlanArgs {
     #[arg(long, help_heading = INPUT)]
     pub resolution: Option<f64>,
     /// How the splines are seeded.
-    #[arg(long, value_enum, default_value = "voronoi", help_heading = CLASSES)]
-    pub seed: SeedArg,
+    #[arg(long, value_parser = choice::<Seed>(), default_value = "voronoi", help_heading = CLASSES)]
+    pub seed: Seed,
     /// Homotopy classes to optimise, 1 to 64; --seed straight plans one [default: 5].
     #[arg(long, help_heading = CLASSES)]
     pub classes: Option<usize>,
@@ -192,14 +108,14 @@ pub struct PlanArgs {
     #[arg(long, value_name = "RATIO|off", value_parser = prune_arg, help_heading = CLASSES)]
     pub prune: Option<OrOff<f64>>,
     /// Cost preset.
-    #[arg(long, value_enum, default_value = "paper-voronoi", help_heading = COST)]
-    pub preset: PresetArg,
+    #[arg(long, value_parser = choice::<Preset>(), default_value = "paper-voronoi", help_heading = COST)]
+    pub preset: Preset,
     /// Set a weight or parameter, e.g. --weight safety=2 --weight dm=4 (repeatable).
     #[arg(long = "weight", value_name = "NAME=VALUE", help_heading = COST)]
     pub weights: Vec<String>,
     /// Form of roughness (4) [default: paper].
-    #[arg(long, value_enum, help_heading = COST)]
-    pub roughness: Option<RoughnessArg>,
+    #[arg(long, value_parser = choice::<RoughnessForm>(), help_heading = COST)]
+    pub roughness: Option<RoughnessForm>,
     /// Hard margin, map units: the chosen class must be certified at least this clear.
     ///
     /// Candidates less clear than this are rejected; 0 rejects only collisions.
@@ -226,8 +142,8 @@ pub struct PlanArgs {
     #[arg(long, help_heading = OUTPUT)]
     pub optimum: bool,
     /// Local optimiser [default: nelder-mead for scenes, lbfgs for maps].
-    #[arg(long, value_enum, help_heading = ADVANCED)]
-    pub optimizer: Option<OptimizerArg>,
+    #[arg(long, value_parser = choice::<Optimizer>(), help_heading = ADVANCED)]
+    pub optimizer: Option<Optimizer>,
     /// Worker threads (the result does not depend on it).
     #[arg(long, help_heading = ADVANCED)]
     pub threads: Option<usize>,
@@ -240,8 +156,8 @@ pub struct PlanArgs {
     /// Where m(C) is searched between quadrature nodes [default: worst-node].
     ///
     /// See docs/method.md, *Dips between nodes*.
-    #[arg(long, value_enum, help_heading = ADVANCED)]
-    pub clearance_search: Option<ClearanceSearchArg>,
+    #[arg(long, value_parser = choice::<ClearanceSearch>(), help_heading = ADVANCED)]
+    pub clearance_search: Option<ClearanceSearch>,
     /// Rounds of polish for a scene's chosen class, 0 to 10.
     ///
     /// After ranking, it runs up to N more rounds at its via-points, each from a fresh

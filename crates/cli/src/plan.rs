@@ -72,13 +72,13 @@ fn input_name(input: &Input) -> &str {
 /// The options as the planner takes them.
 fn options(a: &PlanArgs) -> anyhow::Result<PlanOptions> {
     Ok(PlanOptions {
-        seed: a.seed.into(),
+        seed: a.seed,
         classes: a.classes,
-        preset: a.preset.into(),
+        preset: a.preset,
         weights: parse_weights(&a.weights)?,
-        optimizer: a.optimizer.map(Into::into),
-        roughness: a.roughness.map(Into::into),
-        clearance_search: a.clearance_search.map(Into::into),
+        optimizer: a.optimizer,
+        roughness: a.roughness,
+        clearance_search: a.clearance_search,
         resolution: a.resolution,
         threads: a.threads,
         max_via: a.max_via,

@@ -1,13 +1,42 @@
-//! The names front ends use for the planner's choices: `FromStr` and `Display` for
-//! [`Seed`] and [`Optimizer`], one spelling each.
+//! The names front ends use for the planner's choices: [`Choice`] (every value with its
+//! help, for the command line), `FromStr` and `Display` for [`Seed`] and [`Optimizer`], one
+//! spelling each.
 
 use std::fmt;
 use std::str::FromStr;
 
-use homospline_spline::UnknownName;
+use homospline_spline::{Choice, UnknownName};
 
 use crate::growth::Optimizer;
 use crate::planner::Seed;
+
+impl Choice for Seed {
+    const ALL: &'static [Self] = &[Self::Voronoi, Self::Straight];
+    fn name(self) -> &'static str {
+        Seed::name(self)
+    }
+    fn help(self) -> &'static str {
+        match self {
+            Self::Voronoi => {
+                "One seed per homotopy class of the Voronoi graph (the paper's planner)"
+            }
+            Self::Straight => "The straight line S-T (the original planner; one class)",
+        }
+    }
+}
+
+impl Choice for Optimizer {
+    const ALL: &'static [Self] = &[Self::NelderMead, Self::Lbfgs];
+    fn name(self) -> &'static str {
+        Optimizer::name(self)
+    }
+    fn help(self) -> &'static str {
+        match self {
+            Self::NelderMead => "Nelder-Mead, the paper's method",
+            Self::Lbfgs => "L-BFGS on the analytic gradient",
+        }
+    }
+}
 
 impl FromStr for Seed {
     type Err = UnknownName;
@@ -66,6 +95,14 @@ mod tests {
         }
         for o in [Optimizer::NelderMead, Optimizer::Lbfgs] {
             assert_eq!(o.to_string().parse::<Optimizer>(), Ok(o));
+        }
+        for &s in <Seed as Choice>::ALL {
+            assert_eq!(Seed::choose(s.name()), Some(s));
+            assert_eq!(s.name().parse::<Seed>(), Ok(s));
+        }
+        for &o in <Optimizer as Choice>::ALL {
+            assert_eq!(Optimizer::choose(o.name()), Some(o));
+            assert_eq!(o.name().parse::<Optimizer>(), Ok(o));
         }
         assert_eq!(
             "bfgs".parse::<Optimizer>().unwrap_err().to_string(),

@@ -42,4 +42,4 @@ pub use cost::{
 };
 pub use curve::{EndCondition, Parametrization, Spline, SplineError};
 pub use field::{CircleModel, ClearanceModel, FIELD_BLOCK};
-pub use names::{Preset, UnknownName};
+pub use names::{Choice, Preset, UnknownName};
