@@ -409,9 +409,14 @@ fn plan_golden(plan: &Plan) -> String {
         plan.best.map_or("none".to_owned(), |b| b.to_string())
     );
     for c in &plan.classes {
-        let t = &c.cost;
+        // Every term of the cost by its name, in the order of the total (`TERMS`: a new
+        // term joins the goldens without a change here).
+        let terms: Vec<String> = homospline_spline::cost::TERMS
+            .iter()
+            .map(|term| format!("{}={}", term.name, sig6((term.value)(&c.cost))))
+            .collect();
         s += &format!(
-            "#{} {} length={:.3} clearance={:.3} free={} safe={} in_class={} rounds={} via={}{}\n   cost total={} T={} R={} L={} D={} maxc={} vis={}/{} danger={} critical={} shelter={} time={}\n",
+            "#{} {} length={:.3} clearance={:.3} free={} safe={} in_class={} rounds={} via={}{}\n   cost total={} {}\n",
             c.rank,
             c.signature,
             c.length,
@@ -422,18 +427,8 @@ fn plan_golden(plan: &Plan) -> String {
             c.iterations,
             c.via_points.len().saturating_sub(2),
             if c.pruned { " pruned" } else { "" },
-            sig6(t.total),
-            sig6(t.topology),
-            sig6(t.roughness),
-            sig6(t.length),
-            sig6(t.safety),
-            sig6(t.max_clearance),
-            sig6(t.start_visibility),
-            sig6(t.goal_visibility),
-            sig6(t.danger),
-            sig6(t.critical),
-            sig6(t.sheltered),
-            sig6(t.passing_time),
+            sig6(c.cost.total),
+            terms.join(" "),
         );
     }
     s
