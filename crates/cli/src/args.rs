@@ -237,6 +237,11 @@ pub struct SimulateArgs {
     /// Hysteresis: seconds between voluntary class switches.
     #[arg(long, default_value_t = 10.0, help_heading = ADVANCED)]
     pub min_switch_interval: f64,
+    /// Blockage prior P, 0 to 10: a class costs 1 + P x (the share of its route no robot
+    /// has seen) times its plan's cost when the UGV re-plans; 0 plans as if the unseen were
+    /// clear.
+    #[arg(long, value_name = "P", default_value_t = 0.1, help_heading = TEAM)]
+    pub blockage_prior: f64,
     /// Write the mission (timeline and every trajectory) as JSON.
     #[arg(long, value_name = "FILE", help_heading = OUTPUT)]
     pub json: Option<PathBuf>,

@@ -55,6 +55,7 @@ pub fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
         dt: a.dt,
         switch_margin: a.switch_margin,
         min_switch_interval: a.min_switch_interval,
+        blockage_prior: a.blockage_prior,
         ..base
     };
     let failed = |e: homospline_mission::MissionError| bad(format!("{}: {e}", a.world.display()));

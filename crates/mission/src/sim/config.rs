@@ -49,6 +49,13 @@ pub struct MissionConfig {
     /// on the full one, so a passage narrower than a coarse cell is still found when it is
     /// the way left (docs/decisions/0018-coarse-replans.md). Maps keep their own grid.
     pub replan_coarsening: Real,
+    /// The blockage prior `P`: a class the UGV re-plans into costs `1 + P u` times its plan's
+    /// cost, `u` the share of its route no robot has seen, so that the UGV keeps to ways
+    /// seen clear where a way not seen yet is barely shorter (0: plans as if the unseen were
+    /// clear). Default 0.1: on `cargo xtask missions --worlds 200` it cut the distance over
+    /// the truth plan of every policy (`none` 1.065 -> 1.051, worst 2.07 -> 1.63; `guard`
+    /// 1.001 -> 0.991), and 0.3 gave the same.
+    pub blockage_prior: Real,
 }
 
 impl MissionConfig {
@@ -112,6 +119,7 @@ impl Default for MissionConfig {
             replan_classes: 2,
             replan_value_tolerance: 1e-5,
             replan_coarsening: 2.0,
+            blockage_prior: 0.1,
         }
     }
 }
@@ -129,6 +137,9 @@ pub const MIN_DT: Real = 1e-3;
 
 /// Most time steps a mission may take (tracks hold one sample a step).
 pub const MAX_STEPS: Real = 1e6;
+
+/// The largest blockage prior ([`MissionConfig::blockage_prior`]).
+pub const MAX_BLOCKAGE_PRIOR: Real = 10.0;
 
 /// Most scouts.
 pub const MAX_SCOUTS: usize = 64;
@@ -184,6 +195,13 @@ pub(super) fn check_config(cfg: &MissionConfig) -> Result<(), MissionError> {
         return Err(MissionError::Config(format!(
             "re-plan coarsening must be a finite number >= 1, got {}",
             cfg.replan_coarsening
+        )));
+    }
+    if !(cfg.blockage_prior.is_finite() && (0.0..=MAX_BLOCKAGE_PRIOR).contains(&cfg.blockage_prior))
+    {
+        return Err(MissionError::Config(format!(
+            "--blockage-prior {}: must be between 0 and {MAX_BLOCKAGE_PRIOR}",
+            Num(cfg.blockage_prior)
         )));
     }
     if !(cfg.min_switch_interval.is_finite() && cfg.min_switch_interval >= 0.0) {

@@ -97,6 +97,18 @@ impl<K: Known> Planner<'_, K> {
         }
     }
 
+    /// What a route costs more for what no robot has seen of it from arc length `from`:
+    /// `1 + P u`, `u` the unseen share of that stretch, `P` the blockage prior
+    /// ([`MissionConfig::blockage_prior`]; 1 when it is 0).
+    pub(super) fn unseen_factor(&self, line: &Polyline, from: Real) -> Real {
+        let prior = self.cfg.blockage_prior;
+        let len = line.length() - from;
+        if prior <= 0.0 || len <= 0.0 {
+            return 1.0;
+        }
+        1.0 + prior * (self.seen.unseen_length(line, from) / len).min(1.0)
+    }
+
     /// Whether the path `pts` keeps clear of the known world's obstacles (a single point
     /// does).
     pub(super) fn clear(&self, pts: &[Point]) -> bool {

@@ -97,8 +97,17 @@ impl<K: Known> Replan<'_, '_, K> {
     fn routes(&mut self, from_standstill: bool) -> Vec<Route> {
         let standing = self.drive.driven == 0.0;
         let heading = (!from_standstill && !standing).then_some(self.heading);
-        self.planner
-            .routes_from(self.at, heading, !standing, &mut *self.record)
+        let mut routes = self
+            .planner
+            .routes_from(self.at, heading, !standing, &mut *self.record);
+        let prior = self.planner.cfg.blockage_prior;
+        if prior > 0.0 {
+            for r in &mut routes {
+                r.cost *= self.planner.unseen_factor(&r.line, 0.0);
+            }
+            routes.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+        }
+        routes
     }
 
     /// The events of driving `next` instead of the current route: a class switch if the
@@ -260,7 +269,8 @@ impl<K: Known> Replan<'_, '_, K> {
         let route = &self.drive.route;
         let driving = self
             .planner
-            .remaining_cost(route, self.drive.s, self.heading);
+            .remaining_cost(route, self.drive.s, self.heading)
+            * self.planner.unseen_factor(&route.line, self.drive.s);
         let current = routes
             .iter()
             .find(|r| r.class == route.class)
