@@ -625,3 +625,25 @@ fn map_world(prior: &OccupancyMap, seed: u64) -> Option<homospline_mission::MapW
     )
     .ok()
 }
+
+/// A 16 x 10 map split by a wall with a diagonal door: column 7 from row 0 to row 3, column
+/// 9 from row 5 to row 9 (cell `(i, j)` is the square `[i, i + 1] x [j, j + 1]`), so the only
+/// way across is the gap between the corners (8, 4) and (9, 5), `sqrt 2` wide: a disc of
+/// radius up to 0.7071 passes, turning in it. `extra`: one more occupied cell.
+pub fn diagonal_door_map(extra: Option<(usize, usize)>) -> OccupancyMap {
+    let (w, h) = (16, 10);
+    OccupancyMap {
+        name: "diagonal-door".into(),
+        width: w,
+        height: h,
+        cell: 1.0,
+        origin: Point::origin(),
+        occupied: (0..w * h)
+            .map(|k| {
+                let (i, j) = (k % w, k / w);
+                (i == 7 && j <= 3) || (i == 9 && j >= 5) || Some((i, j)) == extra
+            })
+            .collect(),
+        y_down: true,
+    }
+}

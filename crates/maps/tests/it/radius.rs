@@ -590,21 +590,7 @@ fn a_disc_turns_through_a_diagonal_door_up_to_its_half_width() {
     // diagonal join by freeing a common neighbour whose centre is 0.5 from a corner, and
     // the ridge passed there. Radii 0.6 and 0.7 were "no collision-free class" (the pulled
     // seed kept a vertex 0.008 inside the radius); the door takes up to 0.7071.
-    let (w, h) = (16, 10);
-    let m = OccupancyMap {
-        name: "diagonal-door".into(),
-        width: w,
-        height: h,
-        cell: 1.0,
-        origin: Point::origin(),
-        occupied: (0..w * h)
-            .map(|k| {
-                let (i, j) = (k % w, k / w);
-                (i == 7 && j <= 3) || (i == 9 && j >= 5)
-            })
-            .collect(),
-        y_down: true,
-    };
+    let m = homospline_testkit::diagonal_door_map(None);
     let cfg = homospline_maps::map_config();
     for radius in [0.3, 0.5, 0.6, 0.65, 0.7] {
         let (plan, _) = plan_map_for_robot(

@@ -287,21 +287,7 @@ fn a_disc_drives_through_a_diagonal_door_and_keeps_its_radius_from_every_true_ce
     // (8, 4) and (9, 5), 1.414 wide: a disc of radius 0.6 passes (0.707 at its middle), but
     // inflating the map square by square by 0.6 closes it (cell (8, 4) touches cell (7, 3)
     // at a corner). A hidden blockage in the open right-hand room makes it a mission.
-    let (w, h) = (16, 10);
-    let map = |extra: Option<(usize, usize)>| OccupancyMap {
-        name: "diagonal-door".into(),
-        width: w,
-        height: h,
-        cell: 1.0,
-        origin: Point::origin(),
-        occupied: (0..w * h)
-            .map(|k| {
-                let (i, j) = (k % w, k / w);
-                (i == 7 && j <= 3) || (i == 9 && j >= 5) || Some((i, j)) == extra
-            })
-            .collect(),
-        y_down: false,
-    };
+    let map = homospline_testkit::diagonal_door_map;
     let radius = 0.6;
     let mut team = homospline_mission::Team::default();
     team.ugv.radius = radius;

@@ -10,7 +10,8 @@ use homospline_mission::{
 };
 use homospline_testkit::{fixture_worlds, random_world};
 
-fn run(world: &MissionWorld, policy: Policy) -> MissionResult {
+/// The mission on `world` with `policy` and the default settings (shared by the modules).
+pub(crate) fn run(world: &MissionWorld, policy: Policy) -> MissionResult {
     simulate(
         world,
         &MissionConfig {

@@ -3,19 +3,10 @@
 
 use homospline_geom::Point;
 use homospline_mission::sim::policy::{Coverage, Polyline};
-use homospline_mission::{EventKind, MissionConfig, MissionResult, MissionWorld, Policy, simulate};
+use homospline_mission::{EventKind, MissionConfig, Policy, simulate};
 use homospline_testkit::suite_world;
 
-fn run(world: &MissionWorld, policy: Policy) -> MissionResult {
-    simulate(
-        world,
-        &MissionConfig {
-            policy,
-            ..MissionConfig::default()
-        },
-    )
-    .unwrap()
-}
+use crate::mission::run;
 
 #[test]
 fn the_registry_names_every_policy_once_and_finds_it_by_name() {
