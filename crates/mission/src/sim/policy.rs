@@ -200,3 +200,14 @@ impl std::fmt::Display for Policy {
         f.write_str(self.name())
     }
 }
+
+/// The first point of `line` farther than `range` from every segment of `rest` (the UGV's
+/// route ahead): where an alternative leaves it.
+pub(crate) fn leaves_at(line: &Polyline, rest: &[Point], range: Real) -> Option<usize> {
+    line.pts.iter().position(|p| {
+        rest.windows(2)
+            .map(|w| homospline_geom::math::distance_point_segment(p, &w[0], &w[1]))
+            .fold(Real::INFINITY, Real::min)
+            > range
+    })
+}

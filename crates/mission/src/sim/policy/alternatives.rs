@@ -1,10 +1,10 @@
 //! Policy `alternatives`: each scout verifies one of the next best classes, from where it
 //! leaves the UGV's route; scouts left without one fly `ahead`.
 
-use homospline_geom::{Point, Real};
+use homospline_geom::Point;
 
 use super::ahead::far_half;
-use super::{Job, Lane, ScoutPolicy, Situation};
+use super::{Job, Lane, ScoutPolicy, Situation, leaves_at};
 
 /// The next best classes.
 pub struct Alternatives;
@@ -54,13 +54,7 @@ impl ScoutPolicy for Alternatives {
 /// (farther than the UGV's sensor range from it), then along it to the goal.
 fn from_where_it_leaves(from: Point, alt: &Lane<'_>, s: &Situation<'_>) -> Vec<Point> {
     let rest = s.route.slice(s.s, s.route.length());
-    let far = |p: &Point| {
-        rest.windows(2)
-            .map(|w| homospline_geom::math::distance_point_segment(p, &w[0], &w[1]))
-            .fold(Real::INFINITY, Real::min)
-            > s.ugv_range
-    };
-    let k = alt.line.pts.iter().position(far).unwrap_or(0);
+    let k = leaves_at(alt.line, &rest, s.ugv_range).unwrap_or(0);
     let mut out = vec![from];
     out.extend(alt.line.pts[k..].iter().copied());
     out

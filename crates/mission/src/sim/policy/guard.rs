@@ -6,7 +6,7 @@
 
 use homospline_geom::{Point, Real};
 
-use super::{Job, Polyline, ScoutPolicy, Situation};
+use super::{Job, Polyline, ScoutPolicy, Situation, leaves_at};
 
 /// The UGV's route first, then the alternatives; re-plans early only when that is shorter.
 pub struct Guard;
@@ -96,16 +96,7 @@ type Look<'a> = (String, &'a Polyline, Vec<(Real, Real)>);
 /// Arc length along `line` where it first leaves the UGV's `rest` of route by more than
 /// `range` (0 when it never comes near).
 fn away_from(line: &Polyline, rest: &[Point], range: Real) -> Real {
-    let far = |p: &Point| {
-        rest.windows(2)
-            .map(|w| homospline_geom::math::distance_point_segment(p, &w[0], &w[1]))
-            .fold(Real::INFINITY, Real::min)
-            > range
-    };
-    line.pts
-        .iter()
-        .position(far)
-        .map_or(line.length(), |k| line.cum[k])
+    leaves_at(line, rest, range).map_or(line.length(), |k| line.cum[k])
 }
 
 /// The idle scout nearest to `p`.
