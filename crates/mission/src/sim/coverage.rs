@@ -75,11 +75,11 @@ impl Coverage {
     }
 
     /// The stretches `(from, to)` (arc lengths) of `line` beyond arc length `from` whose
-    /// points lie in cells not seen yet, sampled every half cell; stretches closer than a
-    /// cell apart are joined.
+    /// points lie in cells not seen yet, sampled every half cell (at most 4,000 samples);
+    /// stretches closer than a cell apart are joined.
     pub fn unseen(&self, line: &Polyline, from: Real) -> Vec<(Real, Real)> {
         let len = line.length();
-        let step = 0.5 * self.cell;
+        let step = (0.5 * self.cell).max(len / 4000.0);
         let mut out: Vec<(Real, Real)> = Vec::new();
         let mut s = from.max(0.0);
         while s <= len {

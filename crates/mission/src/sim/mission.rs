@@ -16,16 +16,19 @@ use crate::known::Known;
 use crate::world::types::{Team, Ugv};
 
 /// The side of the cells that record what the robots have seen: a quarter of the least
-/// sensor range, so that a look marks most of its disc.
+/// sensor range, so that a look marks most of its disc; at least a 32nd of the largest, so
+/// that one look marks at most about 4,500 cells whatever the ranges.
 fn coverage_cell(ugv: &Ugv, scouts: &[Scout]) -> Real {
-    scouts
-        .iter()
-        .map(|sc| sc.uav.sensor_range)
-        .chain(std::iter::once(ugv.sensor_range))
-        .filter(|r| *r > 0.0)
-        .fold(Real::INFINITY, Real::min)
-        .min(1e6)
-        * 0.25
+    let ranges = || {
+        scouts
+            .iter()
+            .map(|sc| sc.uav.sensor_range)
+            .chain(std::iter::once(ugv.sensor_range))
+            .filter(|r| r.is_finite() && *r > 0.0)
+    };
+    let least = ranges().fold(Real::INFINITY, Real::min).min(1e6);
+    let most = ranges().fold(0.0, Real::max);
+    (0.25 * least).max(most / 32.0)
 }
 
 /// A mission in progress, on any known world.

@@ -130,3 +130,16 @@ fn the_blockage_prior_is_checked_and_keeps_the_ugv_to_ways_seen() {
     let (clear, prior) = (mean(0.0), mean(0.1));
     assert!(prior <= clear, "prior 0.1: {prior:.4}, none: {clear:.4}");
 }
+
+#[test]
+fn a_look_stays_cheap_when_sensor_ranges_differ_a_thousandfold() {
+    // Cells sized by the least range alone made a UGV seeing 1,000 units mark 16 million
+    // cells a look beside a scout seeing 1: the mission did not end.
+    let mut w = suite_world(0, 1).expect("a world");
+    w.team.ugv.sensor_range = 1000.0;
+    w.team.uavs[0].sensor_range = 1.0;
+    let t0 = std::time::Instant::now();
+    let r = run(&w, Policy::GUARD);
+    assert!(r.reached);
+    assert!(t0.elapsed().as_secs() < 60, "{:?}", t0.elapsed());
+}
