@@ -27,7 +27,8 @@ pub struct MapUpdate {
     /// Whether the graph was rebuilt (`false`: kept, with its edges through the blocked
     /// cells closed).
     pub graph_rebuilt: bool,
-    /// Wall time of the clearance model's rebuild, ms.
+    /// Wall time of the clearance model's rebuild (with a robot radius, the robot's lattice
+    /// judged again with it), ms.
     pub model_ms: Real,
 }
 
@@ -406,14 +407,19 @@ impl Known for MapKnown<'_> {
     }
 
     fn update(&mut self) -> Real {
-        let t0 = Instant::now();
+        let start = Instant::now();
         let pending = std::mem::take(&mut self.pending);
         if pending.is_empty() {
             return 0.0;
         }
-        // With a robot radius, the lattice and the model are judged again first.
         let edits = self.edits(&pending);
-        let lattice_ms = t0.elapsed().as_secs_f64() * 1e3;
+        // With a robot radius `edits` judged the lattice again and renewed the model: that
+        // time is the model's.
+        let lattice_ms = if self.footprint.is_some() {
+            start.elapsed().as_secs_f64() * 1e3
+        } else {
+            0.0
+        };
         let t0 = Instant::now();
         let (cells, local) = self.update_field(&edits);
         let field_ms = t0.elapsed().as_secs_f64() * 1e3;
@@ -424,12 +430,7 @@ impl Known for MapKnown<'_> {
         if self.footprint.is_none() {
             self.model = GridModel::new(&self.grid, &self.field);
         }
-        let model_ms = t2.elapsed().as_secs_f64() * 1e3
-            + if self.footprint.is_some() {
-                lattice_ms
-            } else {
-                0.0
-            };
+        let model_ms = t2.elapsed().as_secs_f64() * 1e3 + lattice_ms;
         self.updates.push(MapUpdate {
             cells,
             local,
@@ -438,7 +439,7 @@ impl Known for MapKnown<'_> {
             graph_rebuilt: rebuild,
             model_ms,
         });
-        lattice_ms + field_ms + graph_ms + model_ms
+        start.elapsed().as_secs_f64() * 1e3
     }
 
     fn renamed(&self) -> Option<Rays> {

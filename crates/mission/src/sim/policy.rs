@@ -47,12 +47,10 @@ pub struct Lane<'a> {
     pub line: &'a Polyline,
 }
 
-/// What a policy decides on: the UGV, what is left of its route, its alternatives (best
-/// first), the scouts and what the team has seen so far.
+/// What a policy decides on: the UGV's route and how far along it is (its position is
+/// `route.at(s)`), its alternatives (best first), the scouts and what the team has seen.
 #[derive(Clone, Copy, Debug)]
 pub struct Situation<'a> {
-    /// The UGV's position.
-    pub ugv: Point,
     /// The UGV's sensor range.
     pub ugv_range: Real,
     /// The UGV's route, from where it was (re-)planned to the goal.

@@ -100,8 +100,8 @@ impl<K: Known> Replan<'_, '_, K> {
         let mut routes = self
             .planner
             .routes_from(self.at, heading, !standing, &mut *self.record);
-        let prior = self.planner.cfg.blockage_prior;
-        if prior > 0.0 {
+        // Without a prior the routes keep the plan's ranking (which is not by cost alone).
+        if self.planner.cfg.blockage_prior > 0.0 {
             for r in &mut routes {
                 r.cost *= self.planner.unseen_factor(&r.line, 0.0);
             }

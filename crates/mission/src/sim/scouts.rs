@@ -123,7 +123,6 @@ pub(super) fn assign_idle(
         })
         .collect();
     let situation = Situation {
-        ugv: drive.position(),
         ugv_range: range,
         route: &drive.route.line,
         s: drive.s,

@@ -94,7 +94,7 @@ impl ScoutPolicy for Guard {
 type Look<'a> = (String, &'a Polyline, Vec<(Real, Real)>);
 
 /// Arc length along `line` where it first leaves the UGV's `rest` of route by more than
-/// `range` (0 when it never comes near).
+/// `range` (its length when it never does: nothing of it is away from the route).
 fn away_from(line: &Polyline, rest: &[Point], range: Real) -> Real {
     leaves_at(line, rest, range).map_or(line.length(), |k| line.cum[k])
 }
