@@ -57,12 +57,13 @@ pub fn unseen_obstacles(scene: &Scene, resolution: f64) -> Option<String> {
     })
 }
 
-/// A note for a plan on `scene` with no collision-free class whose best curve crosses
-/// obstacles closer together along it than its via-points: a cubic spline through that few
-/// points cannot weave between them (10,000 discs of radius 0.05 in a 100 x 100 scene,
-/// 0.8 % of its area, gave no plan at every setting, silently). It says how many the curve
-/// crosses, that the settings do not help, and what to change in the scene. `None` when the plan has a collision-free class, or its
-/// best curve crosses fewer than 3 obstacles.
+/// A note for a plan on `scene` with no collision-free class whose best curve crosses three
+/// obstacles or more: it says how many the curve crosses, that a dense pass along the
+/// class's graph path (pulled taut) did not come out clear either, and what to change. That
+/// happens where obstacles are smaller than the graph's cells: the graph's paths pass within
+/// a hair of them (10,000 discs of radius 0.05 in 100 x 100 at the default resolution; at
+/// `--resolution 10` they plan). `None` when the plan has a collision-free class, or its best
+/// curve crosses fewer than 3 obstacles.
 pub fn clutter_note(scene: &Scene, plan: &homospline_optim::Plan) -> Option<String> {
     if plan.best.is_some() {
         return None;
@@ -87,12 +88,11 @@ pub fn clutter_note(scene: &Scene, plan: &homospline_optim::Plan) -> Option<Stri
     (n >= 3).then(|| {
         format!(
             "note: the best curve (class {}) crosses {n} obstacles (one every {:.2} units along \
-             it) with its {} via-points {:.2} apart. The classes' graph paths are clear of them, \
-             but a smooth curve through that few points does not keep to a path winding between \
-             so many small obstacles, and more via-points did not help where it was tried \
-             (10,000 discs of radius 0.05 in 100 x 100: none with --max-via 40 --rounds 40). \
-             Model such clutter coarser: merge nearby small obstacles into fewer, larger ones, \
-             or leave out those the robot may brush",
+             it) with its {} via-points {:.2} apart, and a dense pass along each class's graph \
+             path, pulled taut, did not come out clear either (where obstacles are smaller than \
+             the graph's cells, its paths pass within a hair of them). A finer --resolution \
+             gives the graph their gaps; or model such clutter coarser: merge nearby small obstacles into fewer, \
+             larger ones, or leave out those the robot may brush",
             homospline_homotopy::class_id(&c.signature),
             c.length / n as f64,
             c.via_points.len().saturating_sub(2),
