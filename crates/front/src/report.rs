@@ -283,11 +283,19 @@ pub fn optima(scene: &Scene, plan: &Plan) -> Vec<Option<Optimum>> {
             if !c.collision_free {
                 return None;
             }
-            let g = TangentGraph::build(&scene.start, &scene.goal, &circles, c.certified_clearance)
-                .ok()
-                .flatten()?;
-            let word = rays.signature(&c.path);
+            // The class's curve keeps its certified clearance, so both optima are at most
+            // its length: the graph needs only the routes within it.
             let bound = c.length * (1.0 + 1e-9) + 1e-9;
+            let g = TangentGraph::build_within(
+                &scene.start,
+                &scene.goal,
+                &circles,
+                c.certified_clearance,
+                bound,
+            )
+            .ok()
+            .flatten()?;
+            let word = rays.signature(&c.path);
             Some(Optimum {
                 class: match shortest_in_class(&g, &rays, |w| *w == word, bound) {
                     Ok(Some(p)) => ClassOptimum::Found(p.length),
