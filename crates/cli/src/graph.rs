@@ -43,11 +43,12 @@ fn graph_input(
     reads: &Reads,
 ) -> anyhow::Result<Input> {
     if let Some(r) = robot_radius
-        && !(r.is_finite() && r >= 0.0)
+        && !homospline_geom::is_robot_radius(r)
     {
         return Err(bad(format!(
-            "--robot-radius {}: must be a finite number >= 0",
-            Num(r)
+            "--robot-radius {}: {}",
+            Num(r),
+            homospline_geom::ROBOT_RADIUS_RULE
         )));
     }
     let input = load_input(path, reads)?;

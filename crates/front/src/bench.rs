@@ -149,11 +149,11 @@ impl BenchJob {
             ..Default::default()
         }
         .validate(None)?;
-        if !(self.robot_radius.is_finite() && self.robot_radius >= 0.0) {
+        if !homospline_geom::is_robot_radius(self.robot_radius) {
             return Err(OptionError::new(
                 Opt::RobotRadius,
                 Num(self.robot_radius),
-                "must be a finite number >= 0 (map units)",
+                format!("{} (map units)", homospline_geom::ROBOT_RADIUS_RULE),
             ));
         }
         if self.limit.is_some() && self.sample.is_some() {

@@ -39,4 +39,7 @@ pub use math::{Point, Real, Vector};
 pub use polygon::{CoverError, Polygon, cover_polygon};
 pub use query::{CircleSet, Clearance, QueryBackend, RayHit};
 pub use scene::{CriticalPoint, DangerPoint, Scene, SceneError};
-pub use shape::{Bounds, Circle, Obstacle, Placement, TopoObstacle, topological_obstacles};
+pub use shape::{
+    Bounds, Circle, Obstacle, Placement, ROBOT_RADIUS_RULE, TopoObstacle, is_robot_radius,
+    topological_obstacles,
+};

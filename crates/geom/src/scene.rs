@@ -473,10 +473,14 @@ impl Scene {
         check_point("start", &self.start)?;
         check_point("goal", &self.goal)?;
         check_number("robot_radius", "robot_radius", self.robot_radius)?;
-        if self.robot_radius < 0.0 {
+        if !crate::shape::is_robot_radius(self.robot_radius) {
             return Err((
                 "robot_radius".to_owned(),
-                format!("robot_radius must be >= 0, got {}", self.robot_radius),
+                format!(
+                    "robot_radius {}: {}",
+                    Num(self.robot_radius),
+                    crate::shape::ROBOT_RADIUS_RULE
+                ),
             ));
         }
         Ok(())

@@ -4,6 +4,26 @@ use serde::{Deserialize, Serialize};
 
 use crate::math::{Num, Point, Real, Vector};
 
+/// Whether `r` is a robot radius: a finite number `>= 0` (0: a point robot). Every front
+/// end and crate checks a radius with this, and words a refusal with
+/// [`ROBOT_RADIUS_RULE`].
+///
+/// # Examples
+///
+/// ```
+/// use homospline_geom::{ROBOT_RADIUS_RULE, is_robot_radius};
+///
+/// assert!(is_robot_radius(0.0) && is_robot_radius(0.3));
+/// assert!(!is_robot_radius(-0.1) && !is_robot_radius(f64::NAN) && !is_robot_radius(f64::INFINITY));
+/// assert_eq!(ROBOT_RADIUS_RULE, "must be a finite number >= 0");
+/// ```
+pub fn is_robot_radius(r: Real) -> bool {
+    r.is_finite() && r >= 0.0
+}
+
+/// What [`is_robot_radius`] asks, as a refusal says it after the value.
+pub const ROBOT_RADIUS_RULE: &str = "must be a finite number >= 0";
+
 /// A closed disc: every obstacle is a union of these.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Circle {

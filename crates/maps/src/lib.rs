@@ -133,7 +133,7 @@ pub fn resolve_map_dm(cfg: &PlanConfig, cell: Real) -> (PlanConfig, Option<Strin
 }
 
 use homospline_geom::math::Num;
-use homospline_geom::{Bounds, Point, Real};
+use homospline_geom::{Bounds, Point, ROBOT_RADIUS_RULE, Real, is_robot_radius};
 use homospline_homotopy::Rays;
 use homospline_optim::{Plan, PlanConfig, PlanError, World, plan_world};
 use homospline_voronoi::{
@@ -230,9 +230,9 @@ pub enum MapError {
     /// A saved graph that does not fit the map.
     #[error("{0}")]
     Graph(String),
-    /// A robot radius that is not a finite number `>= 0`.
+    /// A robot radius that is not a finite number `>= 0` ([`is_robot_radius`]).
     #[error(
-        "robot radius {}: must be a finite number >= 0 (map units; metres on a ROS map)",
+        "robot radius {}: {ROBOT_RADIUS_RULE} (map units; metres on a ROS map)",
         Num(*.0)
     )]
     Radius(Real),
@@ -270,6 +270,15 @@ impl MapError {
     /// an answer about the map, not bad input (exit 1 on the command line).
     pub fn is_no_route(&self) -> bool {
         matches!(self, MapError::NoRoute { .. } | MapError::NoRoom(_))
+    }
+}
+
+/// [`MapError::Radius`] unless `radius` [`is_robot_radius`].
+fn check_radius(radius: Real) -> Result<(), MapError> {
+    if is_robot_radius(radius) {
+        Ok(())
+    } else {
+        Err(MapError::Radius(radius))
     }
 }
 
@@ -468,9 +477,7 @@ impl OccupancyMap {
     /// and the nearest centre of `b`'s 3 x 3 block. So it is the exact brushfire of the
     /// occupied cells dilated by their 8 neighbours (the wall ring included).
     pub fn inflated(&self, radius: Real) -> Result<OccupancyMap, MapError> {
-        if !(radius.is_finite() && radius >= 0.0) {
-            return Err(MapError::Radius(radius));
-        }
+        check_radius(radius)?;
         if radius == 0.0 {
             return Ok(self.clone());
         }
@@ -530,7 +537,9 @@ impl OccupancyMap {
     /// Errors when the radius blocks every lattice point ([`MapError::NoRoom`]), or as
     /// [`OccupancyMap::to_grid`].
     pub fn robot_space(&self, radius: Real) -> Result<(OccupancyMap, GridModel), MapError> {
-        if !(radius.is_finite() && radius > 0.0) {
+        // A point robot's space is the map itself (`to_grid`): this is for a disc.
+        check_radius(radius)?;
+        if radius == 0.0 {
             return Err(MapError::Radius(radius));
         }
         let grid = self.to_grid()?;
@@ -642,9 +651,7 @@ impl OccupancyMap {
         goal: &Point,
         radius: Real,
     ) -> Result<(), MapError> {
-        if !(radius.is_finite() && radius >= 0.0) {
-            return Err(MapError::Radius(radius));
-        }
+        check_radius(radius)?;
         self.check_endpoint_for("start", start, radius)?;
         self.check_endpoint_for("goal", goal, radius)?;
         Ok(())
@@ -757,9 +764,7 @@ impl PreparedMap {
         map: &OccupancyMap,
         radius: Real,
     ) -> Result<(OccupancyMap, Option<GridModel>, Option<OccupancyMap>), MapError> {
-        if !(radius.is_finite() && radius >= 0.0) {
-            return Err(MapError::Radius(radius));
-        }
+        check_radius(radius)?;
         if radius == 0.0 {
             return Ok((map.clone(), None, None));
         }

@@ -578,9 +578,10 @@ fn plan_map(
     .validate(None)
     .map_err(bad_option)?;
     let (s, g) = (Point::new(start.0, start.1), Point::new(goal.0, goal.1));
-    if !(robot_radius.is_finite() && robot_radius >= 0.0) {
+    if !homospline_geom::is_robot_radius(robot_radius) {
         return Err(bad(format!(
-            "robot_radius={robot_radius}: must be a finite number >= 0 (map units)"
+            "robot_radius={robot_radius}: {} (map units)",
+            homospline_geom::ROBOT_RADIUS_RULE
         )));
     }
     check_memory(

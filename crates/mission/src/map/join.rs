@@ -147,10 +147,10 @@ impl WorldFile {
         spec: &MapSpec,
     ) -> Result<(OccupancyMap, OccupancyMap), SceneError> {
         let r = self.team.ugv.radius;
-        if !(r.is_finite() && r >= 0.0) {
+        if !homospline_geom::is_robot_radius(r) {
             return Err(self.field_error(
                 "team.ugv.radius",
-                format!("{r} must be a finite number >= 0"),
+                format!("{r} {}", homospline_geom::ROBOT_RADIUS_RULE),
             ));
         }
         if r > 0.0 {

@@ -3,7 +3,9 @@
 //! and the team. Every error names the file, the line where it can and the field.
 
 use homospline_geom::math::Num;
-use homospline_geom::{Circle, Obstacle, Point, Real, SceneError};
+use homospline_geom::{
+    Circle, Obstacle, Point, ROBOT_RADIUS_RULE, Real, SceneError, is_robot_radius,
+};
 use serde::Deserialize;
 use serde_saphyr::Spanned;
 
@@ -380,11 +382,11 @@ fn ugv(u: &Spanned<RawUgv>, reader: &Reader) -> Result<Ugv, SceneError> {
         }
     }
     let r = u.value.radius;
-    if !(r.is_finite() && (0.0..=MAX_MAGNITUDE).contains(&r)) {
+    if !(is_robot_radius(r) && r <= MAX_MAGNITUDE) {
         return Err(reader.at(
             u,
             "team.ugv.radius",
-            format!("{r} must be a finite number >= 0"),
+            format!("{r} {ROBOT_RADIUS_RULE} and at most {MAX_MAGNITUDE:e}"),
         ));
     }
     Ok(Ugv {

@@ -330,10 +330,9 @@ impl<'w> ClassTask<'w> {
     /// `max_via_points` via-points cannot keep to; L-BFGS cannot even start from a colliding
     /// seed). Its round's budget is that of a round at `max_via_points`. `Some` only if the
     /// curve comes out clear; its evaluations and time include the first pass's.
-    ///
-    /// Pulling taut first matters in clutter: 2,000 discs of radius 0.2 to 0.6 in 100 x 100
-    /// gave a graph path of 1,139 points that no 96 via-points could follow (no plan); taut,
-    /// about 60 points, 19 corners, and 35 via-points that are clear.
+    /// Pulling taut first matters in clutter: a graph path winding between many small
+    /// obstacles has a point per cell, far more than the via-points can follow; taut, it
+    /// keeps only its corners (CHANGELOG, "Clutter planned").
     pub(super) fn dense(
         &self,
         world: &World<'_>,
