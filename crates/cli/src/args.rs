@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use homospline_front::OrOff;
+use homospline_front::report::ClassNames;
 use homospline_mission::Policy;
 use homospline_optim::{Optimizer, Seed};
 use homospline_spline::{Choice, ClearanceSearch, Preset, RoughnessForm};
@@ -141,6 +142,10 @@ pub struct PlanArgs {
     /// as `optimum_length` and `optimum_length_any_class` in the JSON.
     #[arg(long, help_heading = OUTPUT)]
     pub optimum: bool,
+    /// How the table and the picture name classes: `letter` (A, B, C... by rank) or `id`
+    /// (the letter and the id `--avoid` takes). The JSON has both, and the signature.
+    #[arg(long, value_parser = choice::<ClassNames>(), default_value = "letter", help_heading = OUTPUT)]
+    pub class_names: ClassNames,
     /// Local optimiser [default: nelder-mead for scenes, lbfgs for maps].
     #[arg(long, value_parser = choice::<Optimizer>(), help_heading = ADVANCED)]
     pub optimizer: Option<Optimizer>,
@@ -248,6 +253,10 @@ pub struct SimulateArgs {
     /// Write an animated picture of the mission.
     #[arg(long, value_name = "FILE", help_heading = OUTPUT)]
     pub svg: Option<PathBuf>,
+    /// How the events and the picture name classes: `letter` (A, B, C... in the order the
+    /// mission first plans them) or `id` (the letter and the id `plan --avoid` takes).
+    #[arg(long, value_parser = choice::<ClassNames>(), default_value = "letter", help_heading = OUTPUT)]
+    pub class_names: ClassNames,
 }
 
 /// The options of `bench-scen`.

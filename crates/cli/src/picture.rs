@@ -7,6 +7,7 @@
 //! so that no seams show between cells; its Voronoi graph is drawn thin and light, under the
 //! paths.
 
+use homospline_front::report::ClassNames;
 use homospline_geom::{Bounds, Point, Real, Scene};
 use homospline_maps::OccupancyMap;
 use homospline_optim::Plan;
@@ -577,10 +578,10 @@ fn document(v: &View, layout: &LegendLayout) -> Document {
 
 /// A plan: background (heat map and circles, or map cells), Voronoi graph, seeds, paths
 /// (chosen bold), start and goal, legend, scale bar.
-pub fn plan_svg(bg: &Background<'_>, plan: &Plan) -> String {
+pub fn plan_svg(bg: &Background<'_>, plan: &Plan, names: ClassNames) -> String {
     let v = View::new(bg);
     let style = bg.graph_style(&v);
-    let items = plan_legend(plan, &style);
+    let items = plan_legend(plan, &style, names);
     let layout = LegendLayout::new(&items, &v);
     let mut doc = bg.layers(&v, document(&v, &layout));
     if let Some(g) = &plan.graph {
@@ -621,17 +622,20 @@ pub fn plan_svg(bg: &Background<'_>, plan: &Plan) -> String {
         .to_string()
 }
 
-/// A plan's legend: the graph, each class by rank and short id, the seeds.
-fn plan_legend(plan: &Plan, style: &GraphStyle) -> Vec<(&'static str, String, bool)> {
+/// A plan's legend: the graph, each class by its name (`names`), the seeds.
+fn plan_legend(
+    plan: &Plan,
+    style: &GraphStyle,
+    names: ClassNames,
+) -> Vec<(&'static str, String, bool)> {
     let mut items = vec![(style.colour, "Voronoi graph".to_owned(), false)];
     for c in &plan.classes {
         let chosen = plan.best == Some(c.rank);
         items.push((
             PALETTE[(c.rank - 1) % PALETTE.len()],
             format!(
-                "#{} {}{}{}",
-                c.rank,
-                homospline_homotopy::class_id(&c.signature),
+                "{}{}{}",
+                names.ranked(c.rank, &c.signature),
                 if chosen { " (chosen)" } else { "" },
                 if c.collision_free { "" } else { " COLLIDES" }
             ),

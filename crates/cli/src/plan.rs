@@ -202,10 +202,13 @@ fn plan_scene(
         let _ = writeln!(std::io::stderr().lock(), "{n}");
     }
     let alpha = cfg.growth.cost.alpha;
-    let pic = a
-        .svg
-        .as_ref()
-        .map(|_| picture::plan_svg(&picture::Background::Scene(scene, alpha), &result));
+    let pic = a.svg.as_ref().map(|_| {
+        picture::plan_svg(
+            &picture::Background::Scene(scene, alpha),
+            &result,
+            a.class_names,
+        )
+    });
     Ok((result, pic))
 }
 
@@ -245,7 +248,7 @@ fn plan_map(
     let pic = a
         .svg
         .as_ref()
-        .map(|_| picture::plan_svg(&picture::Background::Map(map), &result));
+        .map(|_| picture::plan_svg(&picture::Background::Map(map), &result, a.class_names));
     Ok((result, pic))
 }
 
@@ -262,13 +265,13 @@ fn report_plan(
     result: &Plan,
     picture: Option<String>,
 ) -> anyhow::Result<()> {
-    say_raw!("{}", report::plan_table(result));
+    say_raw!("{}", report::plan_table(result, a.class_names));
     let optima = match scene {
         Some(scene) if a.optimum => report::optima(scene, result),
         _ => Vec::new(),
     };
     if a.optimum {
-        say_raw!("{}", report::optimum_table(result, &optima));
+        say_raw!("{}", report::optimum_table(result, &optima, a.class_names));
     }
     if let Some(p) = &a.json {
         let json = report::plan_json_with(result, &optima);

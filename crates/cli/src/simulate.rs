@@ -62,14 +62,17 @@ pub fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
     let (result, text, json, svg) = match &world {
         AnyWorld::Scene(w) => {
             let r = homospline_mission::simulate(w, &cfg).map_err(failed)?;
-            let (t, j) = (mission::mission_text(w, &r), mission::mission_json(w, &r));
+            let (t, j) = (
+                mission::mission_text(w, &r, a.class_names),
+                mission::mission_json(w, &r),
+            );
             let svg = a.svg.as_ref().map(|_| mission_svg::mission_svg(w, &r));
             (r, t, j, svg)
         }
         AnyWorld::Map(w) => {
             let r = homospline_mission::simulate_map(w, &cfg).map_err(failed)?;
             let (t, j) = (
-                mission::map_mission_text(w, &r),
+                mission::map_mission_text(w, &r, a.class_names),
                 mission::map_mission_json(w, &r),
             );
             let svg = a.svg.as_ref().map(|_| mission_svg::map_mission_svg(w, &r));

@@ -93,7 +93,11 @@ pub fn clutter_note(scene: &Scene, plan: &homospline_optim::Plan) -> Option<Stri
              the graph's cells, its paths pass within a hair of them). A finer --resolution \
              gives the graph their gaps; or model such clutter coarser: merge nearby small obstacles into fewer, \
              larger ones, or leave out those the robot may brush",
-            homospline_homotopy::class_id(&c.signature),
+            format!(
+                "{} (id {})",
+                homospline_homotopy::class_letter(c.rank),
+                homospline_homotopy::class_id(&c.signature)
+            ),
             c.length / n as f64,
             c.via_points.len().saturating_sub(2),
             via_gap,

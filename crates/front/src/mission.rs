@@ -7,6 +7,8 @@ use homospline_geom::{Point, Real};
 use homospline_mission::{EventKind, MapWorld, MissionResult, MissionWorld, Robot};
 use serde_json::{Value, json};
 
+use crate::report::ClassNames;
+
 fn who(r: Robot) -> String {
     match r {
         Robot::Ugv => "ugv".into(),
@@ -14,19 +16,34 @@ fn who(r: Robot) -> String {
     }
 }
 
-/// A class name as the event lines print it: its short id (the signature when short, else a
-/// hash), as `plan` prints it and `plan --avoid` takes it. The JSON keeps names whole.
-fn label(name: &str) -> String {
-    homospline_homotopy::class_id(name)
+/// Class names as the event lines print them: letters in the order the mission first names
+/// the classes (A is the first class driven), with the id `plan --avoid` takes when
+/// [`ClassNames::Id`]. The JSON keeps signatures whole.
+struct Labels {
+    names: ClassNames,
+    seen: Vec<String>,
+}
+
+impl Labels {
+    fn label(&mut self, signature: &str) -> String {
+        let k = match self.seen.iter().position(|s| s == signature) {
+            Some(k) => k,
+            None => {
+                self.seen.push(signature.to_owned());
+                self.seen.len() - 1
+            }
+        };
+        self.names.ranked(k + 1, signature)
+    }
 }
 
 /// One line per event.
-fn describe(kind: &EventKind) -> String {
+fn describe(kind: &EventKind, labels: &mut Labels) -> String {
     match kind {
         EventKind::Planned { classes, class } => {
             format!(
                 "planned on the prior map: {classes} collision-free classes, driving {}",
-                label(class)
+                labels.label(class)
             )
         }
         EventKind::Discovered {
@@ -41,10 +58,10 @@ fn describe(kind: &EventKind) -> String {
             }
         }
         EventKind::ClassClosed { class } => {
-            format!("class {} is blocked (an alternative)", label(class))
+            format!("class {} is blocked (an alternative)", labels.label(class))
         }
         EventKind::Blocked { class } => {
-            format!("the UGV's path (class {}) is blocked", label(class))
+            format!("the UGV's path (class {}) is blocked", labels.label(class))
         }
         EventKind::Replanned {
             forced,
@@ -53,10 +70,11 @@ fn describe(kind: &EventKind) -> String {
         } => format!(
             "re-planned ({}): {classes} collision-free classes, driving {}",
             if *forced { "blocked" } else { "map changed" },
-            label(class)
+            labels.label(class)
         ),
         EventKind::Switched { from, to } => {
-            format!("switched class {} -> {}", label(from), label(to))
+            let from = labels.label(from);
+            format!("switched class {from} -> {}", labels.label(to))
         }
         EventKind::TurnedAround => {
             "the new path leaves off the heading: the UGV turns on the spot".into()
@@ -72,7 +90,7 @@ pub fn fmt_opt(x: Option<Real>) -> String {
 }
 
 /// The events and the figures, as `homospline simulate` prints them.
-pub fn mission_text(world: &MissionWorld, r: &MissionResult) -> String {
+pub fn mission_text(world: &MissionWorld, r: &MissionResult, names: ClassNames) -> String {
     let head = format!(
         "world {}  policy {}  scouts {}  hidden {}  cleared {}",
         r.world,
@@ -81,11 +99,11 @@ pub fn mission_text(world: &MissionWorld, r: &MissionResult) -> String {
         world.hidden.len(),
         world.cleared.len()
     );
-    text_with(&head, world.team.ugv.speed, r)
+    text_with(&head, world.team.ugv.speed, r, names)
 }
 
 /// The same for a map world, with each update of the known map.
-pub fn map_mission_text(world: &MapWorld, r: &MissionResult) -> String {
+pub fn map_mission_text(world: &MapWorld, r: &MissionResult, names: ClassNames) -> String {
     let blocked = world.changes.iter().filter(|c| c.blocked).count();
     let head = format!(
         "world {}  map {} x {}  policy {}  scouts {}  blocked {}  freed {}",
@@ -97,7 +115,7 @@ pub fn map_mission_text(world: &MapWorld, r: &MissionResult) -> String {
         blocked,
         world.changes.len() - blocked
     );
-    let mut s = text_with(&head, world.team.ugv.speed, r);
+    let mut s = text_with(&head, world.team.ugv.speed, r, names);
     for u in &r.map_updates {
         let _ = writeln!(
             s,
@@ -121,8 +139,12 @@ pub fn map_mission_text(world: &MapWorld, r: &MissionResult) -> String {
     s
 }
 
-fn text_with(head: &str, ugv_speed: Real, r: &MissionResult) -> String {
+fn text_with(head: &str, ugv_speed: Real, r: &MissionResult, names: ClassNames) -> String {
     let mut s = String::new();
+    let mut labels = Labels {
+        names,
+        seen: Vec::new(),
+    };
     let _ = writeln!(s, "{head}");
     for e in &r.events {
         let _ = writeln!(
@@ -131,7 +153,7 @@ fn text_with(head: &str, ugv_speed: Real, r: &MissionResult) -> String {
             e.t,
             e.at.x,
             e.at.y,
-            describe(&e.kind)
+            describe(&e.kind, &mut labels)
         );
     }
     let ms = &r.replan_ms;

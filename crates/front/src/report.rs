@@ -5,11 +5,56 @@ use std::fmt::Write;
 
 use homospline_geom::shortest::TangentGraph;
 use homospline_geom::{Point, Scene};
-use homospline_homotopy::{Rays, class_id, shortest_in_class};
+use homospline_homotopy::{Rays, class_id, class_letter, shortest_in_class};
 use homospline_optim::Plan;
-use homospline_spline::CostTerms;
 use homospline_spline::cost::TERMS;
+use homospline_spline::{Choice, CostTerms};
 use serde::Serialize;
+
+/// How tables, legends and mission events name a class: by its letter (A, B, C... by rank;
+/// in a mission, by first appearance), or by its letter and its id ([`class_id`]: the
+/// signature when short, else a hash), which `--avoid` takes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ClassNames {
+    /// `A`, `B`, `C`...
+    #[default]
+    Letter,
+    /// `A -1-2`, `B #7de0d1cc`...
+    Id,
+}
+
+impl Choice for ClassNames {
+    const ALL: &'static [Self] = &[Self::Letter, Self::Id];
+    fn name(self) -> &'static str {
+        match self {
+            Self::Letter => "letter",
+            Self::Id => "id",
+        }
+    }
+    fn help(self) -> &'static str {
+        match self {
+            Self::Letter => "A, B, C... by rank (the default)",
+            Self::Id => {
+                "the letter and the class's id (its signature when short, else a hash), as --avoid takes it"
+            }
+        }
+    }
+}
+
+impl ClassNames {
+    /// The name of the class of `letter` (see [`class_letter`]) and `signature`.
+    pub fn of(self, letter: &str, signature: &str) -> String {
+        match self {
+            Self::Letter => letter.to_owned(),
+            Self::Id => format!("{letter} {}", class_id(signature)),
+        }
+    }
+
+    /// The name of the class of rank `rank` and `signature`.
+    pub fn ranked(self, rank: usize, signature: &str) -> String {
+        self.of(&class_letter(rank), signature)
+    }
+}
 
 #[derive(Serialize)]
 struct PlanJson<'a> {
@@ -30,6 +75,8 @@ struct PlanJson<'a> {
 #[derive(Serialize)]
 struct ClassJson<'a> {
     rank: usize,
+    letter: String,
+    id: String,
     signature: &'a str,
     seed_path: Vec<[f64; 2]>,
     via_points: Vec<[f64; 2]>,
@@ -112,6 +159,8 @@ pub fn plan_json_with(plan: &Plan, optima: &[Option<Optimum>]) -> String {
             .enumerate()
             .map(|(i, c)| ClassJson {
                 rank: c.rank,
+                letter: class_letter(c.rank),
+                id: class_id(&c.signature),
                 signature: &c.signature,
                 seed_path: pts(&c.seed_path),
                 via_points: pts(&c.via_points),
@@ -148,8 +197,8 @@ pub fn plan_json_with(plan: &Plan, optima: &[Option<Optimum>]) -> String {
     serde_json::to_string_pretty(&doc).unwrap_or_default() + "\n"
 }
 
-/// The table `homospline plan` prints.
-pub fn plan_table(plan: &Plan) -> String {
+/// The table `homospline plan` prints, classes named as `names` says.
+pub fn plan_table(plan: &Plan, names: ClassNames) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -171,7 +220,7 @@ pub fn plan_table(plan: &Plan) -> String {
         let row = format!(
             "{:>4}  {:<12} {:>8.2} {:>9.3} {:>11.1} {:>11.2} {:>6} {:>6} {:>8.1}  {:<14}  {:<4}  {}",
             c.rank,
-            class_id(&c.signature),
+            names.ranked(c.rank, &c.signature),
             c.length,
             c.min_clearance,
             c.cost.roughness,
@@ -199,7 +248,8 @@ pub fn plan_table(plan: &Plan) -> String {
             let after = c.rounds.iter().filter(|r| r.polish).count();
             let _ = writeln!(
                 s,
-                "chosen: rank {b}, class {}, length {:.2}, minimum clearance {:.3}{}{}",
+                "chosen: rank {b}, class {} (id {}), length {:.2}, minimum clearance {:.3}{}{}",
+                class_letter(b),
                 class_id(&c.signature),
                 c.length,
                 c.min_clearance,
@@ -309,13 +359,13 @@ pub fn optima(scene: &Scene, plan: &Plan) -> Vec<Option<Optimum>> {
 }
 
 /// The lines `plan --optimum` adds to the table: each class's length against its optima.
-pub fn optimum_table(plan: &Plan, optima: &[Option<Optimum>]) -> String {
+pub fn optimum_table(plan: &Plan, optima: &[Option<Optimum>], names: ClassNames) -> String {
     let mut s = String::from(
         "optimum: the shortest path keeping each class's certified clearance, in its class and of any class (bounds left out)\n",
     );
     let pct = |len: f64, o: f64| 100.0 * (len / o - 1.0);
     for (c, o) in plan.classes.iter().zip(optima) {
-        let name = class_id(&c.signature);
+        let name = names.ranked(c.rank, &c.signature);
         let _ = match o {
             Some(Optimum {
                 class: ClassOptimum::Found(k),

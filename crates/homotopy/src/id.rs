@@ -1,6 +1,7 @@
 //! Short class ids for people: a class's signature when it is short, else a hash of it, so
 //! that tables, legends and `--avoid` can name a class whose signature runs to a hundred
-//! letters (maps). The plan JSON keeps the whole signature.
+//! letters (maps), and letters by rank (A, B, C...) for the names people say. The plan JSON
+//! keeps the whole signature beside both.
 
 /// Signatures up to this many characters are their own id.
 pub const ID_MAX_CHARS: usize = 12;
@@ -29,9 +30,54 @@ pub fn is_hashed_id(text: &str) -> bool {
     })
 }
 
+/// The letter of the class of rank `rank` (1 is the best): A to Z, then AA, AB... as
+/// spreadsheet columns; `?` for rank 0. Letters name a plan's classes in tables, legends
+/// and mission events ("route B"); they hold within one plan (or one mission), where
+/// [`class_id`] holds everywhere.
+///
+/// # Examples
+///
+/// ```
+/// use homospline_homotopy::class_letter;
+///
+/// assert_eq!(class_letter(1), "A");
+/// assert_eq!(class_letter(26), "Z");
+/// assert_eq!(class_letter(27), "AA");
+/// assert_eq!(class_letter(703), "AAA");
+/// ```
+pub fn class_letter(rank: usize) -> String {
+    if rank == 0 {
+        return "?".to_owned();
+    }
+    let mut n = rank;
+    let mut out = Vec::new();
+    while n > 0 {
+        let r = (n - 1) % 26;
+        out.push(b'A' + r as u8);
+        n = (n - 1) / 26;
+    }
+    out.reverse();
+    String::from_utf8(out).unwrap_or_default()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn letters_count_as_spreadsheet_columns() {
+        let all: Vec<String> = (1..=800).map(class_letter).collect();
+        assert_eq!(&all[..3], ["A", "B", "C"]);
+        assert_eq!(
+            (all[25].as_str(), all[26].as_str(), all[51].as_str()),
+            ("Z", "AA", "AZ")
+        );
+        assert_eq!((all[701].as_str(), all[702].as_str()), ("ZZ", "AAA"));
+        let mut distinct = all.clone();
+        distinct.sort();
+        distinct.dedup();
+        assert_eq!(distinct.len(), all.len(), "every rank its own letters");
+    }
 
     #[test]
     fn short_signatures_are_their_own_ids_and_long_ones_are_told_apart() {

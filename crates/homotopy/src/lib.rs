@@ -14,7 +14,7 @@ pub mod search;
 pub mod shortest;
 pub mod signature;
 
-pub use id::{class_id, is_hashed_id};
+pub use id::{class_id, class_letter, is_hashed_id};
 pub use search::{
     ClassPath, EdgeCost, SearchConfig, SearchError, SearchResult, classes_through_edge, in_class,
     k_best_classes, k_best_classes_each,

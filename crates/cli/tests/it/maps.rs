@@ -498,11 +498,12 @@ fn a_saved_map_graph_is_reused_only_at_its_robot_radius() {
     );
 }
 
-/// A map's classes print as short ids (a signature of up to 12 characters, else `#` and
-/// eight hex digits), told apart, and `--avoid` takes the id as printed; the JSON keeps the
-/// whole signature.
+/// A map's classes print as letters by rank (A, B, C), and with `--class-names id` beside
+/// short ids (a signature of up to 12 characters, else `#` and eight hex digits), told
+/// apart; `--avoid` takes the id as printed; the JSON has the letter, the id and the whole
+/// signature.
 #[test]
-fn map_classes_print_as_short_distinct_ids_that_avoid_takes() {
+fn map_classes_print_as_letters_and_short_distinct_ids_that_avoid_takes() {
     let args = [
         "plan",
         "fixtures/maps/movingai/room-32-32-4.map",
@@ -512,22 +513,45 @@ fn map_classes_print_as_short_distinct_ids_that_avoid_takes() {
         "30.5,30.5",
     ];
     let json = tmp("ids.json");
+    let column = |table: &str, k: usize| -> Vec<String> {
+        table
+            .lines()
+            .skip(2)
+            .take_while(|l| !l.starts_with("chosen"))
+            .map(|l| l.split_whitespace().nth(k).unwrap().to_owned())
+            .collect()
+    };
+    let out = homospline().args(args).output().unwrap();
+    assert_ok(&out);
+    let plain = String::from_utf8(out.stdout).unwrap();
     let out = homospline()
         .args(args)
-        .args(["--json", json.to_str().unwrap()])
+        .args(["--json", json.to_str().unwrap(), "--class-names", "id"])
         .output()
         .unwrap();
     assert_ok(&out);
     let table = String::from_utf8(out.stdout).unwrap();
-    let ids: Vec<String> = table
-        .lines()
-        .skip(2)
-        .take_while(|l| !l.starts_with("chosen"))
-        .map(|l| l.split_whitespace().nth(1).unwrap().to_owned())
-        .collect();
+    let (letters, ids) = (column(&table, 1), column(&table, 2));
     assert!(ids.len() >= 3, "{table}");
+    assert_eq!(column(&plain, 1), letters, "{plain}");
+    assert_eq!(&letters[..3], ["A", "B", "C"], "{table}");
     let v = read_json(&json);
-    for (id, class) in ids.iter().zip(v["classes"].as_array().unwrap()) {
+    let chosen = v["best"].as_u64().unwrap() as usize;
+    assert!(
+        plain.contains(&format!(
+            "class {} (id {})",
+            letters[chosen - 1],
+            ids[chosen - 1]
+        )),
+        "{plain}"
+    );
+    for ((id, letter), class) in ids
+        .iter()
+        .zip(&letters)
+        .zip(v["classes"].as_array().unwrap())
+    {
+        assert_eq!(class["letter"], letter.as_str());
+        assert_eq!(class["id"], id.as_str());
         let signature = class["signature"].as_str().unwrap();
         assert!(id.len() <= 12, "{id}");
         if signature.len() > 12 {

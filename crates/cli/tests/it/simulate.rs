@@ -134,3 +134,43 @@ fn policies_come_from_the_registry_and_an_unknown_one_is_refused_with_the_list()
     let err = String::from_utf8(out.stderr).unwrap();
     assert!(err.contains("bogus") && err.contains("guard"), "{err}");
 }
+
+/// Mission events name classes by letters in the order the mission first names them (A: the
+/// class first driven), with `--class-names id` beside the ids `plan --avoid` takes; the
+/// JSON keeps the signatures.
+#[test]
+fn mission_events_letter_classes_in_order_of_appearance() {
+    let world = "fixtures/worlds/convex-blocked.yaml";
+    let run = |extra: &[&str]| {
+        let out = homospline()
+            .args(["simulate", world])
+            .args(extra)
+            .output()
+            .unwrap();
+        assert_ok(&out);
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let letters = run(&[]);
+    assert!(letters.contains("driving A\n"), "{letters}");
+    assert!(letters.contains("switched class A -> "), "{letters}");
+    let json = tmp("letters.json");
+    let ids = run(&["--class-names", "id", "--json", json.to_str().unwrap()]);
+    let v = read_json(&json);
+    let first = v["events"][0]["class"].as_str().unwrap();
+    assert!(
+        ids.contains(&format!(
+            "driving A {}\n",
+            homospline_homotopy::class_id(first)
+        )),
+        "{ids}"
+    );
+    // Every letter names one class: the same letter never stands for two signatures.
+    let switched = v["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|e| e["kind"] == "switched")
+        .unwrap();
+    assert_eq!(switched["from"].as_str(), Some(first), "{switched}");
+    assert_ne!(switched["to"].as_str(), Some(first));
+}
