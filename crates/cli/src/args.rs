@@ -135,6 +135,9 @@ pub struct PlanArgs {
     /// Write a picture of the plan here.
     #[arg(long, value_name = "FILE", help_heading = OUTPUT)]
     pub svg: Option<PathBuf>,
+    /// Write the picture as a PNG here, at twice the SVG's size (rendered by resvg).
+    #[arg(long, value_name = "FILE", help_heading = OUTPUT)]
+    pub png: Option<PathBuf>,
     /// Also give each collision-free class's optimal lengths (scenes).
     ///
     /// The lengths of the shortest paths that keep its certified clearance from every
@@ -253,6 +256,14 @@ pub struct SimulateArgs {
     /// Write an animated picture of the mission.
     #[arg(long, value_name = "FILE", help_heading = OUTPUT)]
     pub svg: Option<PathBuf>,
+    /// Make the pictures a still of the mission at T seconds: tracks and plans up to then,
+    /// the robots where they were, what had been found drawn as found.
+    #[arg(long, value_name = "T", help_heading = OUTPUT)]
+    pub svg_at: Option<f64>,
+    /// Write a still of the mission as a PNG here, at twice the SVG's size (at `--svg-at`,
+    /// else at the end of the mission).
+    #[arg(long, value_name = "FILE", help_heading = OUTPUT)]
+    pub png: Option<PathBuf>,
     /// How the events and the picture name classes: `letter` (A, B, C... in the order the
     /// mission first plans them) or `id` (the letter and the id `plan --avoid` takes).
     #[arg(long, value_parser = choice::<ClassNames>(), default_value = "letter", help_heading = OUTPUT)]

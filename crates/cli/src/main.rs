@@ -16,6 +16,7 @@ mod input;
 mod mission_svg;
 mod picture;
 mod plan;
+mod png;
 mod simulate;
 
 use args::{BenchArgs, GraphArgs, PlanArgs, SimulateArgs};

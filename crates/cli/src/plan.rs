@@ -35,6 +35,7 @@ pub fn plan(a: PlanArgs) -> anyhow::Result<u8> {
         &[
             ("--json", "plan JSON", a.json.as_deref()),
             ("--svg", "picture", a.svg.as_deref()),
+            ("--png", "PNG picture", a.png.as_deref()),
         ],
     )?;
     let scene = match &input {
@@ -202,7 +203,7 @@ fn plan_scene(
         let _ = writeln!(std::io::stderr().lock(), "{n}");
     }
     let alpha = cfg.growth.cost.alpha;
-    let pic = a.svg.as_ref().map(|_| {
+    let pic = (a.svg.is_some() || a.png.is_some()).then(|| {
         picture::plan_svg(
             &picture::Background::Scene(scene, alpha),
             &result,
@@ -245,10 +246,8 @@ fn plan_map(
         None => PreparedMap::for_robot(map, radius).map_err(map_error)?,
     };
     let result = prepared.plan(s, g, cfg).map_err(map_error)?;
-    let pic = a
-        .svg
-        .as_ref()
-        .map(|_| picture::plan_svg(&picture::Background::Map(map), &result, a.class_names));
+    let pic = (a.svg.is_some() || a.png.is_some())
+        .then(|| picture::plan_svg(&picture::Background::Map(map), &result, a.class_names));
     Ok((result, pic))
 }
 
@@ -277,9 +276,12 @@ fn report_plan(
         let json = report::plan_json_with(result, &optima);
         write(p, "plan JSON", json.as_bytes())?;
     }
-    if let (Some(p), Some(pic)) = (&a.svg, picture) {
+    if let (Some(p), Some(pic)) = (&a.svg, &picture) {
         write(p, "picture", pic.as_bytes())?;
         say!("picture: {}", p.display());
+    }
+    if let (Some(p), Some(pic)) = (&a.png, &picture) {
+        crate::png::write_png(p, "PNG picture", pic)?;
     }
     Ok(())
 }

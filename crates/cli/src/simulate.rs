@@ -25,8 +25,17 @@ pub fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
         &[
             ("--json", "mission JSON", a.json.as_deref()),
             ("--svg", "picture", a.svg.as_deref()),
+            ("--png", "PNG picture", a.png.as_deref()),
         ],
     )?;
+    if let Some(t) = a.svg_at
+        && !(t.is_finite() && t >= 0.0)
+    {
+        return Err(bad(format!(
+            "--svg-at {}: must be a time in seconds, >= 0",
+            Num(t)
+        )));
+    }
     check_classes(a.classes).map_err(|e| bad(e.to_string()))?;
     if let Some(f) = a.diverse {
         check_diverse(f).map_err(|e| bad(e.to_string()))?;
@@ -66,7 +75,7 @@ pub fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
                 mission::mission_text(w, &r, a.class_names),
                 mission::mission_json(w, &r),
             );
-            let svg = a.svg.as_ref().map(|_| mission_svg::mission_svg(w, &r));
+            let svg = pictures(&a, r.time, |at| mission_svg::mission_svg(w, &r, at));
             (r, t, j, svg)
         }
         AnyWorld::Map(w) => {
@@ -75,7 +84,7 @@ pub fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
                 mission::map_mission_text(w, &r, a.class_names),
                 mission::map_mission_json(w, &r),
             );
-            let svg = a.svg.as_ref().map(|_| mission_svg::map_mission_svg(w, &r));
+            let svg = pictures(&a, r.time, |at| mission_svg::map_mission_svg(w, &r, at));
             (r, t, j, svg)
         }
     };
@@ -90,9 +99,28 @@ pub fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
     if let Some(p) = &a.json {
         write(p, "mission JSON", json.as_bytes())?;
     }
+    let (svg, png) = svg;
     if let (Some(p), Some(svg)) = (&a.svg, svg) {
         write(p, "picture", svg.as_bytes())?;
         say!("picture: {}", p.display());
     }
+    if let (Some(p), Some(png)) = (&a.png, png) {
+        crate::png::write_png(p, "PNG picture", &png)?;
+    }
     Ok(if result.reached { 0 } else { 1 })
+}
+
+/// The pictures asked for: the SVG (animated, or a still at `--svg-at`) and the PNG's SVG
+/// (a still at `--svg-at`, else at the mission's end `time`).
+fn pictures(
+    a: &SimulateArgs,
+    time: f64,
+    draw: impl Fn(Option<f64>) -> String,
+) -> (Option<String>, Option<String>) {
+    let svg = a.svg.as_ref().map(|_| draw(a.svg_at));
+    let png = a.png.as_ref().map(|_| match (&svg, a.svg_at) {
+        (Some(s), Some(_)) => s.clone(),
+        _ => draw(Some(a.svg_at.unwrap_or(time))),
+    });
+    (svg, png)
 }

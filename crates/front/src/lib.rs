@@ -85,6 +85,11 @@ pub fn clutter_note(scene: &Scene, plan: &homospline_optim::Plan) -> Option<Stri
     crossed.dedup();
     let gaps = c.via_points.len().saturating_sub(1).max(1);
     let (n, via_gap) = (crossed.len(), c.length / gaps as f64);
+    let name = format!(
+        "{} (id {})",
+        homospline_homotopy::class_letter(c.rank),
+        homospline_homotopy::class_id(&c.signature)
+    );
     (n >= 3).then(|| {
         format!(
             "note: the best curve (class {}) crosses {n} obstacles (one every {:.2} units along \
@@ -93,11 +98,7 @@ pub fn clutter_note(scene: &Scene, plan: &homospline_optim::Plan) -> Option<Stri
              the graph's cells, its paths pass within a hair of them). A finer --resolution \
              gives the graph their gaps; or model such clutter coarser: merge nearby small obstacles into fewer, \
              larger ones, or leave out those the robot may brush",
-            format!(
-                "{} (id {})",
-                homospline_homotopy::class_letter(c.rank),
-                homospline_homotopy::class_id(&c.signature)
-            ),
+            name,
             c.length / n as f64,
             c.via_points.len().saturating_sub(2),
             via_gap,

@@ -279,15 +279,31 @@ fn json_with(ugv_speed: Real, r: &MissionResult) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::label;
+    use super::{ClassNames, Labels};
 
     #[test]
-    fn long_class_names_are_short_ids_told_apart() {
-        assert_eq!(label("-1+2"), "-1+2");
+    fn classes_are_lettered_in_order_of_appearance_with_short_ids_told_apart() {
         let a: String = (1..=60).map(|i| format!("-{i}")).collect();
         let b = a.replacen("-30", "+30", 1);
-        let (la, lb) = (label(&a), label(&b));
-        assert_eq!(la.len(), 9, "{la}");
-        assert_ne!(la, lb, "names that differ in the middle keep different ids");
+        let mut letters = Labels {
+            names: ClassNames::Letter,
+            seen: Vec::new(),
+        };
+        assert_eq!(letters.label(&a), "A");
+        assert_eq!(letters.label("-1+2"), "B");
+        assert_eq!(letters.label(&a), "A", "a class keeps its letter");
+        assert_eq!(letters.label(&b), "C");
+        let mut ids = Labels {
+            names: ClassNames::Id,
+            seen: Vec::new(),
+        };
+        assert_eq!(ids.label("-1+2"), "A -1+2");
+        let (la, lb) = (ids.label(&a), ids.label(&b));
+        assert_eq!(la.len(), 2 + 9, "{la}");
+        assert_ne!(
+            la[2..],
+            lb[2..],
+            "names that differ in the middle keep different ids"
+        );
     }
 }

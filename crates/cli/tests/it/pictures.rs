@@ -1,5 +1,7 @@
 //! Every picture the command line writes, on the fixture scenes, maps and worlds: its text
-//! stays inside its canvas, and its legend stays off the start, the goal and every curve.
+//! stays inside its canvas with no two texts overlapping, its legend stays off the start,
+//! the goal and every curve, and every marker is at least 4 pixels across. Stills of
+//! missions (`--svg-at`) and PNGs (`--png`) too.
 
 use crate::common::{assert_ok, homospline, root, tmp};
 use quick_xml::events::{BytesStart, Event};
@@ -44,6 +46,10 @@ struct Page {
     ends: Vec<Bbox>,
     /// Every vertex of every path and polyline outside the legend.
     vertices: Vec<(f64, f64)>,
+    /// Markers other than the ends: where a map changed (`rect.change-box`), the robots.
+    markers: Vec<(&'static str, Bbox)>,
+    /// Animation elements.
+    animations: usize,
 }
 
 fn attr(e: &BytesStart<'_>, key: &str) -> Option<String> {
@@ -135,6 +141,35 @@ fn read_page(svg: &str) -> Page {
                     y1: y + r,
                 });
             }
+            b"rect" if attr(&e, "class").as_deref() == Some("change-box") => {
+                let (x, y) = (num(&e, "x").unwrap(), num(&e, "y").unwrap());
+                page.markers.push((
+                    "map change",
+                    Bbox {
+                        x0: x,
+                        y0: y,
+                        x1: x + num(&e, "width").unwrap(),
+                        y1: y + num(&e, "height").unwrap(),
+                    },
+                ));
+            }
+            b"circle" if in_group("robots") => {
+                let (x, y, r) = (
+                    num(&e, "cx").unwrap(),
+                    num(&e, "cy").unwrap(),
+                    num(&e, "r").unwrap(),
+                );
+                page.markers.push((
+                    "robot",
+                    Bbox {
+                        x0: x - r,
+                        y0: y - r,
+                        x1: x + r,
+                        y1: y + r,
+                    },
+                ));
+            }
+            b"animate" | b"animateMotion" => page.animations += 1,
             b"path" if !in_group("legend") => page.vertices.extend(pairs(&attr(&e, "d").unwrap())),
             b"polyline" => page.vertices.extend(pairs(&attr(&e, "points").unwrap())),
             _ => {}
@@ -161,6 +196,22 @@ fn check(path: &std::path::Path, what: &str) {
             inside,
             "{what}: text '{t}' at {b:?} leaves the {} x {} canvas",
             page.width, page.height
+        );
+    }
+    for (i, (t, b)) in page.texts.iter().enumerate() {
+        if let Some((u, c)) = page.texts[i + 1..].iter().find(|(_, c)| b.meets(c)) {
+            panic!("{what}: text '{t}' at {b:?} overlaps '{u}' at {c:?}");
+        }
+    }
+    for (kind, b) in page
+        .ends
+        .iter()
+        .map(|b| ("endpoint", b))
+        .chain(page.markers.iter().map(|(k, b)| (*k, b)))
+    {
+        assert!(
+            b.x1 - b.x0 >= 4.0 && b.y1 - b.y0 >= 4.0,
+            "{what}: a {kind} marker {b:?} is under 4 pixels"
         );
     }
     let legend = page.legend.unwrap_or_else(|| panic!("{what}: no legend"));
@@ -295,4 +346,123 @@ fn missions_keep_their_caption_inside_and_draw_robots_at_their_start() {
         }
         assert!(!text.contains(" 1 scouts "), "{}: one scout", w.display());
     }
+}
+
+/// A still of a map mission (`--svg-at`): no animation, the blocked door's box at least 8
+/// pixels on a 512 x 512 map, the UGV away from its start, the caption's time; and its
+/// PNG (`--png`), twice the SVG's size, with the map's cells in their exact grey.
+#[test]
+fn mission_stills_and_pngs_show_the_moment_with_every_marker_visible() {
+    let world = "fixtures/worlds/maps/16room-blocked.yaml";
+    let (svg, png) = (tmp("still.svg"), tmp("still.png"));
+    let out = homospline()
+        .args(["simulate", world, "--svg-at", "150"])
+        .args([
+            "--svg",
+            svg.to_str().unwrap(),
+            "--png",
+            png.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(out.status.code().is_some_and(|c| c <= 1));
+    check(&svg, "simulate --svg-at 150");
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let page = read_page(&text);
+    assert_eq!(page.animations, 0, "a still has no animation");
+    assert!(
+        text.contains("at: 150.0 s of "),
+        "the caption gives the time"
+    );
+    let boxes: Vec<&Bbox> = page
+        .markers
+        .iter()
+        .filter(|(k, _)| *k == "map change")
+        .map(|(_, b)| b)
+        .collect();
+    assert!(!boxes.is_empty(), "the blocked door has its box");
+    for b in boxes {
+        assert!(b.x1 - b.x0 >= 8.0 && b.y1 - b.y0 >= 8.0, "{b:?}");
+    }
+    let animated = tmp("animated.svg");
+    let out = homospline()
+        .args(["simulate", world, "--svg", animated.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(out.status.code().is_some_and(|c| c <= 1));
+    let start = |t: &str| {
+        let robots = &t[t.find("<g id=\"robots\">").unwrap()..];
+        let last = robots.rfind("<circle").unwrap();
+        pairs(&robots[last..robots[last..].find("fill").unwrap() + last])
+    };
+    let still_ugv = start(&text);
+    let animated_ugv = start(&std::fs::read_to_string(&animated).unwrap());
+    assert_ne!(
+        still_ugv, animated_ugv,
+        "at 150 s the UGV has left its start"
+    );
+    let image = image::open(&png).unwrap().to_rgb8();
+    assert_eq!(
+        (image.width() as f64, image.height() as f64),
+        (2.0 * page.width, 2.0 * page.height),
+        "twice the SVG's size"
+    );
+    let grey = image.pixels().filter(|p| p.0 == [0x55, 0x55, 0x55]).count();
+    assert!(
+        grey > 10_000,
+        "the map's walls in their exact grey: {grey} pixels"
+    );
+}
+
+/// `plan --png` on a map: the PNG decodes at twice the SVG's size, its cells drawn
+/// pixelated (in their exact grey, most of their area), and the legend lettered.
+#[test]
+fn map_plan_pngs_are_twice_the_svg_with_sharp_cells() {
+    let (svg, png) = (tmp("plan-png.svg"), tmp("plan.png"));
+    let map = "fixtures/maps/movingai/random-32-32-10.map";
+    let out = homospline()
+        .args(["plan", map, "--start", "1.5,27.5", "--goal", "30.5,2.5"])
+        .args([
+            "--svg",
+            svg.to_str().unwrap(),
+            "--png",
+            png.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let page = read_page(&text);
+    let legend: Vec<&str> = page.texts.iter().map(|(t, _)| t.as_str()).collect();
+    assert!(
+        legend.contains(&"A (chosen)") && legend.contains(&"B"),
+        "{legend:?}"
+    );
+    let image = image::open(&png).unwrap().to_rgb8();
+    assert_eq!(
+        (image.width() as f64, image.height() as f64),
+        (2.0 * page.width, 2.0 * page.height)
+    );
+    // The map's occupied cells, and the pixels of a cell at twice the picture's scale.
+    let cells = std::fs::read_to_string(root().join(map))
+        .unwrap()
+        .lines()
+        .skip(4)
+        .flat_map(|l| l.chars())
+        .filter(|c| matches!(c, '@' | 'O' | 'T' | 'W'))
+        .count();
+    let image_el = &text[text.find("<image").unwrap()..];
+    let width: f64 = image_el[image_el.find(" width=\"").unwrap() + 8..]
+        .split('"')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let cell_px = 2.0 * width / 32.0;
+    let expected = cells as f64 * cell_px * cell_px;
+    let grey = image.pixels().filter(|p| p.0 == [0x55, 0x55, 0x55]).count() as f64;
+    assert!(
+        grey > 0.8 * expected && grey < 1.01 * expected,
+        "{grey} grey pixels against {expected} for {cells} cells"
+    );
 }
