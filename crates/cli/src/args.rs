@@ -307,3 +307,21 @@ pub struct BenchArgs {
     #[arg(long, value_name = "FILE", help_heading = OUTPUT)]
     pub csv: Option<PathBuf>,
 }
+
+/// The options of `serve`.
+#[derive(Args, Debug)]
+pub struct ServeArgs {
+    /// The folder whose scenes, maps and worlds the page opens (nothing outside it).
+    #[arg(default_value = ".")]
+    pub dir: PathBuf,
+    /// The address to listen on (only this machine by default).
+    #[arg(long, default_value = "127.0.0.1")]
+    pub bind: String,
+    /// The port (0: any free one, printed at the start).
+    #[arg(long, default_value_t = 8080)]
+    pub port: u16,
+    /// The server's memory limit in MB (its `ulimit -v`): a map or scene too large for it
+    /// gets the command line's out-of-memory message instead of the allocator's abort.
+    #[arg(long, value_name = "MB")]
+    pub memory_limit: Option<u64>,
+}

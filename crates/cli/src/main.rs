@@ -17,9 +17,10 @@ mod mission_svg;
 mod picture;
 mod plan;
 mod png;
+mod serve;
 mod simulate;
 
-use args::{BenchArgs, GraphArgs, PlanArgs, SimulateArgs};
+use args::{BenchArgs, GraphArgs, PlanArgs, ServeArgs, SimulateArgs};
 use out::BadInput;
 
 /// Exit code for bad input or usage.
@@ -63,6 +64,10 @@ enum Command {
     /// blockages are discovered and the UGV re-plans; prints the events and the figures.
     /// Exit 0 when the goal is reached, 1 when not, 2 on bad input.
     Simulate(SimulateArgs),
+    /// A local web page to plan on: open a scene, a map or a world of DIR, click the start
+    /// and the goal, block passages and watch the re-plan, play a mission. Serves until
+    /// Ctrl-C.
+    Serve(ServeArgs),
     /// Validate a scene file (YAML or JSON) and summarise it.
     Check {
         /// The scene file.
@@ -86,6 +91,7 @@ fn main() -> ExitCode {
         Command::Plan(args) => plan::plan(*args),
         Command::BenchScen(args) => bench::bench_scen(args),
         Command::Simulate(args) => simulate::simulate(args),
+        Command::Serve(args) => serve::serve(&args.dir, &args.bind, args.port, args.memory_limit),
         Command::BenchMerge { csv, out } => bench::bench_merge(&csv, out.as_deref()),
     });
     match result {

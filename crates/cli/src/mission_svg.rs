@@ -18,7 +18,7 @@ fn xml_escape(text: &str) -> String {
 }
 
 /// Seconds of animation for the whole mission.
-const ANIMATION_SECONDS: Real = 20.0;
+pub const ANIMATION_SECONDS: Real = 20.0;
 
 /// At most this many key frames per moving robot.
 const KEY_FRAMES: usize = 400;

@@ -576,6 +576,26 @@ fn document(v: &View, layout: &LegendLayout) -> Document {
         )
 }
 
+/// Where world coordinates land on `bg`'s pictures: `[ox, sx, oy, sy]`, the page's x being
+/// `ox + sx * x` and its y `oy + sy * y` (for `homospline serve`'s clicks).
+pub fn transform(bg: &Background<'_>) -> [Real; 4] {
+    let v = View::new(bg);
+    let (x0, y0) = (v.x(0.0), v.y(0.0));
+    [x0, v.x(1.0) - x0, y0, v.y(1.0) - y0]
+}
+
+/// The background alone (a scene's heat map and obstacles, or a map's cells), with its
+/// scale bar and the start and goal when known: what `homospline serve` shows before a plan.
+pub fn background_svg(bg: &Background<'_>, ends: Option<(Point, Point)>) -> String {
+    let v = View::new(bg);
+    let layout = LegendLayout::new(&[], &v);
+    let mut doc = bg.layers(&v, document(&v, &layout));
+    if let Some((s, t)) = ends {
+        doc = doc.add(endpoints(s, t, &v));
+    }
+    doc.add(scale_bar(&v, layout.width)).to_string()
+}
+
 /// A plan: background (heat map and circles, or map cells), Voronoi graph, seeds, paths
 /// (chosen bold), start and goal, legend, scale bar.
 pub fn plan_svg(bg: &Background<'_>, plan: &Plan, names: ClassNames) -> String {

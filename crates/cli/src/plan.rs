@@ -38,6 +38,38 @@ pub fn plan(a: PlanArgs) -> anyhow::Result<u8> {
             ("--png", "PNG picture", a.png.as_deref()),
         ],
     )?;
+    let wants_picture = a.svg.is_some() || a.png.is_some();
+    let done = outcome(&a, input, ends, wants_picture)?;
+    let scene = match &done.input {
+        Input::Scene(s) => Some(s),
+        Input::Map(_) => None,
+    };
+    report_plan(&a, scene, &done.result, done.picture)?;
+    Ok(if done.result.best.is_some() {
+        0
+    } else {
+        EXIT_NO_PLAN
+    })
+}
+
+/// What `plan` computes before it prints or writes anything; `homospline serve` answers
+/// with it.
+pub struct Outcome {
+    /// The input as planned (start, goal, blocks and radius applied).
+    pub input: Input,
+    /// The plan.
+    pub result: Plan,
+    /// Its picture, when asked for.
+    pub picture: Option<String>,
+}
+
+/// Checks the options against the edited input (from [`edited_input`]) and plans.
+pub fn outcome(
+    a: &PlanArgs,
+    input: Input,
+    ends: Option<(Point, Point)>,
+    wants_picture: bool,
+) -> anyhow::Result<Outcome> {
     let scene = match &input {
         Input::Scene(s) => Some(s),
         Input::Map(_) => None,
@@ -47,18 +79,17 @@ pub fn plan(a: PlanArgs) -> anyhow::Result<u8> {
             "--optimum needs a scene of circles: a map's walls are cells"
         ));
     }
-    let cfg = options(&a)?
+    let cfg = options(a)?
         .validate(scene)
         .map_err(|e| bad(format!("{}: {e}", input_name(&input))))?;
     let (result, picture) = match &input {
-        Input::Scene(scene) => plan_scene(&a, scene, &cfg)?,
-        Input::Map(map) => plan_map(&a, map, ends, &cfg)?,
+        Input::Scene(scene) => plan_scene(a, scene, &cfg, wants_picture)?,
+        Input::Map(map) => plan_map(a, map, ends, &cfg, wants_picture)?,
     };
-    report_plan(&a, scene, &result, picture)?;
-    Ok(if result.best.is_some() {
-        0
-    } else {
-        EXIT_NO_PLAN
+    Ok(Outcome {
+        input,
+        result,
+        picture,
     })
 }
 
@@ -121,7 +152,10 @@ fn blocks(a: &PlanArgs) -> anyhow::Result<Vec<(Point, f64)>> {
 /// The input (the built-in example without one) with the command line's start, goal,
 /// radius and blocked discs applied (a scene is checked again after them); a map's start
 /// and goal, which it needs.
-fn edited_input(a: &PlanArgs, reads: &Reads) -> anyhow::Result<(Input, Option<(Point, Point)>)> {
+pub fn edited_input(
+    a: &PlanArgs,
+    reads: &Reads,
+) -> anyhow::Result<(Input, Option<(Point, Point)>)> {
     let input = match &a.scene {
         Some(p) => load_input(p, reads)?,
         None => Input::Scene(
@@ -178,6 +212,7 @@ fn plan_scene(
     a: &PlanArgs,
     scene: &Scene,
     cfg: &PlanConfig,
+    wants_picture: bool,
 ) -> anyhow::Result<(Plan, Option<String>)> {
     let saved = match &a.graph {
         Some(p) => Some(scene_graph(p, scene, cfg)?),
@@ -203,7 +238,7 @@ fn plan_scene(
         let _ = writeln!(std::io::stderr().lock(), "{n}");
     }
     let alpha = cfg.growth.cost.alpha;
-    let pic = (a.svg.is_some() || a.png.is_some()).then(|| {
+    let pic = wants_picture.then(|| {
         picture::plan_svg(
             &picture::Background::Scene(scene, alpha),
             &result,
@@ -228,6 +263,7 @@ fn plan_map(
     map: &OccupancyMap,
     ends: Option<(Point, Point)>,
     cfg: &PlanConfig,
+    wants_picture: bool,
 ) -> anyhow::Result<(Plan, Option<String>)> {
     let Some((s, g)) = ends else {
         bail!(bad(format!(
@@ -246,7 +282,7 @@ fn plan_map(
         None => PreparedMap::for_robot(map, radius).map_err(map_error)?,
     };
     let result = prepared.plan(s, g, cfg).map_err(map_error)?;
-    let pic = (a.svg.is_some() || a.png.is_some())
+    let pic = wants_picture
         .then(|| picture::plan_svg(&picture::Background::Map(map), &result, a.class_names));
     Ok((result, pic))
 }

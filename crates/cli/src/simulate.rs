@@ -28,6 +28,48 @@ pub fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
             ("--png", "PNG picture", a.png.as_deref()),
         ],
     )?;
+    let done = run(&a, &world, (a.svg.is_some(), a.png.is_some()))?;
+    if done.result.dt < done.dt {
+        say!(
+            "time step {} s: --dt {} refined so that no robot travels more than half its sensor range between two looks",
+            done.result.dt,
+            done.dt
+        );
+    }
+    say_raw!("{}", done.text);
+    if let Some(p) = &a.json {
+        write(p, "mission JSON", done.json.as_bytes())?;
+    }
+    if let (Some(p), Some(svg)) = (&a.svg, done.svg) {
+        write(p, "picture", svg.as_bytes())?;
+        say!("picture: {}", p.display());
+    }
+    if let (Some(p), Some(png)) = (&a.png, done.png) {
+        crate::png::write_png(p, "PNG picture", &png)?;
+    }
+    Ok(if done.result.reached { 0 } else { 1 })
+}
+
+/// What `simulate` computes before it prints or writes anything; `homospline serve`
+/// answers with it.
+pub struct Mission {
+    /// The mission.
+    pub result: homospline_mission::MissionResult,
+    /// The time step asked for (the result's may be finer).
+    pub dt: f64,
+    /// The events and figures as printed.
+    pub text: String,
+    /// The mission JSON.
+    pub json: String,
+    /// The picture (animated, or a still at `--svg-at`), when asked for.
+    pub svg: Option<String>,
+    /// The PNG's picture (a still), when asked for.
+    pub png: Option<String>,
+}
+
+/// Checks the options and runs the mission in `world`, drawing the pictures `wants` (SVG,
+/// PNG) asks for.
+pub fn run(a: &SimulateArgs, world: &AnyWorld, wants: (bool, bool)) -> anyhow::Result<Mission> {
     if let Some(t) = a.svg_at
         && !(t.is_finite() && t >= 0.0)
     {
@@ -68,14 +110,14 @@ pub fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
         ..base
     };
     let failed = |e: homospline_mission::MissionError| bad(format!("{}: {e}", a.world.display()));
-    let (result, text, json, svg) = match &world {
+    let (result, text, json, (svg, png)) = match world {
         AnyWorld::Scene(w) => {
             let r = homospline_mission::simulate(w, &cfg).map_err(failed)?;
             let (t, j) = (
                 mission::mission_text(w, &r, a.class_names),
                 mission::mission_json(w, &r),
             );
-            let svg = pictures(&a, r.time, |at| mission_svg::mission_svg(w, &r, at));
+            let svg = pictures(a, wants, r.time, |at| mission_svg::mission_svg(w, &r, at));
             (r, t, j, svg)
         }
         AnyWorld::Map(w) => {
@@ -84,41 +126,32 @@ pub fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
                 mission::map_mission_text(w, &r, a.class_names),
                 mission::map_mission_json(w, &r),
             );
-            let svg = pictures(&a, r.time, |at| mission_svg::map_mission_svg(w, &r, at));
+            let svg = pictures(a, wants, r.time, |at| {
+                mission_svg::map_mission_svg(w, &r, at)
+            });
             (r, t, j, svg)
         }
     };
-    if result.dt < cfg.dt {
-        say!(
-            "time step {} s: --dt {} refined so that no robot travels more than half its sensor range between two looks",
-            result.dt,
-            cfg.dt
-        );
-    }
-    say_raw!("{text}");
-    if let Some(p) = &a.json {
-        write(p, "mission JSON", json.as_bytes())?;
-    }
-    let (svg, png) = svg;
-    if let (Some(p), Some(svg)) = (&a.svg, svg) {
-        write(p, "picture", svg.as_bytes())?;
-        say!("picture: {}", p.display());
-    }
-    if let (Some(p), Some(png)) = (&a.png, png) {
-        crate::png::write_png(p, "PNG picture", &png)?;
-    }
-    Ok(if result.reached { 0 } else { 1 })
+    Ok(Mission {
+        result,
+        dt: cfg.dt,
+        text,
+        json,
+        svg,
+        png,
+    })
 }
 
 /// The pictures asked for: the SVG (animated, or a still at `--svg-at`) and the PNG's SVG
 /// (a still at `--svg-at`, else at the mission's end `time`).
 fn pictures(
     a: &SimulateArgs,
+    (wants_svg, wants_png): (bool, bool),
     time: f64,
     draw: impl Fn(Option<f64>) -> String,
 ) -> (Option<String>, Option<String>) {
-    let svg = a.svg.as_ref().map(|_| draw(a.svg_at));
-    let png = a.png.as_ref().map(|_| match (&svg, a.svg_at) {
+    let svg = wants_svg.then(|| draw(a.svg_at));
+    let png = wants_png.then(|| match (&svg, a.svg_at) {
         (Some(s), Some(_)) => s.clone(),
         _ => draw(Some(a.svg_at.unwrap_or(time))),
     });

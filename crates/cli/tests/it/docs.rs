@@ -29,6 +29,7 @@ fn the_guide_documents_every_option_of_every_command() {
         "bench-merge",
         "simulate",
         "check",
+        "serve",
     ];
     let mut missing = Vec::new();
     for c in commands {
