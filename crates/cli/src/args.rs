@@ -216,6 +216,9 @@ pub struct GraphArgs {
     /// Write a picture of the graph.
     #[arg(long, value_name = "FILE", help_heading = OUTPUT)]
     pub svg: Option<PathBuf>,
+    /// Write the picture as a PNG here, at twice the SVG's size (rendered by resvg).
+    #[arg(long, value_name = "FILE", help_heading = OUTPUT)]
+    pub png: Option<PathBuf>,
 }
 
 /// The options of `simulate`.

@@ -24,11 +24,23 @@ pub fn run(a: GraphArgs) -> anyhow::Result<u8> {
             grid,
             dir,
             a.shard.as_deref(),
-            (a.out, a.json, a.svg),
+            Outputs {
+                out: a.out,
+                json: a.json,
+                svg: a.svg,
+                png: a.png,
+            },
         ),
-        None if a.scene.len() == 1 && a.shard.is_none() => {
-            graph(&a.scene[0], grid, a.out, a.json, a.svg)
-        }
+        None if a.scene.len() == 1 && a.shard.is_none() => graph(
+            &a.scene[0],
+            grid,
+            Outputs {
+                out: a.out,
+                json: a.json,
+                svg: a.svg,
+                png: a.png,
+            },
+        ),
         None => Err(bad(
             "several inputs (or --shard) need --out-dir: each graph is saved as DIR/STEM.msgpack",
         )),
@@ -68,13 +80,25 @@ fn graph_input(
     }
 }
 
-fn graph(
-    path: &Path,
-    (resolution, robot_radius): (Option<f64>, Option<f64>),
+/// The files `graph` writes for one input.
+struct Outputs {
     out: Option<PathBuf>,
     json: Option<PathBuf>,
     svg: Option<PathBuf>,
+    png: Option<PathBuf>,
+}
+
+fn graph(
+    path: &Path,
+    (resolution, robot_radius): (Option<f64>, Option<f64>),
+    outputs: Outputs,
 ) -> anyhow::Result<u8> {
+    let Outputs {
+        out,
+        json,
+        svg,
+        png,
+    } = outputs;
     let reads = Reads::default();
     let input = graph_input(path, (resolution, robot_radius), &reads)?;
     // The input and the files it names (a ROS map's image): none of them is overwritten.
@@ -85,6 +109,7 @@ fn graph(
             ("--out", "graph", out.as_deref()),
             ("--json", "graph JSON", json.as_deref()),
             ("--svg", "picture", svg.as_deref()),
+            ("--png", "PNG picture", png.as_deref()),
         ],
     )?;
     let t = std::time::Instant::now();
@@ -133,12 +158,18 @@ fn graph(
     if let Some(p) = json {
         write(&p, "graph JSON", g.to_json().as_bytes())?;
     }
-    if let Some(p) = svg {
+    if svg.is_some() || png.is_some() {
         let bg = match &input {
             Input::Scene(scene) => picture::Background::Scene(scene, CostConfig::default().alpha),
             Input::Map(map) => picture::Background::Map(map),
         };
-        write(&p, "picture", picture::graph_svg(&bg, &g).as_bytes())?;
+        let picture = picture::graph_svg(&bg, &g);
+        if let Some(p) = svg {
+            write(&p, "picture", picture.as_bytes())?;
+        }
+        if let Some(p) = png {
+            crate::png::write_png(&p, "PNG picture", &picture)?;
+        }
     }
     Ok(0)
 }
@@ -150,11 +181,12 @@ fn graph_dir(
     grid: (Option<f64>, Option<f64>),
     dir: &Path,
     shard: Option<&str>,
-    single: (Option<PathBuf>, Option<PathBuf>, Option<PathBuf>),
+    single: Outputs,
 ) -> anyhow::Result<u8> {
-    if single.0.is_some() || single.1.is_some() || single.2.is_some() {
+    if single.out.is_some() || single.json.is_some() || single.svg.is_some() || single.png.is_some()
+    {
         return Err(bad(
-            "--out-dir writes one file per input: drop --out, --json and --svg",
+            "--out-dir writes one file per input: drop --out, --json, --svg and --png",
         ));
     }
     let shard = shard_of(shard)?;
@@ -249,7 +281,16 @@ fn graph_dir(
         if !shard.takes(i) {
             continue;
         }
-        graph(f, grid, Some(out_path(dir, f)), None, None)?;
+        graph(
+            f,
+            grid,
+            Outputs {
+                out: Some(out_path(dir, f)),
+                json: None,
+                svg: None,
+                png: None,
+            },
+        )?;
     }
     Ok(0)
 }

@@ -144,13 +144,21 @@ fn scene_layers(
     {
         for c in &o.circles {
             let (opacity, animate) = fade(0.12, 0.85, when(&o.name), still);
+            let (cx, cy, r) = (x(c.center.x), y(c.center.y), (c.radius + rr) * scale);
             let _ = writeln!(
                 s,
-                r##"<circle cx="{:.2}" cy="{:.2}" r="{:.2}" fill="#d62728" fill-opacity="{opacity}" stroke="#d62728" stroke-dasharray="4 3">{animate}</circle>"##,
-                x(c.center.x),
-                y(c.center.y),
-                (c.radius + rr) * scale
+                r##"<circle cx="{cx:.2}" cy="{cy:.2}" r="{r:.2}" fill="#d62728" fill-opacity="{opacity}" stroke="#d62728" stroke-dasharray="4 3">{animate}</circle>"##,
             );
+            // A blockage smaller than a marker on screen gets a box that shows where.
+            if 2.0 * r < MIN_MARKER {
+                let side = MIN_MARKER + 4.0;
+                let _ = writeln!(
+                    s,
+                    r##"<rect class="change-box" x="{:.2}" y="{:.2}" width="{side:.2}" height="{side:.2}" fill="none" stroke="#d62728" stroke-width="1.5" stroke-dasharray="3 2"/>"##,
+                    cx - 0.5 * side,
+                    cy - 0.5 * side,
+                );
+            }
         }
     }
     s.push_str("</g>\n");

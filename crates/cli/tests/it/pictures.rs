@@ -466,3 +466,74 @@ fn map_plan_pngs_are_twice_the_svg_with_sharp_cells() {
         "{grey} grey pixels against {expected} for {cells} cells"
     );
 }
+
+/// A hidden obstacle far smaller than a marker (a pebble of radius 0.05 on a 60-unit scene,
+/// under a pixel) gets a box of at least 8 pixels that shows where it is; `graph --png`
+/// writes its picture too; a map's raster is drawn pixelated, sharp at any zoom.
+#[test]
+fn small_blockages_are_boxed_and_graphs_render_to_png() {
+    let dir = tmp("pebble-world");
+    std::fs::create_dir_all(&dir).unwrap();
+    let world = dir.join("pebble.yaml");
+    std::fs::write(
+        &world,
+        format!(
+            "version: 1\nname: pebble\nscene: {}\nhidden_obstacles:\n- name: pebble\n  circles: [[30.0, 45.0, 0.05]]\nteam:\n  ugv: {{speed: 1.0, sensor_range: 6.0}}\n  uavs: []\n",
+            root().join("fixtures/scenes/convex.yaml").display()
+        ),
+    )
+    .unwrap();
+    let svg = dir.join("pebble.svg");
+    let out = homospline()
+        .args([
+            "simulate",
+            world.to_str().unwrap(),
+            "--svg",
+            svg.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.code().is_some_and(|c| c <= 1),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    check(&svg, "simulate pebble");
+    let page = read_page(&std::fs::read_to_string(&svg).unwrap());
+    let boxes: Vec<&Bbox> = page
+        .markers
+        .iter()
+        .filter(|(k, _)| *k == "map change")
+        .map(|(_, b)| b)
+        .collect();
+    assert_eq!(boxes.len(), 1, "{:?}", page.markers);
+    assert!(boxes[0].x1 - boxes[0].x0 >= 8.0);
+
+    let (gsvg, gpng) = (dir.join("graph.svg"), dir.join("graph.png"));
+    let map = "fixtures/maps/movingai/random-32-32-10.map";
+    let out = homospline()
+        .args([
+            "graph",
+            map,
+            "--svg",
+            gsvg.to_str().unwrap(),
+            "--png",
+            gpng.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let text = std::fs::read_to_string(&gsvg).unwrap();
+    let image = &text[text.find("<image").unwrap()..];
+    let image = &image[..image.find('>').unwrap()];
+    assert!(
+        image.contains("image-rendering: pixelated") && image.contains("optimizeSpeed"),
+        "{image}"
+    );
+    let png = image::open(&gpng).unwrap();
+    let page = read_page(&text);
+    assert_eq!(
+        (png.width() as f64, png.height() as f64),
+        (2.0 * page.width, 2.0 * page.height)
+    );
+}
