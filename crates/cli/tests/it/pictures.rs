@@ -72,6 +72,21 @@ fn pairs(text: &str) -> Vec<(f64, f64)> {
     v.chunks_exact(2).map(|p| (p[0], p[1])).collect()
 }
 
+/// The box of a `<circle>`.
+fn disc_box(e: &BytesStart<'_>) -> Bbox {
+    let (x, y, r) = (
+        num(e, "cx").unwrap(),
+        num(e, "cy").unwrap(),
+        num(e, "r").unwrap(),
+    );
+    Bbox {
+        x0: x - r,
+        y0: y - r,
+        x1: x + r,
+        y1: y + r,
+    }
+}
+
 fn read_page(svg: &str) -> Page {
     let mut reader = quick_xml::Reader::from_str(svg);
     let mut page = Page::default();
@@ -128,19 +143,7 @@ fn read_page(svg: &str) -> Page {
                 };
                 page.legend = Some(page.legend.map_or(b, |l| l.join(b)));
             }
-            b"circle" if in_group("endpoints") => {
-                let (x, y, r) = (
-                    num(&e, "cx").unwrap(),
-                    num(&e, "cy").unwrap(),
-                    num(&e, "r").unwrap(),
-                );
-                page.ends.push(Bbox {
-                    x0: x - r,
-                    y0: y - r,
-                    x1: x + r,
-                    y1: y + r,
-                });
-            }
+            b"circle" if in_group("endpoints") => page.ends.push(disc_box(&e)),
             b"rect" if attr(&e, "class").as_deref() == Some("change-box") => {
                 let (x, y) = (num(&e, "x").unwrap(), num(&e, "y").unwrap());
                 page.markers.push((
@@ -153,22 +156,7 @@ fn read_page(svg: &str) -> Page {
                     },
                 ));
             }
-            b"circle" if in_group("robots") => {
-                let (x, y, r) = (
-                    num(&e, "cx").unwrap(),
-                    num(&e, "cy").unwrap(),
-                    num(&e, "r").unwrap(),
-                );
-                page.markers.push((
-                    "robot",
-                    Bbox {
-                        x0: x - r,
-                        y0: y - r,
-                        x1: x + r,
-                        y1: y + r,
-                    },
-                ));
-            }
+            b"circle" if in_group("robots") => page.markers.push(("robot", disc_box(&e))),
             b"animate" | b"animateMotion" => page.animations += 1,
             b"path" if !in_group("legend") => page.vertices.extend(pairs(&attr(&e, "d").unwrap())),
             b"polyline" => page.vertices.extend(pairs(&attr(&e, "points").unwrap())),
@@ -229,6 +217,26 @@ fn check(path: &std::path::Path, what: &str) {
     if let Some(v) = page.vertices.iter().find(|v| legend.holds(**v)) {
         panic!("{what}: the legend {legend:?} covers a curve's vertex {v:?}");
     }
+}
+
+/// The boxes drawn round map changes and small blockages.
+fn change_boxes(page: &Page) -> Vec<&Bbox> {
+    page.markers
+        .iter()
+        .filter(|(k, _)| *k == "map change")
+        .map(|(_, b)| b)
+        .collect()
+}
+
+/// The PNG at `path`, asserted to be twice the size of the SVG `page`.
+fn png_of(path: &std::path::Path, page: &Page) -> image::RgbImage {
+    let image = image::open(path).unwrap().to_rgb8();
+    assert_eq!(
+        (image.width() as f64, image.height() as f64),
+        (2.0 * page.width, 2.0 * page.height),
+        "twice the SVG's size"
+    );
+    image
 }
 
 /// The last (longest) scenario of a `.scen` file as `--start`/`--goal` cell centres.
@@ -374,12 +382,7 @@ fn mission_stills_and_pngs_show_the_moment_with_every_marker_visible() {
         text.contains("at: 150.0 s of "),
         "the caption gives the time"
     );
-    let boxes: Vec<&Bbox> = page
-        .markers
-        .iter()
-        .filter(|(k, _)| *k == "map change")
-        .map(|(_, b)| b)
-        .collect();
+    let boxes = change_boxes(&page);
     assert!(!boxes.is_empty(), "the blocked door has its box");
     for b in boxes {
         assert!(b.x1 - b.x0 >= 8.0 && b.y1 - b.y0 >= 8.0, "{b:?}");
@@ -401,12 +404,7 @@ fn mission_stills_and_pngs_show_the_moment_with_every_marker_visible() {
         still_ugv, animated_ugv,
         "at 150 s the UGV has left its start"
     );
-    let image = image::open(&png).unwrap().to_rgb8();
-    assert_eq!(
-        (image.width() as f64, image.height() as f64),
-        (2.0 * page.width, 2.0 * page.height),
-        "twice the SVG's size"
-    );
+    let image = png_of(&png, &page);
     let grey = image.pixels().filter(|p| p.0 == [0x55, 0x55, 0x55]).count();
     assert!(
         grey > 10_000,
@@ -438,11 +436,7 @@ fn map_plan_pngs_are_twice_the_svg_with_sharp_cells() {
         legend.contains(&"A (chosen)") && legend.contains(&"B"),
         "{legend:?}"
     );
-    let image = image::open(&png).unwrap().to_rgb8();
-    assert_eq!(
-        (image.width() as f64, image.height() as f64),
-        (2.0 * page.width, 2.0 * page.height)
-    );
+    let image = png_of(&png, &page);
     // The map's occupied cells, and the pixels of a cell at twice the picture's scale.
     let cells = std::fs::read_to_string(root().join(map))
         .unwrap()
@@ -500,12 +494,7 @@ fn small_blockages_are_boxed_and_graphs_render_to_png() {
     );
     check(&svg, "simulate pebble");
     let page = read_page(&std::fs::read_to_string(&svg).unwrap());
-    let boxes: Vec<&Bbox> = page
-        .markers
-        .iter()
-        .filter(|(k, _)| *k == "map change")
-        .map(|(_, b)| b)
-        .collect();
+    let boxes = change_boxes(&page);
     assert_eq!(boxes.len(), 1, "{:?}", page.markers);
     assert!(boxes[0].x1 - boxes[0].x0 >= 8.0);
 
@@ -530,10 +519,5 @@ fn small_blockages_are_boxed_and_graphs_render_to_png() {
         image.contains("image-rendering: pixelated") && image.contains("optimizeSpeed"),
         "{image}"
     );
-    let png = image::open(&gpng).unwrap();
-    let page = read_page(&text);
-    assert_eq!(
-        (png.width() as f64, png.height() as f64),
-        (2.0 * page.width, 2.0 * page.height)
-    );
+    png_of(&gpng, &read_page(&text));
 }
