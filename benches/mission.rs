@@ -206,7 +206,7 @@ fn bench_map(c: &mut Criterion) {
         for &policy in Policy::all() {
             let cfg = MissionConfig {
                 policy,
-                ..MissionConfig::default()
+                ..MissionConfig::for_maps()
             };
             let r = homospline_mission::simulate_map(&world, &cfg).expect("a mission");
             assert!(r.reached, "{}: not reached", policy.name());

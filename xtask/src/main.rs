@@ -656,7 +656,7 @@ fn map_policy_figures(
     use homospline_mission::{MissionConfig, simulate_map};
     let cfg = MissionConfig {
         policy,
-        ..MissionConfig::default()
+        ..MissionConfig::for_maps()
     };
     for w in worlds {
         let r = simulate_map(w, &cfg)?;

@@ -94,7 +94,11 @@ pub fn run(a: &SimulateArgs, world: &AnyWorld, wants: (bool, bool)) -> anyhow::R
             Num(a.min_switch_interval)
         )));
     }
-    let base = MissionConfig::default();
+    // The profile of the world's kind; the options go on top.
+    let base = match world {
+        AnyWorld::Scene(_) => MissionConfig::default(),
+        AnyWorld::Map(_) => MissionConfig::for_maps(),
+    };
     let cfg = MissionConfig {
         plan: PlanConfig {
             classes: a.classes,

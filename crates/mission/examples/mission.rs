@@ -26,14 +26,22 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     let world =
         homospline_mission::world::load_any(std::path::Path::new(&path), |p| std::fs::read(p))?;
     // The default scout policy, `guard` (`simulate --policy guard`); `Policy::all()` lists
-    // the others.
-    let cfg = MissionConfig {
-        policy: Policy::GUARD,
-        ..MissionConfig::default()
-    };
+    // the others. A map world takes the map profile, `MissionConfig::for_maps()`.
     let result = match &world {
-        AnyWorld::Scene(w) => simulate(w, &cfg)?,
-        AnyWorld::Map(w) => simulate_map(w, &cfg)?,
+        AnyWorld::Scene(w) => simulate(
+            w,
+            &MissionConfig {
+                policy: Policy::GUARD,
+                ..MissionConfig::default()
+            },
+        )?,
+        AnyWorld::Map(w) => simulate_map(
+            w,
+            &MissionConfig {
+                policy: Policy::GUARD,
+                ..MissionConfig::for_maps()
+            },
+        )?,
     };
     println!(
         "{}: goal reached {} after {:.1} s; the UGV drove {:.1} (the plan on the true world: {}), \

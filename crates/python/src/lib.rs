@@ -631,7 +631,10 @@ fn simulate<'py>(
     let cfg = MissionConfig {
         policy,
         scouts,
-        ..MissionConfig::default()
+        ..match &w {
+            AnyWorld::Scene(_) => MissionConfig::default(),
+            AnyWorld::Map(_) => MissionConfig::for_maps(),
+        }
     };
     let text = py
         .detach(|| match &w {

@@ -69,28 +69,13 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
 }
 
 /// Simulates the mission on an occupancy map world: the same loop as [`simulate`], with the
-/// known map updated locally at each discovery (`MissionResult::map_updates`). The planner
-/// takes the map defaults of `homospline_maps::map_config` for via-points, the class search
-/// and the evaluation budget (rounds on long curves stop at 40 evaluations: the seeds are
-/// pulled taut, and the chosen costs are then within 0.6 % of those at 80).
+/// known map updated locally at each discovery (`MissionResult::map_updates`). Give it
+/// [`MissionConfig::for_maps`] (the map defaults of `homospline_maps::map_config` for
+/// via-points, the class search, the evaluation budget and the safety term), changed as you
+/// like: the settings are taken as given (it had copied the map defaults over the caller's,
+/// `dm` among them).
 pub fn simulate_map(world: &MapWorld, cfg: &MissionConfig) -> Result<MissionResult, MissionError> {
     check_config(cfg)?;
-    let defaults = homospline_maps::map_config();
-    let mut plan_cfg = cfg.plan.clone();
-    plan_cfg.growth.max_via_points = defaults.growth.max_via_points;
-    plan_cfg.growth.max_evaluations_per_round = defaults.growth.max_evaluations_per_round;
-    plan_cfg.growth.budget_segments = defaults.growth.budget_segments;
-    plan_cfg.growth.min_evaluations_per_round = defaults.growth.min_evaluations_per_round;
-    plan_cfg.search.one_path_per_state = defaults.search.one_path_per_state;
-    plan_cfg.search.max_expansions = defaults.search.max_expansions;
-    plan_cfg.growth.cost.safety_along = defaults.growth.cost.safety_along;
-    plan_cfg.growth.cost.dm = defaults.growth.cost.dm;
-    plan_cfg.growth.cost.omega = defaults.growth.cost.omega;
-    plan_cfg.detour = defaults.detour;
-    let cfg = &MissionConfig {
-        plan: plan_cfg,
-        ..cfg.clone()
-    };
     // The truth plan: the best-cost plan on the true map.
     let truth_plan_length =
         homospline_maps::PreparedMap::for_robot(&world.truth, world.team.ugv.radius)

@@ -31,7 +31,7 @@ fn run(world: &MapWorld, policy: Policy) -> MissionResult {
         world,
         &MissionConfig {
             policy,
-            ..MissionConfig::default()
+            ..MissionConfig::for_maps()
         },
     )
     .unwrap()
@@ -315,4 +315,25 @@ fn a_disc_drives_through_a_diagonal_door_and_keeps_its_radius_from_every_true_ce
             "{policy}: the track comes {least:.4} from a true occupied cell, inside the radius {radius}"
         );
     }
+}
+
+/// A caller's settings hold on a map world: `simulate_map` had copied the map defaults over
+/// them, so any `dm` drove exactly as the profile's.
+#[test]
+fn a_callers_dm_holds_on_a_map_world() {
+    let world = map_world("room-blocked.yaml");
+    let with_dm = |dm: f64| {
+        let mut cfg = MissionConfig {
+            policy: Policy::NONE,
+            ..MissionConfig::for_maps()
+        };
+        cfg.plan.growth.cost.dm = dm;
+        simulate_map(&world, &cfg).unwrap()
+    };
+    let profile = MissionConfig::for_maps().plan.growth.cost.dm;
+    let (given, more) = (with_dm(profile), with_dm(4.0 * profile));
+    assert_ne!(
+        given.adopted[0].path, more.adopted[0].path,
+        "a dm four times the profile's plans another curve"
+    );
 }

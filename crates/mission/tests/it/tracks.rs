@@ -27,6 +27,13 @@ fn cfg(policy: Policy) -> MissionConfig {
     }
 }
 
+fn map_cfg(policy: Policy) -> MissionConfig {
+    MissionConfig {
+        policy,
+        ..MissionConfig::for_maps()
+    }
+}
+
 /// A 40 x 40 map with a wall down the middle and two 6-cell gaps; the truth blocks the lower
 /// gap, on the prior's best path.
 fn two_gaps(radius: Real) -> (OccupancyMap, OccupancyMap, Team) {
@@ -95,7 +102,7 @@ fn a_map_mission_keeps_the_robot_radius_from_the_true_walls() {
     )
     .unwrap();
     for &policy in Policy::all() {
-        let r = simulate_map(&world, &cfg(policy)).unwrap();
+        let r = simulate_map(&world, &map_cfg(policy)).unwrap();
         assert!(r.reached, "{}: not reached", policy.name());
         let track: Vec<Point> = r.ugv.samples.iter().map(|(_, p)| *p).collect();
         let c = track_clearance(&truth, &track, radius + 1.0);
@@ -141,7 +148,7 @@ fn the_fixture_map_world_tracks_stay_out_of_every_true_cell() {
         other => panic!("{:?}", other.err()),
     };
     for &policy in Policy::all() {
-        let r = simulate_map(&w, &cfg(policy)).unwrap();
+        let r = simulate_map(&w, &map_cfg(policy)).unwrap();
         let track: Vec<Point> = r.ugv.samples.iter().map(|(_, p)| *p).collect();
         let c = track_clearance(&w.truth, &track, 1.0);
         assert!(
