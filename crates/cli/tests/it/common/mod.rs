@@ -42,6 +42,26 @@ pub fn tmp(name: &str) -> PathBuf {
 }
 
 /// Asserts exit code 0, showing stderr otherwise.
+/// Waits for `child` at most `secs` seconds: its exit status, or a panic naming `what`
+/// after it is killed (a hang is a failure, not a stuck test run).
+pub fn wait_bounded(
+    child: &mut std::process::Child,
+    secs: u64,
+    what: &str,
+) -> std::process::ExitStatus {
+    let t = std::time::Instant::now();
+    loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            return s;
+        }
+        if t.elapsed().as_secs() >= secs {
+            let _ = child.kill();
+            panic!("{what} ran past {secs} s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
 pub fn assert_ok(out: &Output) {
     assert_eq!(
         out.status.code(),
