@@ -287,10 +287,7 @@ impl PlanOptions {
         } else {
             // The map defaults of the safety term, whatever the preset; `--weight` may
             // change them below.
-            let map = &base.growth.cost;
-            cost.safety_along = map.safety_along;
-            cost.dm = map.dm;
-            cost.omega = map.omega;
+            homospline_maps::map_safety(&mut cost);
         }
         for (name, v) in &self.weights {
             cost.set(name.trim(), *v).map_err(|e| {

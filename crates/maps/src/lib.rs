@@ -69,18 +69,7 @@ pub fn map_config() -> PlanConfig {
     // A map's doors and corners are a cell or two wide: `dm` stays a penalty there, and a
     // hard margin is the user's `--clearance-floor`.
     cfg.dm_rule = false;
-    // The safety term sees every stretch of the path, not only its least clear point (a
-    // start next to a wall or a one-cell door), so the whole path keeps away from walls
-    // where the corridor allows (docs/method.md, 5.5).
-    cfg.growth.cost.safety_along = true;
-    // Along the path, `D` weighs every stretch: `dm` is what a stretch should keep where the
-    // corridor allows, and a steep `omega` tells a grazing stretch from one in the middle of
-    // a one-cell gap (20^0.5 = 4.5 times dearer at 0 than at 1/2 a cell; 1000^0.5 = 32).
-    // Measured over the 14 MovingAI files (decision 0021): the median clearance away from
-    // the ends on random512-20-0 0.042 -> 0.134 cells, every file 100 % planned, median
-    // length / octile at most 1.06 (the 32 x 32 mazes; 1.002 on random512-20-0).
-    cfg.growth.cost.dm = MAP_DM;
-    cfg.growth.cost.omega = MAP_OMEGA;
+    map_safety(&mut cfg.growth.cost);
     // Like `--polish`, the chosen class's finish is for scenes: a map's classes are
     // optimised while the search goes on.
     cfg.finish_within = None;
@@ -90,6 +79,19 @@ pub fn map_config() -> PlanConfig {
     cfg.map_dm = Some(MAP_DM_CELLS);
     cfg.growth.lbfgs_value_tolerance = LBFGS_VALUE_TOLERANCE;
     cfg
+}
+
+/// The safety term of maps, set on `cost` (whatever preset it came from): it sees every
+/// stretch of the path, not only its least clear point (a start next to a wall or a one-cell
+/// door), so the whole path keeps away from walls where the corridor allows (docs/method.md,
+/// 5.5); `dm` is [`MAP_DM`], what a stretch should keep where the corridor allows, and a
+/// steep `omega` ([`MAP_OMEGA`]) tells a grazing stretch from one in the middle of a
+/// one-cell gap (decision 0021). The one owner of these three values: [`map_config`], the
+/// front ends' options and the missions' map profile all set them with it.
+pub fn map_safety(cost: &mut homospline_spline::CostConfig) {
+    cost.safety_along = true;
+    cost.dm = MAP_DM;
+    cost.omega = MAP_OMEGA;
 }
 
 /// L-BFGS on maps stops at a step that lowers the cost by less than this share of it: the

@@ -151,9 +151,7 @@ impl MissionConfig {
         plan.growth.min_evaluations_per_round = growth.min_evaluations_per_round;
         plan.search.one_path_per_state = map.search.one_path_per_state;
         plan.search.max_expansions = map.search.max_expansions;
-        plan.growth.cost.safety_along = growth.cost.safety_along;
-        plan.growth.cost.dm = growth.cost.dm;
-        plan.growth.cost.omega = growth.cost.omega;
+        homospline_maps::map_safety(&mut plan.growth.cost);
         plan.detour = map.detour;
         cfg
     }
