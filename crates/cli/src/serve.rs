@@ -24,6 +24,9 @@ use crate::input::Reads;
 use crate::out::bad;
 use crate::{Cli, Command, picture};
 
+/// The largest request the server reads, bytes.
+const MAX_REQUEST_BYTES: usize = 64 << 20;
+
 /// The page: plain HTML, CSS and JavaScript, no build step.
 const PAGE: &str = include_str!("serve/page.html");
 
@@ -73,6 +76,9 @@ pub fn serve(
         .route("/api/simulate", post(simulate))
         .route("/api/upload", post(upload))
         .route("/favicon.ico", get(no_icon))
+        // Uploads and requests up to 64 MB (axum's default is 2 MB): a scene of a million
+        // circles is about 40 MB of YAML.
+        .layer(axum::extract::DefaultBodyLimit::max(MAX_REQUEST_BYTES))
         .with_state(served.clone());
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
@@ -191,12 +197,15 @@ fn walk(root: &Path, dir: &Path, depth: usize, out: &mut Vec<String>) {
     }
 }
 
-/// Whether the file at `path` is a world (it has a `team`).
+/// Whether the file at `path` is a world (a `team` in its first megabyte).
 fn is_world(path: &Path) -> bool {
-    std::fs::read(path).is_ok_and(|b| {
-        let text = String::from_utf8_lossy(&b[..b.len().min(1 << 20)]);
-        text.lines()
-            .any(|l| l.starts_with("team:") || l.trim_start().starts_with("\"team\""))
+    use std::io::Read;
+    let mut head = Vec::new();
+    std::fs::File::open(path).is_ok_and(|f| {
+        f.take(1 << 20).read_to_end(&mut head).is_ok()
+            && String::from_utf8_lossy(&head)
+                .lines()
+                .any(|l| l.starts_with("team:") || l.trim_start().starts_with("\"team\""))
     })
 }
 
