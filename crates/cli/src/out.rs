@@ -184,6 +184,17 @@ fn pending() -> std::sync::MutexGuard<'static, Vec<std::path::PathBuf>> {
         .unwrap_or_else(std::sync::PoisonError::into_inner)
 }
 
+/// Folders of this process's own (`serve`'s uploads), which a signal's handler removes.
+static PENDING_DIRS: std::sync::Mutex<Vec<std::path::PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+/// Removes `dir` and what it holds when the process dies of SIGINT, SIGTERM or SIGHUP.
+pub fn remove_dir_on_signals(dir: &Path) {
+    PENDING_DIRS
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+        .push(dir.to_owned());
+}
+
 /// Test hook: with `HOMOSPLINE_HOLD_WRITE_MS=N`, a write waits `N` ms (at most 10 s) between
 /// its temporary file and the rename, so that the signal tests can stop it there.
 fn hold_for_signal_test() {
@@ -196,7 +207,7 @@ fn hold_for_signal_test() {
 }
 
 /// On SIGINT, SIGTERM or SIGHUP: removes the temporary files being written (the outputs
-/// themselves are whole, old or new), then dies of the signal as it would have (the shell
+/// themselves are whole, old or new) and the folders of [`remove_dir_on_signals`], then dies of the signal as it would have (the shell
 /// sees 130, 143 or 129). Installed once, by `main`; a failure to install is ignored (the
 /// signals then act as before: the outputs stay whole, a temporary file may be left).
 pub fn remove_temporaries_on_signals() {
@@ -212,6 +223,14 @@ pub fn remove_temporaries_on_signals() {
                 if let Some(sig) = signals.forever().next() {
                     for tmp in pending().drain(..) {
                         let _ = std::fs::remove_file(tmp);
+                    }
+                    let dirs = PENDING_DIRS
+                        .lock()
+                        .unwrap_or_else(std::sync::PoisonError::into_inner)
+                        .drain(..)
+                        .collect::<Vec<_>>();
+                    for dir in dirs {
+                        let _ = std::fs::remove_dir_all(dir);
                     }
                     let _ = signal_hook::low_level::emulate_default_handler(sig);
                     std::process::exit(128 + sig);

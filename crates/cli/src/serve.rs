@@ -61,6 +61,9 @@ pub fn serve(
     let uploads = std::env::temp_dir().join(format!("homospline-serve-{}", std::process::id()));
     std::fs::create_dir_all(&uploads)
         .with_context(|| format!("{}: cannot make the uploads folder", uploads.display()))?;
+    // Ctrl-C, SIGTERM and SIGHUP end the process (`out::remove_temporaries_on_signals`):
+    // the uploads go with it.
+    crate::out::remove_dir_on_signals(&uploads);
     let served = Arc::new(Served {
         root,
         uploads: uploads.clone(),

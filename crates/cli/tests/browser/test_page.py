@@ -81,6 +81,8 @@ def server():
     yield url, took
     proc.terminate()
     proc.wait(timeout=10)
+    # The uploads folder goes with the server.
+    assert not Path(tempfile.gettempdir(), f"homospline-serve-{proc.pid}").exists()
 
 
 def wait_for(driver, predicate, what, timeout=60):
