@@ -330,6 +330,7 @@ impl<'w> ClassTask<'w> {
     /// `max_via_points` via-points cannot keep to; L-BFGS cannot even start from a colliding
     /// seed). Its round's budget is that of a round at `max_via_points`. `Some` only if the
     /// curve comes out clear; its evaluations and time include the first pass's.
+    ///
     /// Pulling taut first matters in clutter: a graph path winding between many small
     /// obstacles has a point per cell, far more than the via-points can follow; taut, it
     /// keeps only its corners (CHANGELOG, "Clutter planned").
