@@ -163,6 +163,12 @@ pub fn edited_input(
                 .map_err(|e| bad(e.to_string()))?,
         ),
     };
+    edit_input(a, input)
+}
+
+/// `input` with the command line's start, goal, radius and blocked discs applied (see
+/// [`edited_input`]).
+pub fn edit_input(a: &PlanArgs, input: Input) -> anyhow::Result<(Input, Option<(Point, Point)>)> {
     let point = |opt, t: &Option<String>| t.as_deref().map(|t| parse_point(opt, t)).transpose();
     let (start, goal) = (point("--start", &a.start)?, point("--goal", &a.goal)?);
     let blocks = blocks(a)?;

@@ -281,13 +281,18 @@ fn plan_args(file: &Path, r: &PlanRequest) -> anyhow::Result<PlanArgs> {
     for b in &r.blocks {
         argv.extend(["--block".to_owned(), format!("{},{},{}", b[0], b[1], b[2])]);
     }
-    match Cli::try_parse_from(&argv) {
-        Ok(Cli {
-            command: Command::Plan(a),
-        }) => Ok(*a),
-        Ok(_) => Err(bad("not a plan")),
-        Err(e) => Err(bad(e.render().to_string().trim().to_owned())),
+    match parse(&argv)? {
+        Command::Plan(a) => Ok(*a),
+        _ => Err(bad("not a plan")),
     }
+}
+
+/// The command `argv` asks for, parsed as the command line parses it; a refusal is clap's
+/// message.
+fn parse(argv: &[String]) -> anyhow::Result<Command> {
+    Cli::try_parse_from(argv)
+        .map(|cli| cli.command)
+        .map_err(|e| bad(e.render().to_string().trim().to_owned()))
 }
 
 async fn open(State(served): State<Arc<Served>>, Json(r): Json<PlanRequest>) -> Response {
@@ -297,8 +302,8 @@ async fn open(State(served): State<Arc<Served>>, Json(r): Json<PlanRequest>) -> 
             return Ok(json!({ "kind": "world", "path": r.path }).to_string());
         }
         let a = plan_args(&file, &r)?;
-        let input = crate::input::load_input(&file, &Reads::default())?;
-        match input {
+        // Read once: a map is shown before its start and goal are clicked, a scene planned.
+        match crate::input::load_input(&file, &Reads::default())? {
             Input::Map(map) => {
                 crate::plan::check_map_memory(&map, 0.0)?;
                 let bg = picture::Background::Map(&map);
@@ -311,7 +316,7 @@ async fn open(State(served): State<Arc<Served>>, Json(r): Json<PlanRequest>) -> 
                 })
                 .to_string())
             }
-            Input::Scene(_) => planned(s, &a, &r.path),
+            scene @ Input::Scene(_) => planned(s, &a, crate::plan::edit_input(&a, scene)?, &r.path),
         }
     })
     .await
@@ -321,16 +326,23 @@ async fn plan(State(served): State<Arc<Served>>, Json(r): Json<PlanRequest>) -> 
     blocking(served, move |s| {
         let file = s.resolve(&r.path)?;
         let a = plan_args(&file, &r)?;
-        planned(s, &a, &r.path)
+        let edited = crate::plan::edited_input(&a, &Reads::default())?;
+        planned(s, &a, edited, &r.path)
     })
     .await
 }
 
-/// The plan of `plan` with arguments `a`: the picture, the click transform, the
+/// The plan of `plan` with arguments `a` on the edited input: the picture, the click transform, the
 /// table and the plan JSON (`docs/formats.md`), as the command line makes them.
-fn planned(s: &Served, a: &PlanArgs, path: &str) -> anyhow::Result<String> {
-    let reads = Reads::default();
-    let (input, ends) = crate::plan::edited_input(a, &reads)?;
+fn planned(
+    s: &Served,
+    a: &PlanArgs,
+    (input, ends): (
+        Input,
+        Option<(homospline_geom::Point, homospline_geom::Point)>,
+    ),
+    path: &str,
+) -> anyhow::Result<String> {
     let done = crate::plan::outcome(a, input, ends, true)?;
     let (kind, transform, start, goal) = match &done.input {
         Input::Scene(sc) => (
@@ -400,12 +412,9 @@ async fn simulate(State(served): State<Arc<Served>>, Json(r): Json<SimulateReque
         if let Some(k) = r.scouts {
             argv.extend(["--scouts".to_owned(), k.to_string()]);
         }
-        let a: SimulateArgs = match Cli::try_parse_from(&argv) {
-            Ok(Cli {
-                command: Command::Simulate(a),
-            }) => a,
-            Ok(_) => return Err(bad("not a mission")),
-            Err(e) => return Err(bad(e.render().to_string().trim().to_owned())),
+        let a: SimulateArgs = match parse(&argv)? {
+            Command::Simulate(a) => a,
+            _ => return Err(bad("not a mission")),
         };
         let world = homospline_mission::world::load_any(&file, |p| Reads::default().read(p))
             .map_err(bad)?;

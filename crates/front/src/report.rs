@@ -42,17 +42,13 @@ impl Choice for ClassNames {
 }
 
 impl ClassNames {
-    /// The name of the class of `letter` (see [`class_letter`]) and `signature`.
-    pub fn of(self, letter: &str, signature: &str) -> String {
+    /// The name of the class of rank `rank` (its letter, [`class_letter`]) and `signature`.
+    pub fn ranked(self, rank: usize, signature: &str) -> String {
+        let letter = class_letter(rank);
         match self {
-            Self::Letter => letter.to_owned(),
+            Self::Letter => letter,
             Self::Id => format!("{letter} {}", class_id(signature)),
         }
-    }
-
-    /// The name of the class of rank `rank` and `signature`.
-    pub fn ranked(self, rank: usize, signature: &str) -> String {
-        self.of(&class_letter(rank), signature)
     }
 }
 

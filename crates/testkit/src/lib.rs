@@ -631,19 +631,26 @@ fn map_world(prior: &OccupancyMap, seed: u64) -> Option<homospline_mission::MapW
 /// way across is the gap between the corners (8, 4) and (9, 5), `sqrt 2` wide: a disc of
 /// radius up to 0.7071 passes, turning in it. `extra`: one more occupied cell.
 pub fn diagonal_door_map(extra: Option<(usize, usize)>) -> OccupancyMap {
-    let (w, h) = (16, 10);
+    grid_map("diagonal-door", (16, 10), true, |i, j| {
+        (i == 7 && j <= 3) || (i == 9 && j >= 5) || Some((i, j)) == extra
+    })
+}
+
+/// A map of `w x h` cells of side 1 from the origin, cell `(i, j)` occupied where
+/// `occupied(i, j)`; `y_down` as MovingAI (rows down) or ROS (rows up).
+pub fn grid_map(
+    name: &str,
+    (w, h): (usize, usize),
+    y_down: bool,
+    occupied: impl Fn(usize, usize) -> bool,
+) -> OccupancyMap {
     OccupancyMap {
-        name: "diagonal-door".into(),
+        name: name.into(),
         width: w,
         height: h,
         cell: 1.0,
         origin: Point::origin(),
-        occupied: (0..w * h)
-            .map(|k| {
-                let (i, j) = (k % w, k / w);
-                (i == 7 && j <= 3) || (i == 9 && j >= 5) || Some((i, j)) == extra
-            })
-            .collect(),
-        y_down: true,
+        occupied: (0..w * h).map(|k| occupied(k % w, k / w)).collect(),
+        y_down,
     }
 }

@@ -6,9 +6,9 @@
 
 use std::path::Path;
 use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-use crate::common::{homospline, mutate, root, tmp};
+use crate::common::{homospline, mutate, root, tmp, wait_bounded};
 use proptest::prelude::*;
 
 /// Most seconds one run may take: far above any fixture's plan in a debug build.
@@ -23,17 +23,7 @@ fn run_bounded(mut cmd: Command, what: &str) {
         .stderr(Stdio::from(err))
         .spawn()
         .unwrap();
-    let t = Instant::now();
-    let status = loop {
-        if let Some(s) = child.try_wait().unwrap() {
-            break s;
-        }
-        if t.elapsed() > RUN_BOUND {
-            let _ = child.kill();
-            panic!("{what}: still running after {RUN_BOUND:?}");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    };
+    let status = wait_bounded(&mut child, RUN_BOUND.as_secs(), what);
     let stderr = std::fs::read_to_string(&err_file).unwrap_or_default();
     let code = status.code();
     assert!(

@@ -441,7 +441,7 @@ fn a_radius_just_under_half_a_corridor_plans_without_hanging() {
 /// comes out clear: the answer is exit 1, naming what blocks and what to change.
 #[test]
 fn light_clutter_without_a_plan_says_what_blocks_and_what_to_change() {
-    let scene = clutter_scene("clutter.yaml", 10_000, 3, |_| 0.05);
+    let scene = clutter_scene("clutter.yaml", 10_000, 3, Placement::InsideMargin, |_| 0.05);
     let out = homospline().arg("plan").arg(&scene).output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{err}");
@@ -460,7 +460,13 @@ fn light_clutter_without_a_plan_says_what_blocks_and_what_to_change() {
 /// the path taut first (about 20 corners) and plans, collision-free.
 #[test]
 fn clutter_the_graph_sees_is_planned_collision_free() {
-    let scene = clutter_scene("clutter-2000.yaml", 2_000, 5, |u| 0.2 + 0.4 * u);
+    let scene = clutter_scene(
+        "clutter-2000.yaml",
+        2_000,
+        5,
+        Placement::InsideMargin,
+        |u| 0.2 + 0.4 * u,
+    );
     let json = tmp("clutter-2000.json");
     let out = homospline()
         .arg("plan")
@@ -488,27 +494,9 @@ fn clutter_the_graph_sees_is_planned_collision_free() {
 /// 60 s, with the any-class optimum reported.
 #[test]
 fn the_optimum_of_5000_circles_ends_within_a_minute() {
-    // As `scripts/random_discs.py 5000`: centres anywhere in the square but 3 units off S
-    // and T (`clutter_scene` keeps a free margin, which the classes run along).
-    let mut rng = homospline_testkit::SplitMix(11);
-    let mut text = String::from(
-        "name: optimum-5000\nbounds: {min: [0, 0], max: [100, 100]}\nstart: [1, 1]\ngoal: [99, 99]\nobstacles:\n",
-    );
-    let mut k = 0;
-    while k < 5_000 {
-        let (x, y): (f64, f64) = (100.0 * rng.next_unit(), 100.0 * rng.next_unit());
-        let r = 0.2 + 0.4 * rng.next_unit();
-        if [(1.0, 1.0), (99.0, 99.0)]
-            .iter()
-            .any(|(px, py)| (x - px).hypot(y - py) < 3.0)
-        {
-            continue;
-        }
-        text.push_str(&format!("  - circles: [[{x}, {y}, {r}]]\n"));
-        k += 1;
-    }
-    let scene = tmp("optimum-5000.yaml");
-    std::fs::write(&scene, text).unwrap();
+    let scene = clutter_scene("optimum-5000.yaml", 5_000, 11, Placement::OffTheEnds, |u| {
+        0.2 + 0.4 * u
+    });
     let json = tmp("optimum-5000.json");
     let mut child = homospline()
         .arg("plan")
@@ -530,22 +518,45 @@ fn the_optimum_of_5000_circles_ends_within_a_minute() {
     );
 }
 
+/// Where [`clutter_scene`] puts the discs' centres.
+#[derive(Clone, Copy, PartialEq)]
+enum Placement {
+    /// In `[2, 98]^2`: a free margin all round, which the classes may run along.
+    InsideMargin,
+    /// Anywhere in the square but 3 units off the start and the goal, as
+    /// `scripts/random_discs.py` places them.
+    OffTheEnds,
+}
+
 /// A scene of `n` discs in 100 x 100 from seed `seed`, each of radius `radius(u)` for a
-/// uniform `u`, kept off the start (1, 1) and goal (99, 99).
+/// uniform `u`, placed as `placement` says, from the start (1, 1) to the goal (99, 99).
 fn clutter_scene(
     name: &str,
     n: usize,
     seed: u64,
+    placement: Placement,
     radius: impl Fn(f64) -> f64,
 ) -> std::path::PathBuf {
     let mut rng = homospline_testkit::SplitMix(seed);
     let mut text = String::from(
         "name: clutter\nbounds: {min: [0, 0], max: [100, 100]}\nstart: [1, 1]\ngoal: [99, 99]\nobstacles:\n",
     );
-    for k in 0..n {
-        let (x, y) = (2.0 + 96.0 * rng.next_unit(), 2.0 + 96.0 * rng.next_unit());
+    let (lo, span) = match placement {
+        Placement::InsideMargin => (2.0, 96.0),
+        Placement::OffTheEnds => (0.0, 100.0),
+    };
+    let mut k = 0;
+    while k < n {
+        let (x, y) = (lo + span * rng.next_unit(), lo + span * rng.next_unit());
         let r = radius(rng.next_unit());
+        let near_an_end = [(1.0, 1.0), (99.0, 99.0)]
+            .iter()
+            .any(|&(px, py): &(f64, f64)| (x - px).hypot(y - py) < 3.0);
+        if placement == Placement::OffTheEnds && near_an_end {
+            continue;
+        }
         text.push_str(&format!("  - {{name: p{k}, circles: [[{x}, {y}, {r}]]}}\n"));
+        k += 1;
     }
     let scene = tmp(name);
     std::fs::write(&scene, text).unwrap();

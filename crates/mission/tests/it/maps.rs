@@ -244,19 +244,10 @@ fn a_truth_map_of_another_size_is_refused_with_file_line_field_and_problem() {
 #[test]
 fn a_blockage_beside_which_the_robot_can_pass_does_not_close_the_corridor() {
     let (w, h) = (60, 11);
-    let walls = |extra: Option<(usize, usize)>| OccupancyMap {
-        name: "corridor".into(),
-        width: w,
-        height: h,
-        cell: 1.0,
-        origin: Point::origin(),
-        occupied: (0..w * h)
-            .map(|k| {
-                let (i, j) = (k % w, k / w);
-                j == 0 || j == h - 1 || Some((i, j)) == extra
-            })
-            .collect(),
-        y_down: false,
+    let walls = |extra: Option<(usize, usize)>| {
+        homospline_testkit::grid_map("corridor", (w, h), false, |i, j| {
+            j == 0 || j == h - 1 || Some((i, j)) == extra
+        })
     };
     let world = MapWorld::new(
         "corridor",
