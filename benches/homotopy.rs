@@ -1,6 +1,7 @@
 //! Criterion bench of the class search: k = 7 on the Voronoi graph of a 1024 x 1024 map with
 //! 50 compound obstacles; the signature of a long polyline among 200 obstacles; and the exact
-//! shortest path among 500 and 2,000 random circles (`plan --optimum`'s tangent graph).
+//! shortest path among 500 and 2,000 random circles (`plan --optimum`'s tangent graph), and
+//! among 2,500 to 20,000 at one density (its growth with the circles).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use homospline_geom::Point;
@@ -56,6 +57,29 @@ fn bench(c: &mut Criterion) {
         g.bench_function(format!("tangent_graph_optimum/{n}_circles"), |b| {
             b.iter(|| {
                 homospline_geom::shortest::shortest_path_length(&s, &t, black_box(&circles), 0.5)
+                    .unwrap()
+            })
+        });
+    }
+    // Near-linear: the same density (one circle per 2 square units, radius 0.2 to 0.6) in
+    // ever larger squares, the whole tangent graph (no length bound), corner to corner,
+    // clearance 0.05. Every pair's tangents were tested up to 2026-12-06: quadratic.
+    for n in [2_500, 5_000, 10_000, 20_000] {
+        let side = (2.0 * n as f64).sqrt();
+        let mut rng = homospline_testkit::SplitMix(9);
+        let circles: Vec<homospline_geom::Circle> = (0..n)
+            .map(|_| {
+                homospline_geom::Circle::new(
+                    2.0 + (side - 4.0) * rng.next_unit(),
+                    2.0 + (side - 4.0) * rng.next_unit(),
+                    0.2 + 0.4 * rng.next_unit(),
+                )
+            })
+            .collect();
+        let (s, t) = (Point::new(1.0, 1.0), Point::new(side - 1.0, side - 1.0));
+        g.bench_function(format!("tangent_graph_same_density/{n}_circles"), |b| {
+            b.iter(|| {
+                homospline_geom::shortest::shortest_path_length(&s, &t, black_box(&circles), 0.05)
                     .unwrap()
             })
         });

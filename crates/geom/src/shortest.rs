@@ -9,9 +9,12 @@
 //! on the *tangent graph*: its nodes are the start, the goal and every tangent point (from
 //! the two points and between every pair of circles, outer and inner), its edges the tangent
 //! segments that enter no disc and the arcs between consecutive nodes of one circle that
-//! enter no other disc; Dijkstra's algorithm finds the shortest route. Its `O(n^2)` candidate
-//! segments are each tested against the discs of the buckets they cross (`DiscIndex`), not
-//! against every disc: meant for checking plans, not for planning.
+//! enter no other disc; Dijkstra's algorithm finds the shortest route. The pairs of circles
+//! whose tangents are tested are only those a free tangent ray of one can reach (`Reach`),
+//! a number that stays flat as a field of given density grows, so the graph is built in
+//! near-linear time; each candidate segment is tested against the discs of the buckets it
+//! crosses (`DiscIndex`), not against every disc. Meant for checking plans, not for
+//! planning.
 //!
 //! The tests use it as an oracle: no reported curve may be shorter than the optimum at its
 //! certified clearance. The robot's bounds are not taken in, so the result is a lower bound
@@ -19,7 +22,7 @@
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
-use std::f64::consts::TAU;
+use std::f64::consts::{FRAC_PI_2, TAU};
 
 use thiserror::Error;
 
@@ -193,6 +196,8 @@ fn enters(d: &Circle, a: &Point, b: &Point) -> bool {
 #[derive(Clone, Debug)]
 struct DiscIndex {
     lo: Point,
+    /// The corner of the discs' box opposite `lo`.
+    hi: Point,
     /// Bucket side.
     side: Real,
     nx: usize,
@@ -227,6 +232,7 @@ impl DiscIndex {
         let ny = ((wy / side) as usize + 1).min(1024);
         let mut index = Self {
             lo,
+            hi,
             side,
             nx,
             ny,
@@ -355,6 +361,348 @@ impl DiscIndex {
     }
 }
 
+/// How [`TangentGraph`] chooses the pairs of discs whose common tangents it tests.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Pairs {
+    /// Every pair: the tests' oracle.
+    #[cfg(test)]
+    All,
+    /// The pairs that [`Reach::partners`] finds.
+    Visible,
+}
+
+/// The discs a free tangent segment of a disc can reach: what keeps the tangent graph's
+/// pair tests near-linear in the discs.
+///
+/// Every common tangent of discs `i` and `j` leaves disc `i` along one of its tangent rays:
+/// from the point at angle `a`, `c_i + r_i u(a)`, in the direction `+u'(a)` or `-u'(a)`
+/// (`u(a) = (cos a, sin a)`, `u'` its quarter turn). A disc `k` at distance `d` and bearing
+/// `phi` blocks the `+` ray at `a` when the ray's line passes within `r_k` of its centre
+/// and the centre projects ahead of the tangent point: with `theta = a - phi`, when
+/// `|d cos theta - r_i| < r_k` and `theta` lies in `[-pi, 0]` (`[0, pi]` for `-`). It
+/// blocks the ray before the ray has gone `d + r_i` along. It also removes the tangent
+/// point outright where it covers it (`|c_i + r_i u(a) - c_k| < r_k`): no node, no segment.
+/// Both are arcs of angles `a` in closed form.
+///
+/// The discs are taken ring of buckets by ring outward from disc `i`'s centre; after ring
+/// `R`, every disc not yet taken lies at least `R` buckets' sides away, so a tangent point
+/// on it is at least `R side - r_i` along its ray. Once the blocking arcs of discs with
+/// `d + 2 r_i < R side` cover every angle for both directions, no tangent ray of disc `i`
+/// reaches any disc further out, and the search stops: the discs taken so far are disc
+/// `i`'s partners. Two things keep the rings few and thin:
+/// - once some rays are blocked, a bucket of the later rings is taken only if a ray still
+///   open can pass through it (its heading within the bucket's angular width of the bucket's
+///   bearing), so the search follows the open rays outward in narrow cones;
+/// - a ray that leaves the discs' box before it leaves the rings taken meets no further disc
+///   (see [`Reach::leave_the_box`]), so a disc at the field's edge stops as one inside it.
+///
+/// In a field of given density the partners then stay as many whatever its size, and the
+/// pair tests fall from `n^2` to about `n` times the discs within a ray's longest free run.
+/// The skipped pairs' tangents are all blocked, so the graph is the same as with every
+/// pair (a test compares them node for node).
+///
+/// Margins keep every arc inside its exact one: blockers are shrunk by 1e-4 of their
+/// radius and arcs by 1e-6 radians at each end, which can only take in more partners.
+#[derive(Clone, Debug)]
+struct Reach {
+    /// Disc `k` was taken in the search for disc `i` when `seen[k] == i + 1`.
+    seen: Vec<usize>,
+    /// Per direction (`+`, `-`), the blocking arcs `(from, to, reach)` within `[0, 2 pi]`
+    /// (an arc across angle 0 is split there), sorted by `from`: usable against the discs
+    /// of ring `R` when `reach + 2 r_i < R side`.
+    arcs: [Vec<(Real, Real, Real)>; 2],
+    /// Per direction, the arcs of the ring being taken, merged into `arcs` at its end.
+    fresh: [Vec<(Real, Real, Real)>; 2],
+    /// The headings `(from, to)` of the rays no arc blocks yet (both directions).
+    open: Vec<(Real, Real)>,
+    merged_open: Vec<(Real, Real)>,
+    merged: Vec<(Real, Real, Real)>,
+}
+
+impl Reach {
+    /// Angles within this of an arc's exact ends are not counted as blocked.
+    const ANGLE_MARGIN: Real = 1e-6;
+    /// A blocker counts as this fraction of its radius.
+    const SHRINK: Real = 1.0 - 1e-4;
+
+    fn new(n: usize) -> Self {
+        Self {
+            seen: vec![0; n],
+            arcs: [Vec::new(), Vec::new()],
+            fresh: [Vec::new(), Vec::new()],
+            open: Vec::new(),
+            merged_open: Vec::new(),
+            merged: Vec::new(),
+        }
+    }
+
+    /// The discs (other than `i`, ascending) that a tangent ray of disc `i` may reach
+    /// before another disc blocks it: a superset of the partners of its free tangents.
+    fn partners(&mut self, discs: &[Circle], index: &DiscIndex, i: usize, out: &mut Vec<usize>) {
+        out.clear();
+        for list in self.arcs.iter_mut().chain(&mut self.fresh) {
+            list.clear();
+        }
+        self.open.clear();
+        let c = discs[i].center;
+        let r = discs[i].radius;
+        let ((bx, _), (by, _)) = index.range(&c, &c);
+        let (bx, by) = (bx as isize, by as isize);
+        let (nx, ny) = (index.nx as isize, index.ny as isize);
+        let last = bx.max(nx - 1 - bx).max(by).max(ny - 1 - by);
+        // Half a bucket's diagonal, widened for rounding.
+        let half = index.side * (0.5 * std::f64::consts::SQRT_2 + 1e-9);
+        // Whether the rays leave every bucket of the coming rings but those in `open`.
+        let mut narrowed = false;
+        for ring in 0..=last {
+            let mut take = |x: isize, y: isize| {
+                if x < 0 || y < 0 || x >= nx || y >= ny {
+                    return;
+                }
+                if narrowed {
+                    // A ray from within r of c passes within `half` of the bucket's centre
+                    // only if its direction is within `w` of the centre's bearing.
+                    let m =
+                        index.lo + Vector::new(x as Real + 0.5, y as Real + 0.5) * index.side - c;
+                    let dist = m.norm();
+                    if dist > r + half {
+                        let w = (half / (dist - r)).min(1.0).asin() + (r / dist).min(1.0).asin();
+                        let from = m.y.atan2(m.x) - w - Self::ANGLE_MARGIN;
+                        let len = 2.0 * (w + Self::ANGLE_MARGIN);
+                        if !self.open.iter().any(|&(a, b)| overlap(from, len, a, b - a)) {
+                            return;
+                        }
+                    }
+                }
+                for &k in index.bucket(x as usize, y as usize) {
+                    let k = k as usize;
+                    if k == i || self.seen[k] == i + 1 {
+                        continue;
+                    }
+                    self.seen[k] = i + 1;
+                    out.push(k);
+                    Self::blocking_arcs(&mut self.fresh, c, r, &discs[k]);
+                }
+            };
+            if ring == 0 {
+                take(bx, by);
+            } else {
+                for x in bx - ring..=bx + ring {
+                    take(x, by - ring);
+                    take(x, by + ring);
+                }
+                for y in by - ring + 1..by + ring {
+                    take(bx - ring, y);
+                    take(bx + ring, y);
+                }
+            }
+            if ring == last {
+                break;
+            }
+            for dir in 0..2 {
+                self.merge(dir);
+            }
+            let limit = ring as Real * index.side * (1.0 - 1e-9) - 2.0 * r;
+            if limit > 0.0 {
+                // The directions of the rays not yet blocked: the `+` ray at angle a heads
+                // at a + pi/2, the `-` ray at a - pi/2.
+                self.open.clear();
+                for (dir, turn) in [(0, FRAC_PI_2), (1, -FRAC_PI_2)] {
+                    Self::gaps(&self.arcs[dir], limit, turn, &mut self.open);
+                }
+                if !self.open.is_empty() {
+                    self.leave_the_box(index, c, r, ring);
+                }
+                if self.open.is_empty() {
+                    break;
+                }
+                narrowed = true;
+            }
+        }
+        out.sort_unstable();
+    }
+
+    /// Removes from the open headings those of the rays that leave the discs' box before
+    /// they leave the rings taken so far (up to `ring` round the bucket of `c`): past the
+    /// box there is no disc, and a ray never comes back into a convex box.
+    ///
+    /// The part of the rings inside the box, `Q`, is a rectangle. A ray from a point `p`
+    /// inside it leaves through a side `K1 K2` (counter-clockwise) when its heading lies
+    /// between the bearings of `K1` and `K2` from `p`; for every `p` within `r` of `c` when
+    /// it lies between those from `c` narrowed by `asin(r / |K - c|)` at each end. Only the
+    /// sides of `Q` on the box's boundary count.
+    fn leave_the_box(&mut self, index: &DiscIndex, c: Point, r: Real, ring: isize) {
+        let ((bx, _), (by, _)) = index.range(&c, &c);
+        let (bx, by) = (bx as isize, by as isize);
+        let edge = |b: isize| index.side * b as Real;
+        let (x0, x1) = (
+            index.lo.x + edge(bx - ring),
+            index.lo.x + edge(bx + ring + 1),
+        );
+        let (y0, y1) = (
+            index.lo.y + edge(by - ring),
+            index.lo.y + edge(by + ring + 1),
+        );
+        // Which sides of the rings reach the box's (bottom, right, top, left).
+        let out = [
+            y0 <= index.lo.y,
+            x1 >= index.hi.x,
+            y1 >= index.hi.y,
+            x0 <= index.lo.x,
+        ];
+        let (x0, x1) = (x0.max(index.lo.x), x1.min(index.hi.x));
+        let (y0, y1) = (y0.max(index.lo.y), y1.min(index.hi.y));
+        let corners = [
+            Point::new(x0, y0),
+            Point::new(x1, y0),
+            Point::new(x1, y1),
+            Point::new(x0, y1),
+        ];
+        for side in 0..4 {
+            if !out[side] {
+                continue;
+            }
+            let (k1, k2) = (corners[side] - c, corners[(side + 1) % 4] - c);
+            let (d1, d2) = (k1.norm(), k2.norm());
+            if d1 <= r || d2 <= r {
+                continue;
+            }
+            let from = k1.y.atan2(k1.x) + (r / d1).asin() + Self::ANGLE_MARGIN;
+            let len = (k2.y.atan2(k2.x) - k1.y.atan2(k1.x)).rem_euclid(TAU)
+                - (r / d1).asin()
+                - (r / d2).asin()
+                - 2.0 * Self::ANGLE_MARGIN;
+            if len > 0.0 {
+                cut(&mut self.open, &mut self.merged_open, from, from + len);
+            }
+        }
+    }
+
+    /// Merges direction `dir`'s fresh arcs into its sorted arcs.
+    fn merge(&mut self, dir: usize) {
+        let fresh = &mut self.fresh[dir];
+        if fresh.is_empty() {
+            return;
+        }
+        fresh.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        let old = &self.arcs[dir];
+        self.merged.clear();
+        let (mut a, mut b) = (0, 0);
+        while a < old.len() || b < fresh.len() {
+            if b == fresh.len() || (a < old.len() && old[a].0 <= fresh[b].0) {
+                self.merged.push(old[a]);
+                a += 1;
+            } else {
+                self.merged.push(fresh[b]);
+                b += 1;
+            }
+        }
+        fresh.clear();
+        std::mem::swap(&mut self.arcs[dir], &mut self.merged);
+    }
+
+    /// Records the arcs of angles at which disc `k` blocks a tangent ray of the disc of
+    /// centre `c` and radius `r` (see the type's doc).
+    fn blocking_arcs(arcs: &mut [Vec<(Real, Real, Real)>; 2], c: Point, r: Real, k: &Circle) {
+        let v = k.center - c;
+        let d = v.norm();
+        let rho = k.radius * (1.0 - SLACK) * Self::SHRINK;
+        if d == 0.0 || !(d.is_finite() && rho > 0.0) {
+            return;
+        }
+        let phi = v.y.atan2(v.x);
+        let mut push = |dir: usize, reach: Real, from: Real, to: Real| {
+            let (from, to) = (from + Self::ANGLE_MARGIN, to - Self::ANGLE_MARGIN);
+            if to > from {
+                let start = wrap(phi + from);
+                let end = start + (to - from);
+                if end > TAU {
+                    arcs[dir].push((start, TAU, reach));
+                    arcs[dir].push((0.0, end - TAU, reach));
+                } else {
+                    arcs[dir].push((start, end, reach));
+                }
+            }
+        };
+        // The tangent point inside disc k: cos theta > x. Blocks both directions at once.
+        let x = (d * d + r * r - rho * rho) / (2.0 * d * r);
+        if x <= -1.0 {
+            for list in arcs.iter_mut() {
+                list.push((0.0, TAU, 0.0));
+            }
+            return;
+        }
+        if x < 1.0 {
+            let h = x.acos();
+            push(0, 0.0, -h, h);
+            push(1, 0.0, -h, h);
+        }
+        // The ray's line within rho of the centre, the centre ahead: cos theta in (lo, hi).
+        let (lo, hi) = ((r - rho) / d, (r + rho) / d);
+        if lo < 1.0 {
+            let (near, far) = (hi.min(1.0).acos(), lo.max(-1.0).acos());
+            push(0, d, -far, -near);
+            push(1, d, near, far);
+        }
+    }
+
+    /// Appends to `out` the angles the sorted arcs usable within `limit` leave uncovered
+    /// (as `(from, to)`, `from < to`), each turned by `turn`.
+    fn gaps(arcs: &[(Real, Real, Real)], limit: Real, turn: Real, out: &mut Vec<(Real, Real)>) {
+        let mut upto: Real = 0.0;
+        for &(from, to, reach) in arcs {
+            if reach >= limit {
+                continue;
+            }
+            if from > upto {
+                out.push((upto + turn, from + turn));
+            }
+            upto = upto.max(to);
+            if upto >= TAU {
+                return;
+            }
+        }
+        out.push((upto + turn, TAU + turn));
+    }
+}
+
+/// Removes the angles of `[from, to]` (`to - from` in `[0, 2 pi]`, taken modulo 2 pi)
+/// from the arcs `(a, b)` of `arcs` (`b - a` in `[0, 2 pi]`).
+fn cut(arcs: &mut Vec<(Real, Real)>, scratch: &mut Vec<(Real, Real)>, from: Real, to: Real) {
+    scratch.clear();
+    for &(a, b) in arcs.iter() {
+        // The cut moved by whole turns to start at or after a.
+        let start = a + (from - a).rem_euclid(TAU);
+        let end = start + (to - from);
+        // The cut's turn before this one may still cover the arc's start.
+        let (prev_start, prev_end) = (start - TAU, end - TAU);
+        let mut lo = a;
+        if prev_end > lo && prev_start <= lo {
+            lo = prev_end;
+        }
+        if lo >= b {
+            continue;
+        }
+        if start >= b {
+            scratch.push((lo, b));
+        } else {
+            if start > lo {
+                scratch.push((lo, start));
+            }
+            if end < b {
+                scratch.push((end, b));
+            }
+        }
+    }
+    std::mem::swap(arcs, scratch);
+}
+
+/// Whether the arc of angles from `a` of length `la` meets the arc from `b` of length `lb`
+/// (closed; lengths in `[0, 2 pi]`).
+fn overlap(a: Real, la: Real, b: Real, lb: Real) -> bool {
+    (b - a).rem_euclid(TAU) <= la || (a - b).rem_euclid(TAU) <= lb
+}
+
 /// The unit vector at angle `a`.
 fn at(a: Real) -> Vector {
     Vector::new(a.cos(), a.sin())
@@ -448,7 +796,7 @@ impl TangentGraph {
         {
             return Ok(None);
         }
-        Ok(Some(Self::new(start, goal, discs, bound)))
+        Ok(Some(Self::new(start, goal, discs, bound, Pairs::Visible)))
     }
 
     /// The nodes' points.
@@ -461,7 +809,7 @@ impl TangentGraph {
         &self.edges[node]
     }
 
-    fn new(start: &Point, goal: &Point, discs: Vec<Circle>, bound: Real) -> Self {
+    fn new(start: &Point, goal: &Point, discs: Vec<Circle>, bound: Real, pairs: Pairs) -> Self {
         let mut g = Self {
             on_disc: vec![Vec::new(); discs.len()],
             index: DiscIndex::new(&discs),
@@ -483,7 +831,13 @@ impl TangentGraph {
         if (s - t).norm() <= bound {
             g.segment(None, None, s, t);
         }
-        for (n, &i) in kept.iter().enumerate() {
+        let mut is_kept = vec![false; discs.len()];
+        for &i in &kept {
+            is_kept[i] = true;
+        }
+        let mut reach = Reach::new(discs.len());
+        let mut partners = Vec::new();
+        for &i in &kept {
             let d = &discs[i];
             // Tangents from each end point.
             for (node, p) in [(0usize, *start), (1, *goal)] {
@@ -505,8 +859,13 @@ impl TangentGraph {
                 }
             }
             // Outer and inner tangents to every later disc a route within the bound may
-            // pass along with this one.
-            for &j in &kept[n + 1..] {
+            // pass along with this one, among those a tangent of this one can reach.
+            match pairs {
+                Pairs::Visible => reach.partners(&g.discs, &g.index, i, &mut partners),
+                #[cfg(test)]
+                Pairs::All => partners = (0..discs.len()).collect(),
+            }
+            for &j in partners.iter().filter(|&&j| j > i && is_kept[j]) {
                 let e = &discs[j];
                 let v = e.center - d.center;
                 let dist = v.norm();
@@ -813,6 +1172,91 @@ mod tests {
         }
     }
 
+    /// The graph built from the visible pairs and from every pair, on grown discs.
+    fn both(
+        s: Point,
+        t: Point,
+        discs: &[Circle],
+        clearance: Real,
+    ) -> Option<(TangentGraph, TangentGraph)> {
+        let grown: Vec<Circle> = discs.iter().map(|c| c.inflated(clearance)).collect();
+        if grown.iter().any(|d| inside(d, &s) || inside(d, &t)) {
+            return None;
+        }
+        let visible = TangentGraph::new(&s, &t, grown.clone(), Real::INFINITY, Pairs::Visible);
+        let all = TangentGraph::new(&s, &t, grown, Real::INFINITY, Pairs::All);
+        Some((visible, all))
+    }
+
+    proptest! {
+        /// The pairs left out are those whose every tangent is blocked: the graph is the
+        /// same, node for node and edge for edge, in sparse fields, dense fields and
+        /// clusters of overlapping discs.
+        #[test]
+        fn the_visible_pairs_give_the_graph_of_every_pair(
+            discs in prop::collection::vec((-15.0..15.0f64, -15.0..15.0f64, 0.05..3.0f64), 1..120),
+            clearance in 0.0..0.8f64,
+        ) {
+            let discs: Vec<Circle> = discs.iter().map(|&(x, y, r)| Circle::new(x, y, r)).collect();
+            let (s, t) = (Point::new(-16.0, -16.0), Point::new(16.0, 15.5));
+            let Some((visible, all)) = both(s, t, &discs, clearance) else { return Ok(()) };
+            prop_assert_eq!(&visible.nodes, &all.nodes);
+            prop_assert_eq!(&visible.edges, &all.edges);
+        }
+    }
+
+    /// `n` discs uniform in a square of side `sqrt(n)`, radius 0.3 to 0.45: a third of the
+    /// area covered, whatever `n`.
+    fn field(n: usize, seed: u64) -> Vec<Circle> {
+        let mut seed = seed;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as Real / (1u64 << 53) as Real
+        };
+        let side = (n as Real).sqrt();
+        (0..n)
+            .map(|_| Circle::new(side * next(), side * next(), 0.3 + 0.15 * next()))
+            .collect()
+    }
+
+    /// The mean number of partners of the discs within 5 of the middle of a field.
+    fn mean_partners(discs: &[Circle]) -> Real {
+        let grown: Vec<Circle> = discs.iter().map(|c| c.inflated(0.05)).collect();
+        let index = DiscIndex::new(&grown);
+        let middle = Point::new(1.0, 1.0) * (discs.len() as Real).sqrt() / 2.0;
+        let mut reach = Reach::new(grown.len());
+        let (mut sum, mut count, mut out) = (0, 0, Vec::new());
+        for (i, d) in grown.iter().enumerate() {
+            if (d.center - middle).norm() < 5.0 {
+                reach.partners(&grown, &index, i, &mut out);
+                sum += out.len();
+                count += 1;
+            }
+        }
+        sum as Real / count as Real
+    }
+
+    /// A disc's partners are the discs its free rays can reach, as many in a field four
+    /// times as large of the same density: the pair tests grow as the discs, not their
+    /// square. The graph is still that of every pair.
+    #[test]
+    fn partners_do_not_grow_with_the_field() {
+        let (small, large) = (field(900, 7), field(3600, 7));
+        let (p_small, p_large) = (mean_partners(&small), mean_partners(&large));
+        assert!(p_small < 900.0 / 3.0, "{p_small} partners of 900");
+        assert!(
+            p_large < 1.5 * p_small,
+            "{p_large} partners of 3600 against {p_small} of 900"
+        );
+        let (s, t) = (Point::new(-1.0, -1.0), Point::new(30.5, 30.5));
+        let (visible, all) = both(s, t, &small, 0.05).unwrap();
+        assert_eq!(visible.nodes, all.nodes);
+        assert_eq!(visible.edges, all.edges);
+        assert!(visible.shortest().is_some());
+    }
+
     #[test]
     fn a_clear_segment_is_its_own_shortest_path() {
         let c = [Circle::new(0.0, 5.0, 1.0)];
@@ -857,6 +1301,7 @@ mod tests {
             &Point::new(9.0, 9.0),
             discs.to_vec(),
             Real::INFINITY,
+            Pairs::Visible,
         );
         let h = (14.0 / 18.0 as Real).acos();
         assert!(!g.arc_is_free(0, TAU - 1.0, TAU + 1.0));
@@ -880,7 +1325,7 @@ mod tests {
         // tangent along y = 1 (length 1), the same on the right.
         let d: Real = 4.5;
         let tangent = (d * d - 1.0).sqrt();
-        let arc = std::f64::consts::FRAC_PI_2 - (1.0 / d).acos();
+        let arc = FRAC_PI_2 - (1.0 / d).acos();
         let exact = 2.0 * (tangent + arc) + 1.0;
         assert!((len - exact).abs() < 1e-9, "{len} vs {exact}");
     }
