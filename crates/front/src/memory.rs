@@ -41,6 +41,26 @@ pub struct OutOfMemory {
 }
 
 /// The address space a plan on `cells` grid cells may need, bytes.
+///
+/// # Examples
+///
+/// ```
+/// use homospline_front::memory::{BASE_BYTES, OutOfMemory, needed};
+///
+/// assert_eq!(needed(0), BASE_BYTES);
+/// assert_eq!(needed(1 << 20), BASE_BYTES + 130 * (1 << 20));
+/// assert_eq!(needed(u64::MAX), u64::MAX);
+/// // The message names what needs the memory, how much, and the limit.
+/// let e = OutOfMemory {
+///     what: "map m (2048 x 2048 cells)".into(),
+///     cells: 2048 * 2048,
+///     needed: needed(2048 * 2048),
+///     limit: 409_600_000,
+/// };
+/// let text = e.to_string();
+/// assert!(text.starts_with("map m (2048 x 2048 cells) needs up to about 713 MB"), "{text}");
+/// assert!(text.contains("may use 409 MB"), "{text}");
+/// ```
 pub fn needed(cells: u64) -> u64 {
     BASE_BYTES.saturating_add(cells.saturating_mul(BYTES_PER_CELL))
 }
@@ -48,6 +68,29 @@ pub fn needed(cells: u64) -> u64 {
 /// The grid cells `map` is prepared on for a robot of `radius`: the lattice of
 /// [`Lattice::of`] for a disc (half-cell, or the cell centres on maps too large for it),
 /// the map's own cells for a point.
+///
+/// # Examples
+///
+/// ```
+/// use homospline_front::memory::map_cells;
+/// use homospline_geom::Point;
+/// use homospline_maps::OccupancyMap;
+///
+/// let map = |width: usize, height: usize| OccupancyMap {
+///     name: "m".into(),
+///     width,
+///     height,
+///     cell: 1.0,
+///     origin: Point::origin(),
+///     occupied: vec![false; width * height],
+///     y_down: false,
+/// };
+/// assert_eq!(map_cells(&map(10, 20), 0.0), 200);
+/// // A disc: the half-cell lattice.
+/// assert_eq!(map_cells(&map(10, 20), 0.5), 21 * 41);
+/// // Too large for it: the cell centres.
+/// assert_eq!(map_cells(&map(4096, 4096), 0.5), 4096 * 4096);
+/// ```
 pub fn map_cells(map: &OccupancyMap, radius: f64) -> u64 {
     if radius > 0.0 {
         let l = Lattice::of(map);
@@ -100,45 +143,5 @@ pub fn address_space_limit() -> Option<u64> {
     #[cfg(not(unix))]
     {
         None
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn needs_grow_with_the_cells_and_name_the_limit() {
-        assert_eq!(needed(0), BASE_BYTES);
-        assert_eq!(needed(1 << 20), BASE_BYTES + 130 * (1 << 20));
-        assert_eq!(needed(u64::MAX), u64::MAX);
-        let e = OutOfMemory {
-            what: "map m (2048 x 2048 cells)".into(),
-            cells: 2048 * 2048,
-            needed: needed(2048 * 2048),
-            limit: 409_600_000,
-        };
-        let text = e.to_string();
-        assert!(
-            text.starts_with("map m (2048 x 2048 cells) needs up to about 713 MB"),
-            "{text}"
-        );
-        assert!(text.contains("may use 409 MB"), "{text}");
-    }
-
-    #[test]
-    fn a_disc_is_prepared_on_the_half_cell_lattice() {
-        let map = |width: usize, height: usize| OccupancyMap {
-            name: "m".into(),
-            width,
-            height,
-            cell: 1.0,
-            origin: homospline_geom::Point::origin(),
-            occupied: vec![false; width * height],
-            y_down: false,
-        };
-        assert_eq!(map_cells(&map(10, 20), 0.0), 200);
-        assert_eq!(map_cells(&map(10, 20), 0.5), 21 * 41);
-        assert_eq!(map_cells(&map(4096, 4096), 0.5), 4096 * 4096);
     }
 }

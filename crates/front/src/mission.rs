@@ -19,13 +19,44 @@ fn who(r: Robot) -> String {
 /// Class names as the event lines print them: letters in the order the mission first names
 /// the classes (A is the first class driven), with the id `plan --avoid` takes when
 /// [`ClassNames::Id`]. The JSON keeps signatures whole.
-struct Labels {
+///
+/// # Examples
+///
+/// ```
+/// use homospline_front::report::ClassNames;
+/// use homospline_front::mission::Labels;
+///
+/// let a: String = (1..=60).map(|i| format!("-{i}")).collect();
+/// let b = a.replacen("-30", "+30", 1);
+/// let mut letters = Labels::new(ClassNames::Letter);
+/// assert_eq!(letters.label(&a), "A");
+/// assert_eq!(letters.label("-1+2"), "B");
+/// assert_eq!(letters.label(&a), "A", "a class keeps its letter");
+/// assert_eq!(letters.label(&b), "C");
+/// let mut ids = Labels::new(ClassNames::Id);
+/// assert_eq!(ids.label("-1+2"), "A -1+2");
+/// let (la, lb) = (ids.label(&a), ids.label(&b));
+/// assert_eq!(la.len(), 2 + 9, "{la}");
+/// // Signatures that differ in the middle keep different ids.
+/// assert_ne!(la[2..], lb[2..]);
+/// ```
+#[derive(Clone, Debug)]
+pub struct Labels {
     names: ClassNames,
     seen: Vec<String>,
 }
 
 impl Labels {
-    fn label(&mut self, signature: &str) -> String {
+    /// No class named yet.
+    pub fn new(names: ClassNames) -> Self {
+        Self {
+            names,
+            seen: Vec::new(),
+        }
+    }
+
+    /// The name of the class of `signature`: a new letter the first time.
+    pub fn label(&mut self, signature: &str) -> String {
         let k = match self.seen.iter().position(|s| s == signature) {
             Some(k) => k,
             None => {
@@ -141,10 +172,7 @@ pub fn map_mission_text(world: &MapWorld, r: &MissionResult, names: ClassNames) 
 
 fn text_with(head: &str, ugv_speed: Real, r: &MissionResult, names: ClassNames) -> String {
     let mut s = String::new();
-    let mut labels = Labels {
-        names,
-        seen: Vec::new(),
-    };
+    let mut labels = Labels::new(names);
     let _ = writeln!(s, "{head}");
     for e in &r.events {
         let _ = writeln!(
@@ -275,35 +303,4 @@ fn json_with(ugv_speed: Real, r: &MissionResult) -> String {
             .collect();
     }
     serde_json::to_string_pretty(&doc).unwrap_or_default() + "\n"
-}
-
-#[cfg(test)]
-mod tests {
-    use super::{ClassNames, Labels};
-
-    #[test]
-    fn classes_are_lettered_in_order_of_appearance_with_short_ids_told_apart() {
-        let a: String = (1..=60).map(|i| format!("-{i}")).collect();
-        let b = a.replacen("-30", "+30", 1);
-        let mut letters = Labels {
-            names: ClassNames::Letter,
-            seen: Vec::new(),
-        };
-        assert_eq!(letters.label(&a), "A");
-        assert_eq!(letters.label("-1+2"), "B");
-        assert_eq!(letters.label(&a), "A", "a class keeps its letter");
-        assert_eq!(letters.label(&b), "C");
-        let mut ids = Labels {
-            names: ClassNames::Id,
-            seen: Vec::new(),
-        };
-        assert_eq!(ids.label("-1+2"), "A -1+2");
-        let (la, lb) = (ids.label(&a), ids.label(&b));
-        assert_eq!(la.len(), 2 + 9, "{la}");
-        assert_ne!(
-            la[2..],
-            lb[2..],
-            "names that differ in the middle keep different ids"
-        );
-    }
 }

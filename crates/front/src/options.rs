@@ -274,6 +274,60 @@ impl PlanOptions {
     /// Checks every option and gives the planner's configuration for `scene` (its danger
     /// and critical points and hazards join the cost), or for a map when `scene` is `None`
     /// (the map defaults).
+    ///
+    /// # Examples
+    ///
+    /// The defaults are the planner's, for a scene and for a map:
+    ///
+    /// ```
+    /// use homospline_front::{EXAMPLE_SCENE, OrOff, PlanOptions};
+    /// use homospline_geom::Scene;
+    /// use homospline_optim::PlanConfig;
+    ///
+    /// let scene = Scene::from_str(EXAMPLE_SCENE, "example").unwrap();
+    /// let cfg = PlanOptions::default().validate(Some(&scene)).unwrap();
+    /// let base = PlanConfig::default();
+    /// assert_eq!(cfg.classes, base.classes);
+    /// assert_eq!(cfg.prune, base.prune);
+    /// assert_eq!(cfg.finish_within, base.finish_within);
+    /// assert_eq!(cfg.growth.max_rounds, base.growth.max_rounds);
+    /// let map = PlanOptions::default().validate(None).unwrap();
+    /// assert_eq!(map.growth.cost, homospline_maps::map_config().growth.cost);
+    /// // "off" reads as off.
+    /// assert_eq!("off".parse::<OrOff<f64>>(), Ok(OrOff::Off));
+    /// assert_eq!("2".parse::<OrOff<f64>>(), Ok(OrOff::On(2.0)));
+    /// ```
+    ///
+    /// An error names the option as the command line spells it, or as Python does:
+    ///
+    /// ```
+    /// use homospline_front::{PlanOptions, Spelling};
+    /// use homospline_optim::Seed;
+    ///
+    /// let e = PlanOptions { seed: Seed::Straight, classes: Some(3), ..Default::default() }
+    ///     .validate(None)
+    ///     .unwrap_err();
+    /// assert_eq!(
+    ///     e.spelled(Spelling::Flag),
+    ///     "--classes 3: --seed straight plans one class, from the straight line S-T"
+    /// );
+    /// assert_eq!(
+    ///     e.spelled(Spelling::Keyword),
+    ///     "classes=3: seed straight plans one class, from the straight line S-T"
+    /// );
+    /// let e = PlanOptions { clearance_floor: -1.0, ..Default::default() }
+    ///     .validate(None)
+    ///     .unwrap_err();
+    /// assert_eq!(e.spelled(Spelling::Keyword), "clearance_floor=-1: must be a finite number >= 0");
+    /// let e = PlanOptions { weights: vec![("safty".into(), 1.0)], ..Default::default() }
+    ///     .validate(None)
+    ///     .unwrap_err();
+    /// assert!(e
+    ///     .spelled(Spelling::Keyword)
+    ///     .starts_with("weights['safty']=1: unknown weight or parameter 'safty'"));
+    /// // Its Display is the command line's spelling.
+    /// assert!(e.to_string().starts_with("--weight safty=1: unknown weight"));
+    /// ```
     pub fn validate(&self, scene: Option<&Scene>) -> Result<PlanConfig, OptionError> {
         self.check_ranges(scene)?;
         self.check_seed()?;
@@ -419,74 +473,5 @@ impl PlanOptions {
             .naming(Opt::Seed));
         }
         Ok(())
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn errors_name_the_option_in_each_spelling() {
-        let e = PlanOptions {
-            seed: Seed::Straight,
-            classes: Some(3),
-            ..Default::default()
-        }
-        .validate(None)
-        .unwrap_err();
-        assert_eq!(
-            e.spelled(Spelling::Flag),
-            "--classes 3: --seed straight plans one class, from the straight line S-T"
-        );
-        assert_eq!(
-            e.spelled(Spelling::Keyword),
-            "classes=3: seed straight plans one class, from the straight line S-T"
-        );
-        let e = PlanOptions {
-            clearance_floor: -1.0,
-            ..Default::default()
-        }
-        .validate(None)
-        .unwrap_err();
-        assert_eq!(
-            e.spelled(Spelling::Keyword),
-            "clearance_floor=-1: must be a finite number >= 0"
-        );
-        let e = PlanOptions {
-            weights: vec![("safty".into(), 1.0)],
-            ..Default::default()
-        }
-        .validate(None)
-        .unwrap_err();
-        assert!(
-            e.spelled(Spelling::Keyword)
-                .starts_with("weights['safty']=1: unknown weight or parameter 'safty'"),
-            "{}",
-            e.spelled(Spelling::Keyword)
-        );
-        assert!(
-            e.to_string()
-                .starts_with("--weight safty=1: unknown weight")
-        );
-    }
-
-    #[test]
-    fn defaults_are_the_planners() {
-        let scene = Scene::from_str(crate::EXAMPLE_SCENE, "example").unwrap();
-        let cfg = PlanOptions::default().validate(Some(&scene)).unwrap();
-        let base = PlanConfig::default();
-        assert_eq!(cfg.classes, base.classes);
-        assert_eq!(cfg.prune, base.prune);
-        assert_eq!(cfg.finish_within, base.finish_within);
-        assert_eq!(cfg.growth.max_rounds, base.growth.max_rounds);
-        let map = PlanOptions::default().validate(None).unwrap();
-        assert_eq!(map.growth.cost, homospline_maps::map_config().growth.cost);
-        assert_eq!(
-            "off".parse::<OrOff<f64>>(),
-            Ok(OrOff::Off),
-            "off reads as off"
-        );
-        assert_eq!("2".parse::<OrOff<f64>>(), Ok(OrOff::On(2.0)));
     }
 }

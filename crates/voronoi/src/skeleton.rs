@@ -48,9 +48,36 @@ const RING: [(i64, i64); 8] = [
     (1, -1),
 ];
 
-/// Whether a free cell whose free 8-neighbours are the set bits of `mask` (bit k: `RING[k]`)
-/// is simple for (4, 8) topology.
-fn simple_from_mask(mask: u8) -> bool {
+/// Whether a free cell whose free 8-neighbours are the set bits of `mask` is *simple* for
+/// (4, 8) topology: removing it from the free cells (4-connected) changes neither their
+/// components nor those of the occupied cells (8-connected). The thinning that makes the
+/// skeleton removes only simple cells.
+///
+/// Bit `k` of `mask` is the neighbour at `k` eighths of a turn counter-clockwise from east
+/// in (column, row): bit 0 east, 1 north-east, 2 north, 3 north-west, 4 west, 5
+/// south-west, 6 south, 7 south-east.
+///
+/// # Examples
+///
+/// ```
+/// use homospline_voronoi::skeleton::simple_from_mask;
+///
+/// // Isolated: removing it deletes a component.
+/// assert!(!simple_from_mask(0));
+/// // Interior: removing it makes a hole.
+/// assert!(!simple_from_mask(0xff));
+/// // The end of a line (east neighbour only).
+/// assert!(simple_from_mask(0b0000_0001));
+/// // The middle of a horizontal line (east and west): removing it splits the line.
+/// assert!(!simple_from_mask(0b0001_0001));
+/// // East and north, not joined through north-east: two 4-components.
+/// assert!(!simple_from_mask(0b0000_0101));
+/// // East, north-east, north: one component.
+/// assert!(simple_from_mask(0b0000_0111));
+/// // Only a diagonal neighbour: not 4-adjacent, so the cell is a component of its own.
+/// assert!(!simple_from_mask(0b0000_0010));
+/// ```
+pub fn simple_from_mask(mask: u8) -> bool {
     let fg = |k: usize| mask >> k & 1 == 1;
     // Components by flood fill over the ring's 8 cells with the given adjacency.
     let count = |member: &dyn Fn(usize) -> bool,
@@ -403,29 +430,5 @@ pub fn trace(grid: &Grid, field: &DistanceField, keep: &[bool]) -> VoronoiGraph 
         goal: None,
         obstacles: GridObstacle::of_field(grid, field),
         built_for: None,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn simple_points_of_known_neighbourhoods() {
-        // Isolated: removing it deletes a component.
-        assert!(!simple_from_mask(0));
-        // Interior: removing it makes a hole.
-        assert!(!simple_from_mask(0xff));
-        // End of a line (east neighbour only).
-        assert!(simple_from_mask(0b0000_0001));
-        // Middle of a horizontal line (east and west): removing it splits the line.
-        assert!(!simple_from_mask(0b0001_0001));
-        // East and north, not joined through north-east: two 4-components.
-        assert!(!simple_from_mask(0b0000_0101));
-        // East, north-east, north: one component.
-        assert!(simple_from_mask(0b0000_0111));
-        // Only a diagonal neighbour: not 4-adjacent, so removing it changes nothing but it
-        // is a component of its own (T4 = 0): not simple.
-        assert!(!simple_from_mask(0b0000_0010));
     }
 }
