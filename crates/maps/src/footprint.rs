@@ -32,6 +32,7 @@ use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 use homospline_geom::{Point, Real};
+use homospline_voronoi::grid::neighbours_8;
 use rustc_hash::FxHashMap;
 
 use crate::{GridModel, MAX_MAP_CELLS, OccupancyMap};
@@ -395,30 +396,12 @@ pub fn widest_route(map: &OccupancyMap, truth: &GridModel, start: Point, goal: P
                 next.push((v * lattice.cols + u, None));
             }
         } else {
-            let (u, v) = ((k % lattice.cols) as i64, (k / lattice.cols) as i64);
-            for (du, dv) in [
-                (1i64, 0i64),
-                (-1, 0),
-                (0, 1),
-                (0, -1),
-                (1, 1),
-                (-1, -1),
-                (1, -1),
-                (-1, 1),
-            ] {
-                let (nu, nv) = (u + du, v + dv);
-                if nu < 0 || nv < 0 || nu >= lattice.cols as i64 || nv >= lattice.rows as i64 {
-                    continue;
-                }
-                let dips = du != 0
-                    && dv != 0
-                    && lattice.diagonal_can_dip(u.min(nu) as usize, v.min(nv) as usize);
-                next.push((
-                    nv as usize * lattice.cols + nu as usize,
-                    dips.then_some((0.0, at_k)),
-                ));
+            let (u, v) = (k % lattice.cols, k / lattice.cols);
+            for ((nu, nv), (du, dv)) in neighbours_8(u, v, lattice.cols, lattice.rows) {
+                let dips = du != 0 && dv != 0 && lattice.diagonal_can_dip(u.min(nu), v.min(nv));
+                next.push((nv * lattice.cols + nu, dips.then_some((0.0, at_k))));
             }
-            if goal_corners.contains(&((u as usize), (v as usize))) {
+            if goal_corners.contains(&(u, v)) {
                 next.push((g_id, Some((0.0, at_k))));
             }
         }

@@ -133,13 +133,7 @@ impl GridModel {
     }
 
     fn cell_of(&self, p: &Point) -> Option<(usize, usize)> {
-        let fx = (p.x - self.origin.x) / self.cell;
-        let fy = (p.y - self.origin.y) / self.cell;
-        if !(fx >= 0.0 && fy >= 0.0) {
-            return None;
-        }
-        let (i, j) = (fx as usize, fy as usize);
-        (i < self.w && j < self.h).then_some((i, j))
+        homospline_voronoi::grid::cell_holding(&self.origin, self.cell, self.w, self.h, p)
     }
 
     /// Exact distance from `p` to the nearest occupied cell (negative inside one: minus the

@@ -259,29 +259,13 @@ impl MapGraph {
                 path.reverse();
                 return Ok((path, a));
             }
-            let (ci, cj) = ((c % w) as i64, (c / w) as i64);
-            for (di, dj) in [
-                (1i64, 0i64),
-                (0, 1),
-                (-1, 0),
-                (0, -1),
-                (1, 1),
-                (-1, 1),
-                (-1, -1),
-                (1, -1),
-            ] {
-                let (ni, nj) = (ci + di, cj + dj);
-                if ni < 0 || nj < 0 || ni >= w as i64 || nj >= h as i64 {
-                    continue;
-                }
-                let n = nj as usize * w + ni as usize;
+            let (ci, cj) = (c % w, c / w);
+            for ((ni, nj), (di, dj)) in crate::grid::neighbours_8(ci, cj, w, h) {
+                let n = nj * w + ni;
                 if occ[n] {
                     continue;
                 }
-                if di != 0
-                    && dj != 0
-                    && (occ[cj as usize * w + ni as usize] || occ[nj as usize * w + ci as usize])
-                {
+                if di != 0 && dj != 0 && (occ[cj * w + ni] || occ[nj * w + ci]) {
                     continue;
                 }
                 let len = if di != 0 && dj != 0 {
@@ -289,7 +273,7 @@ impl MapGraph {
                 } else {
                     1.0
                 };
-                let c_n = field.clearance_cells(ni as usize, nj as usize).max(0.5);
+                let c_n = field.clearance_cells(ni, nj).max(0.5);
                 let nd = d + len * (1.0 + WALL_AVERSION / c_n);
                 if best.get(&n).is_none_or(|&(b, _)| nd < b) {
                     best.insert(n, (nd, c));

@@ -6,6 +6,64 @@ use thiserror::Error;
 /// Largest grid, in cells, the field can label exactly (keys are raster indices below 2^25).
 pub const MAX_CELLS: usize = 1 << 25;
 
+/// The offsets `(di, dj)` of a cell's 8 neighbours in ring order: east first, then
+/// counter-clockwise in (column, row); the even entries are the 4-neighbours.
+pub const NEIGHBOURS_8: [(i64, i64); 8] = [
+    (1, 0),
+    (1, 1),
+    (0, 1),
+    (-1, 1),
+    (-1, 0),
+    (-1, -1),
+    (0, -1),
+    (1, -1),
+];
+
+/// The neighbours of cell `(i, j)` that lie inside a `width x height` grid, in
+/// [`NEIGHBOURS_8`] order: each one's cell and its offset `(di, dj)`.
+///
+/// # Examples
+///
+/// ```
+/// use homospline_voronoi::grid::neighbours_8;
+///
+/// // A corner cell has three neighbours.
+/// let around: Vec<_> = neighbours_8(0, 0, 4, 3).map(|(cell, _)| cell).collect();
+/// assert_eq!(around, [(1, 0), (1, 1), (0, 1)]);
+/// assert_eq!(neighbours_8(1, 1, 4, 3).count(), 8);
+/// ```
+pub fn neighbours_8(
+    i: usize,
+    j: usize,
+    width: usize,
+    height: usize,
+) -> impl Iterator<Item = ((usize, usize), (i64, i64))> {
+    NEIGHBOURS_8.into_iter().filter_map(move |(di, dj)| {
+        let (ni, nj) = (i as i64 + di, j as i64 + dj);
+        (ni >= 0 && nj >= 0 && ni < width as i64 && nj < height as i64)
+            .then_some(((ni as usize, nj as usize), (di, dj)))
+    })
+}
+
+/// The cell of a `width x height` grid of square cells of side `cell`, lower-left corner at
+/// `origin`, that holds `p` (a point on a side goes to the cell above or right of it);
+/// `None` outside the grid or for a point that is not a number.
+pub fn cell_holding(
+    origin: &Point,
+    cell: Real,
+    width: usize,
+    height: usize,
+    p: &Point,
+) -> Option<(usize, usize)> {
+    let fx = (p.x - origin.x) / cell;
+    let fy = (p.y - origin.y) / cell;
+    if !(fx >= 0.0 && fy >= 0.0) {
+        return None;
+    }
+    let (i, j) = (fx as usize, fy as usize);
+    (i < width && j < height).then_some((i, j))
+}
+
 /// How close to a cell side, in cells, a point counts as on it ([`cells_holding`]).
 pub const ON_SIDE: Real = 1e-9;
 
@@ -284,12 +342,6 @@ impl Grid {
 
     /// The cell holding `p`, if any.
     pub fn cell_of(&self, p: &Point) -> Option<(usize, usize)> {
-        let fx = (p.x - self.origin.x) / self.cell;
-        let fy = (p.y - self.origin.y) / self.cell;
-        if !(fx >= 0.0 && fy >= 0.0) {
-            return None;
-        }
-        let (i, j) = (fx as usize, fy as usize);
-        (i < self.width && j < self.height).then_some((i, j))
+        cell_holding(&self.origin, self.cell, self.width, self.height, p)
     }
 }

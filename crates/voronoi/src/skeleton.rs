@@ -35,18 +35,8 @@ use crate::grid::Grid;
 use crate::simplify::{edge_along, simplify};
 use crate::trace::{self as chains, Lattice};
 
-/// Neighbour offsets in ring order, starting east, counter-clockwise in (i, j); even entries
-/// are the 4-neighbours.
-const RING: [(i64, i64); 8] = [
-    (1, 0),
-    (1, 1),
-    (0, 1),
-    (-1, 1),
-    (-1, 0),
-    (-1, -1),
-    (0, -1),
-    (1, -1),
-];
+/// Neighbour offsets in ring order, starting east, counter-clockwise.
+use crate::grid::NEIGHBOURS_8 as RING;
 
 /// Whether a free cell whose free 8-neighbours are the set bits of `mask` is *simple* for
 /// (4, 8) topology: removing it from the free cells (4-connected) changes neither their

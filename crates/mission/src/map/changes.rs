@@ -2,6 +2,7 @@
 //! state differs, each all blocked or all freed.
 
 use homospline_maps::OccupancyMap;
+use homospline_voronoi::grid::neighbours_8;
 
 use crate::world::types::Change;
 
@@ -24,18 +25,11 @@ pub(super) fn changes(prior: &OccupancyMap, truth: &OccupancyMap) -> Vec<Change>
         while n < cells.len() {
             let k = cells[n];
             n += 1;
-            let (i, j) = ((k % w) as i64, (k / w) as i64);
-            for dj in -1..=1 {
-                for di in -1..=1 {
-                    let (x, y) = (i + di, j + dj);
-                    if x < 0 || y < 0 || x >= w as i64 || y >= h as i64 {
-                        continue;
-                    }
-                    let q = y as usize * w + x as usize;
-                    if !seen[q] && differs(q) && truth.occupied[q] == blocked {
-                        seen[q] = true;
-                        cells.push(q);
-                    }
+            for ((x, y), _) in neighbours_8(k % w, k / w, w, h) {
+                let q = y * w + x;
+                if !seen[q] && differs(q) && truth.occupied[q] == blocked {
+                    seen[q] = true;
+                    cells.push(q);
                 }
             }
         }
