@@ -125,7 +125,7 @@ fn bench(c: &mut Criterion) {
     // of Boston_0_256's .scen, planned one after another on the prepared map (an
     // iteration's time over 20 is the mean per plan), for a point and for a disc of radius 1.
     let (boston, scen) = fixture("Boston_0_256");
-    let picked: Vec<_> = homospline_maps::bench::sample_indices(scen.len(), 20)
+    let picked: Vec<_> = homospline_maps::sweep::sample_indices(scen.len(), 20)
         .into_iter()
         .map(|i| &scen[i])
         .collect();

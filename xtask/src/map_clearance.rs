@@ -29,7 +29,7 @@
 
 use anyhow::{Context, Result, bail};
 use homospline_geom::{Point, Real};
-use homospline_maps::{MapError, PreparedMap, bench::sample_indices, movingai};
+use homospline_maps::{MapError, PreparedMap, movingai, sweep::sample_indices};
 use homospline_spline::ClearanceModel;
 
 /// Options of the command.

@@ -10,7 +10,7 @@ use homospline_optim::default_resolution;
 use homospline_spline::CostConfig;
 
 use crate::args::GraphArgs;
-use crate::bench::shard_of;
+use crate::bench_scen::shard_of;
 use crate::input::{Reads, load_input};
 use crate::out::{bad, check_outputs, write};
 use crate::picture;

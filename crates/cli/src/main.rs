@@ -10,7 +10,7 @@ use clap::{Parser, Subcommand};
 #[macro_use]
 mod out;
 mod args;
-mod bench;
+mod bench_scen;
 mod graph;
 mod input;
 mod mission_svg;
@@ -89,10 +89,10 @@ fn main() -> ExitCode {
         Command::Check { scene } => check(&scene),
         Command::Graph(args) => graph::run(args),
         Command::Plan(args) => plan::plan(*args),
-        Command::BenchScen(args) => bench::bench_scen(args),
+        Command::BenchScen(args) => bench_scen::bench_scen(args),
         Command::Simulate(args) => simulate::simulate(args),
         Command::Serve(args) => serve::serve(&args.dir, &args.bind, args.port, args.memory_limit),
-        Command::BenchMerge { csv, out } => bench::bench_merge(&csv, out.as_deref()),
+        Command::BenchMerge { csv, out } => bench_scen::bench_merge(&csv, out.as_deref()),
     });
     match result {
         Ok(code) => ExitCode::from(code),

@@ -7,7 +7,7 @@ use homospline_geom::math::Num;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use homospline_maps::bench::{self, CSV_HEADER, Row, Shard};
+use homospline_maps::sweep::{self, CSV_HEADER, Row, Shard};
 use homospline_maps::{OccupancyMap, PreparedMap, movingai};
 use homospline_optim::PlanConfig;
 
@@ -219,7 +219,7 @@ fn pick(job: &BenchJob) -> Result<Picked, String> {
         let scen = movingai::read_scen(&text, &name).map_err(|e| e.to_string())?;
         let chosen: Vec<usize> = match (job.limit, job.sample) {
             (Some(n), _) => (0..n.min(scen.len())).collect(),
-            (_, Some(n)) => bench::sample_indices(scen.len(), n),
+            (_, Some(n)) => sweep::sample_indices(scen.len(), n),
             _ => (0..scen.len()).collect(),
         };
         total += scen.len();
@@ -320,7 +320,7 @@ pub fn run_files(
         let s = &p.scenarios[f][k];
         let prepared = &maps[&map_beside(&p.files[f], &s.map)];
         let file = p.files[f].display().to_string();
-        rows.push(bench::run(prepared, &file, k, s, &cfg, job.time_limit));
+        rows.push(sweep::run(prepared, &file, k, s, &cfg, job.time_limit));
         progress(done + 1, p.items.len());
     }
     let info = BenchInfo {

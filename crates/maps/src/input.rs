@@ -28,7 +28,7 @@ const ROS_KEYS: [&str; 6] = [
 ];
 
 /// Reads the input at `path`: `.map` is a MovingAI map, a `.yaml`/`.yml` with a top-level
-/// key of a ROS map (`image:`, `resolution:`, ... ; [`ROS_KEYS`]) a ROS map (its image read
+/// key of a ROS map (`image:`, `resolution:`, ... ; `ROS_KEYS`) a ROS map (its image read
 /// beside it), anything else a scene. (With `image:` alone, a ROS map YAML that lacked it was
 /// read as a scene: "unknown field `resolution`".) The error is the message a
 /// front end shows: file, line and field where known.

@@ -676,7 +676,7 @@ fn bench_scen(
         ),
         None => (1, 1),
     };
-    let shard = homospline_maps::bench::Shard::parse(&format!("{}/{}", shard.0, shard.1))
+    let shard = homospline_maps::sweep::Shard::parse(&format!("{}/{}", shard.0, shard.1))
         .map_err(|e| bad(format!("shard {e}")))?;
     let job = homospline_front::bench::BenchJob {
         files,
@@ -702,7 +702,7 @@ fn bench_scen(
 #[pyfunction]
 fn bench_summary(csvs: Vec<String>) -> PyResult<String> {
     let rows = homospline_front::bench::rows_of(&csvs).map_err(bad)?;
-    Ok(homospline_maps::bench::summary(&rows))
+    Ok(homospline_maps::sweep::summary(&rows))
 }
 
 /// The Python module.

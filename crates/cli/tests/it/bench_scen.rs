@@ -185,7 +185,7 @@ fn csv_with(name: &str, i: usize, bad: &str) -> PathBuf {
         &p,
         format!(
             "{}\n{}\n",
-            homospline_maps::bench::CSV_HEADER,
+            homospline_maps::sweep::CSV_HEADER,
             rows.join("\n")
         ),
     )

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use homospline_front::bench::{BenchJob, csv_text, input_files, rows_of_named, run_files};
-use homospline_maps::bench::{self, Shard};
+use homospline_maps::sweep::{self, Shard};
 
 use crate::args::BenchArgs;
 use crate::input::parse_weights;
@@ -80,7 +80,7 @@ pub fn bench_scen(a: BenchArgs) -> anyhow::Result<u8> {
         info.maps.join(", "),
         info.prepare_ms
     );
-    say_raw!("{}", bench::summary(&rows));
+    say_raw!("{}", sweep::summary(&rows));
     if let Some(p) = &a.csv {
         write(p, "CSV", csv_text(&rows).as_bytes())?;
     }
@@ -100,7 +100,7 @@ pub fn bench_merge(csvs: &[PathBuf], out: Option<&Path>) -> anyhow::Result<u8> {
     }
     let rows = rows_of_named(&texts).map_err(bad)?;
     say!("{} scenarios from {} CSV files", rows.len(), csvs.len());
-    say_raw!("{}", bench::summary(&rows));
+    say_raw!("{}", sweep::summary(&rows));
     if let Some(p) = out {
         write(p, "CSV", csv_text(&rows).as_bytes())?;
     }
