@@ -79,7 +79,7 @@ fn bench(c: &mut Criterion) {
     });
     g.bench_function("field_batch_156_nodes_60_circles", |b| {
         let pts: Vec<Point> = spline.sample_uniform(155);
-        let mut out = vec![homospline_spline::field::FieldSample::default(); pts.len()];
+        let mut out = vec![homospline_spline::clearance_model::FieldSample::default(); pts.len()];
         b.iter(|| {
             use homospline_spline::ClearanceModel;
             model.field_batch(black_box(&pts), 0.5, 0.0, &mut out);

@@ -15,7 +15,7 @@
 //! paths passed door frames and corners at 1e-4 cells.
 
 use homospline_geom::{Point, Real, Vector};
-use homospline_spline::field::{ClearanceModel, FieldSample, exp_fast};
+use homospline_spline::clearance_model::{ClearanceModel, FieldSample, exp_fast};
 use homospline_voronoi::{DistanceField, Grid};
 use rustc_hash::FxHashMap;
 use std::cell::RefCell;

@@ -11,8 +11,8 @@
 
 use homospline_geom::{Point, Real};
 
+use crate::clearance_model::ClearanceModel;
 use crate::curve::Spline;
-use crate::field::ClearanceModel;
 
 /// A bracket of the minimum clearance along a curve.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -3,7 +3,7 @@
 //! - [`curve`]: [`Spline`], a parametric cubic spline `q(t)`, `t` in `[0, 1]`, through
 //!   `S, p1 .. pk, T`; natural or clamped ends; uniform or chord-length parameters; built in
 //!   `O(k)` with a tridiagonal (Thomas) solve; arc-length sampling.
-//! - [`field`]: the [`ClearanceModel`] trait through which every obstacle term asks "how far
+//! - [`clearance_model`]: the [`ClearanceModel`] trait through which every obstacle term asks "how far
 //!   is this point from obstacles, and towards where", with [`CircleModel`] (exact).
 //! - [`cost`]: [`CostConfig`] (weights and parameters, the paper's presets), [`evaluate`]
 //!   and [`gradient`] (analytic, with respect to the inner via-points).
@@ -28,18 +28,18 @@
 //! ```
 
 pub mod certify;
+pub mod clearance_model;
 pub mod cost;
 pub mod curve;
-pub mod field;
 pub mod names;
 pub mod quad;
 pub mod roughness;
 
 pub use certify::{CertifiedClearance, is_clear_by, is_collision_free, min_clearance};
+pub use clearance_model::{CircleModel, ClearanceModel, FIELD_BLOCK};
 pub use cost::{
     ClearanceSearch, CostConfig, CostConfigError, CostTerms, RoughnessForm, evaluate,
     evaluate_weighted, evaluate_weighted_unless, gradient,
 };
 pub use curve::{EndCondition, Parametrization, Spline, SplineError};
-pub use field::{CircleModel, ClearanceModel, FIELD_BLOCK};
 pub use names::{Choice, Preset, UnknownName};

@@ -8,8 +8,8 @@ use super::brent::brent_min;
 use super::config::ClearanceSearch;
 use super::integrand::Worst;
 use super::quadrature::Samples;
+use crate::clearance_model::{ClearanceModel, FieldSample};
 use crate::curve::Spline;
-use crate::field::{ClearanceModel, FieldSample};
 
 /// Step 4: `m(C)`, the worst node's clearance refined by Brent's method between its
 /// neighbours (where a local minimum next to the smallest sample lies), in global `t` so that

@@ -102,7 +102,7 @@ pub enum ClearanceSearch {
     /// to its nearest node) whose bound lets the clearance dip below the least value found
     /// is halved, the lowest bound first, until no bound is more than `1e-5` below it. The
     /// bound is the larger of the Lipschitz one and one from how sharply the clearance can
-    /// bend ([`ClearanceModel::bend_radius`](crate::field::ClearanceModel::bend_radius));
+    /// bend ([`ClearanceModel::bend_radius`](crate::clearance_model::ClearanceModel::bend_radius));
     /// the worst node's two stretches are searched too (Brent's method follows one valley,
     /// and a second dip beside it escapes it). An evaluation costs 1.6 times as much on the
     /// cost bench: a curve held near `dm` has many stretches close to it. A model without the bend bound gets `WorstNode` (a map's

@@ -5,8 +5,8 @@ use homospline_geom::{Real, Vector};
 use super::config::CostConfig;
 use super::pipeline::{evaluate, run};
 use super::terms::CostTerms;
+use crate::clearance_model::ClearanceModel;
 use crate::curve::{EndCondition, Parametrization, Spline};
-use crate::field::ClearanceModel;
 
 /// The cost and its gradient with respect to the inner via-points (`points[1..n-1]`).
 ///

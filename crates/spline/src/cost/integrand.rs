@@ -7,8 +7,8 @@ use homospline_geom::{Point, Real, Vector};
 use super::config::CostConfig;
 use super::quadrature::Samples;
 use super::terms::CostTerms;
+use crate::clearance_model::{ClearanceModel, FieldSample};
 use crate::curve::Spline;
-use crate::field::{ClearanceModel, FieldSample};
 
 /// Partial derivatives of the integrand at one node, already multiplied by its weight:
 /// with respect to `q`, `q'`, `q''`.

@@ -7,7 +7,7 @@ use super::config::CostConfig;
 use super::integrand::{Needs, NodePartial, Worst, integrate_nodes};
 use super::quadrature::Samples;
 use super::terms::{CostTerms, bounding_terms};
-use crate::field::{ClearanceModel, FIELD_BLOCK, FieldSample};
+use crate::clearance_model::{ClearanceModel, FIELD_BLOCK, FieldSample};
 
 /// The potential the field query may leave out per unit length: the topology term then
 /// loses at most `allowance * L = tolerance * (g2 R + g3 L + g4 D_knots) <= tolerance *

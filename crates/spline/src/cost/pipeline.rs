@@ -9,8 +9,8 @@ use super::integrand::{Needs, NodePartial, line_of_sight_shares, safety_along};
 use super::integrate::field_and_integrals;
 use super::quadrature::{Samples, sample};
 use super::terms::{CostTerms, bounding_terms};
+use crate::clearance_model::{ClearanceModel, FieldSample};
 use crate::curve::Spline;
-use crate::field::{ClearanceModel, FieldSample};
 use crate::roughness::roughness;
 
 /// The cost of `spline` against `model`: every term, weighted or not.
