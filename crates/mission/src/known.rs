@@ -1,5 +1,9 @@
 //! What the team knows of the world while a mission runs: the interface the simulation
-//! drives, for a scene of circles (`sim`) and an occupancy map (`map`) alike.
+//! drives ([`Known`]), for a scene of circles ([`scene`]) and an occupancy map ([`map`])
+//! alike.
+
+pub(crate) mod map;
+pub(crate) mod scene;
 
 use homospline_geom::{Point, Real};
 use homospline_homotopy::Rays;

@@ -14,7 +14,6 @@
 
 mod changes;
 mod join;
-pub(crate) mod known;
 
+pub use crate::known::map::MapUpdate;
 pub use crate::world::types::{Change, MapWorld};
-pub use known::MapUpdate;

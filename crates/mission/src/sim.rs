@@ -21,16 +21,16 @@ pub mod policy;
 mod record;
 mod replan;
 mod route;
-mod scene;
+
 mod scouts;
 mod sense;
 mod simulate;
 
+pub use crate::known::scene::replan_scene;
 pub use config::{
     MAX_SCOUTS, MAX_STEPS, MIN_DT, MissionConfig, MissionError, TURN_ANGLE_DEG, time_step,
 };
 pub use policy::{Policy, ScoutPolicy};
 pub use record::{Adopted, Event, EventKind, MissionResult, Robot, Track};
 pub use replan::should_switch;
-pub use scene::replan_scene;
 pub use simulate::{simulate, simulate_map};

@@ -4,7 +4,7 @@
 use homospline_geom::{Point, Real};
 
 use super::policy::Policy;
-use crate::map::known::MapUpdate;
+use crate::known::map::MapUpdate;
 
 /// Who saw something.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

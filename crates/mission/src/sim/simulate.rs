@@ -7,8 +7,8 @@ use homospline_optim::{GrowthConfig, PlanConfig, plan};
 use super::config::{MissionConfig, MissionError, check_config};
 use super::mission::run_mission;
 use super::record::MissionResult;
-use super::scene::SceneKnown;
-use crate::map::known::MapKnown;
+use crate::known::map::MapKnown;
+use crate::known::scene::SceneKnown;
 use crate::world::types::{MapWorld, MissionWorld};
 
 /// Simulates the mission in `world` with `cfg`. Deterministic: the same world and settings

@@ -8,8 +8,8 @@ use homospline_homotopy::Rays;
 use homospline_optim::{Plan, PlanConfig, plan};
 use homospline_spline::{CircleModel, ClearanceModel};
 
-use super::config::MissionConfig;
-use crate::known::Known;
+use super::Known;
+use crate::sim::MissionConfig;
 use crate::world::types::MissionWorld;
 
 /// A re-plan on `scene` as a mission makes it, with the planner's settings `cfg`: on the
@@ -39,7 +39,7 @@ fn within(p: &Point, range: Real, o: &homospline_geom::Obstacle) -> bool {
 }
 
 /// The known world of a scene mission: the prior scene with the obstacles found so far.
-pub(super) struct SceneKnown<'w> {
+pub(crate) struct SceneKnown<'w> {
     world: &'w MissionWorld,
     known: Scene,
     model: CircleModel,
@@ -56,7 +56,7 @@ pub(super) struct SceneKnown<'w> {
 
 impl<'w> SceneKnown<'w> {
     /// The prior scene of `world`, nothing found yet; re-plans as `cfg` sets them.
-    pub(super) fn new(world: &'w MissionWorld, cfg: &MissionConfig) -> Self {
+    pub(crate) fn new(world: &'w MissionWorld, cfg: &MissionConfig) -> Self {
         Self {
             world,
             known: world.prior.clone(),

@@ -10,7 +10,7 @@ use homospline_optim::{Plan, PlanConfig, World, plan_world};
 use homospline_spline::ClearanceModel;
 use homospline_voronoi::{BuildError, DistanceField, Grid, MapGraph};
 
-use crate::known::Known;
+use super::Known;
 use crate::world::types::MapWorld;
 
 /// One update of the known map at a discovery.
