@@ -283,7 +283,7 @@ pub fn fixture_worlds() -> Vec<MissionWorld> {
                 .unwrap_or_else(|e| panic!("{}: {e}", scene_path.display()));
             let scene = Scene::from_bytes(&bytes, &scene_path.display().to_string())
                 .unwrap_or_else(|e| panic!("{e}"));
-            file.with_prior(scene).unwrap_or_else(|e| panic!("{e}"))
+            MissionWorld::from_file(file, scene).unwrap_or_else(|e| panic!("{e}"))
         })
         .collect()
 }

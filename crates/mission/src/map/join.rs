@@ -9,6 +9,29 @@ use super::changes::changes;
 use crate::world::types::{MapSpec, MapWorld, Team, WorldFile};
 
 impl MapWorld {
+    /// Joins the file with its prior and truth maps and checks them together.
+    pub fn from_file(
+        file: WorldFile,
+        prior: OccupancyMap,
+        truth: OccupancyMap,
+        spec: &MapSpec,
+    ) -> Result<Self, SceneError> {
+        check_same_grid(&file, &prior, &truth, spec)?;
+        check_ends_free(&file, &prior, &truth, spec)?;
+        let (prior, truth) = keep_radius(&file, prior, truth, spec)?;
+        check_scouts_on(&file, &prior)?;
+        let changes = changes(&prior, &truth);
+        Ok(MapWorld {
+            name: file.name,
+            prior,
+            truth,
+            start: spec.start,
+            goal: spec.goal,
+            team: file.team,
+            changes,
+        })
+    }
+
     /// A world built in code or from a file: checks that the maps have the same size, cell
     /// and origin, that start and goal are free on both, and that the scouts start on the
     /// map. `name` names the world in errors.
@@ -20,7 +43,8 @@ impl MapWorld {
         goal: Point,
         team: Team,
     ) -> Result<Self, SceneError> {
-        WorldFile::unread(name, String::new(), team).with_maps(
+        Self::from_file(
+            WorldFile::unread(name, String::new(), team),
             prior,
             truth,
             &MapSpec {
@@ -42,193 +66,168 @@ fn named(f: &str) -> String {
     }
 }
 
-impl WorldFile {
-    /// Joins the file with its prior and truth maps and checks them together.
-    pub fn with_maps(
-        self,
-        prior: OccupancyMap,
-        truth: OccupancyMap,
-        spec: &MapSpec,
-    ) -> Result<MapWorld, SceneError> {
-        self.check_same_grid(&prior, &truth, spec)?;
-        self.check_ends_free(&prior, &truth, spec)?;
-        let (prior, truth) = self.keep_radius(prior, truth, spec)?;
-        self.check_scouts_on(&prior)?;
-        let changes = changes(&prior, &truth);
-        Ok(MapWorld {
-            name: self.name,
-            prior,
-            truth,
-            start: spec.start,
-            goal: spec.goal,
-            team: self.team,
-            changes,
-        })
+/// The truth map has the prior's size, cell size, origin and axis.
+fn check_same_grid(
+    file: &WorldFile,
+    prior: &OccupancyMap,
+    truth: &OccupancyMap,
+    spec: &MapSpec,
+) -> Result<(), SceneError> {
+    if (truth.width, truth.height) != (prior.width, prior.height) {
+        return Err(file.field_error(
+            "truth_map",
+            format!(
+                "the truth map{} is {} x {} cells; the prior map{} is {} x {}: they must be the same size",
+                named(&spec.truth_map),
+                truth.width,
+                truth.height,
+                named(&spec.map),
+                prior.width,
+                prior.height
+            ),
+        ));
     }
+    if (truth.cell - prior.cell).abs() > 1e-9 * prior.cell
+        || (truth.origin - prior.origin).norm() > 1e-9 * prior.cell
+        || truth.y_down != prior.y_down
+    {
+        return Err(file.field_error(
+            "truth_map",
+            format!(
+                "the truth map{} has another cell size, origin or axis than the prior map{}",
+                named(&spec.truth_map),
+                named(&spec.map)
+            ),
+        ));
+    }
+    Ok(())
+}
 
-    /// The truth map has the prior's size, cell size, origin and axis.
-    fn check_same_grid(
-        &self,
-        prior: &OccupancyMap,
-        truth: &OccupancyMap,
-        spec: &MapSpec,
-    ) -> Result<(), SceneError> {
-        if (truth.width, truth.height) != (prior.width, prior.height) {
-            return Err(self.field_error(
-                "truth_map",
-                format!(
-                    "the truth map{} is {} x {} cells; the prior map{} is {} x {}: they must be the same size",
-                    named(&spec.truth_map),
-                    truth.width,
-                    truth.height,
-                    named(&spec.map),
-                    prior.width,
-                    prior.height
+/// The start and the goal are on both maps, in free cells that touch no obstacle.
+fn check_ends_free(
+    file: &WorldFile,
+    prior: &OccupancyMap,
+    truth: &OccupancyMap,
+    spec: &MapSpec,
+) -> Result<(), SceneError> {
+    for (field, p) in [("start", spec.start), ("goal", spec.goal)] {
+        for (which, m) in [("prior map", prior), ("truth map", truth)] {
+            let problem = match m.free_at(&p) {
+                None => format!(
+                    "({}, {}) is outside the map {}",
+                    Num(p.x),
+                    Num(p.y),
+                    m.bounds()
                 ),
-            ));
-        }
-        if (truth.cell - prior.cell).abs() > 1e-9 * prior.cell
-            || (truth.origin - prior.origin).norm() > 1e-9 * prior.cell
-            || truth.y_down != prior.y_down
-        {
-            return Err(self.field_error(
-                "truth_map",
-                format!(
-                    "the truth map{} has another cell size, origin or axis than the prior map{}",
-                    named(&spec.truth_map),
-                    named(&spec.map)
-                ),
-            ));
-        }
-        Ok(())
-    }
-
-    /// The start and the goal are on both maps, in free cells that touch no obstacle.
-    fn check_ends_free(
-        &self,
-        prior: &OccupancyMap,
-        truth: &OccupancyMap,
-        spec: &MapSpec,
-    ) -> Result<(), SceneError> {
-        for (field, p) in [("start", spec.start), ("goal", spec.goal)] {
-            for (which, m) in [("prior map", prior), ("truth map", truth)] {
-                let problem = match m.free_at(&p) {
-                    None => format!(
-                        "({}, {}) is outside the map {}",
-                        Num(p.x),
-                        Num(p.y),
-                        m.bounds()
-                    ),
-                    Some(false) => {
-                        format!(
-                            "({}, {}) is in an occupied cell of the {which}",
-                            Num(p.x),
-                            Num(p.y)
-                        )
-                    }
-                    Some(true) => match m.touches_obstacle(&p) {
-                        Some(why) => format!("({}, {}) {why} of the {which}", p.x, p.y),
-                        None => continue,
-                    },
-                };
-                return Err(self.field_error(field, problem));
-            }
-        }
-        Ok(())
-    }
-
-    /// With a positive `team.ugv.radius`, the start and the goal must keep the radius on both
-    /// maps, and stand in cells of the robot's lattice (`OccupancyMap::robot_space`, the free
-    /// space the mission plans in); the maps are kept as given.
-    fn keep_radius(
-        &self,
-        prior: OccupancyMap,
-        truth: OccupancyMap,
-        spec: &MapSpec,
-    ) -> Result<(OccupancyMap, OccupancyMap), SceneError> {
-        let r = self.team.ugv.radius;
-        if !homospline_geom::is_robot_radius(r) {
-            return Err(self.field_error(
-                "team.ugv.radius",
-                format!("{r} {}", homospline_geom::ROBOT_RADIUS_RULE),
-            ));
-        }
-        if r > 0.0 {
-            self.check_ends_clear(&prior, &truth, spec)?;
-            let lattice = |m: &OccupancyMap| {
-                m.robot_space(r)
-                    .map(|(free, _)| free)
-                    .map_err(|e| self.field_error("team.ugv.radius", format!("{r}: {e}")))
-            };
-            self.check_end_cells_clear(&lattice(&prior)?, &lattice(&truth)?, spec)?;
-        }
-        Ok((prior, truth))
-    }
-
-    /// The start and the goal have more clearance than the robot's radius on both maps.
-    fn check_ends_clear(
-        &self,
-        prior: &OccupancyMap,
-        truth: &OccupancyMap,
-        spec: &MapSpec,
-    ) -> Result<(), SceneError> {
-        let r = self.team.ugv.radius;
-        for (field, p) in [("start", spec.start), ("goal", spec.goal)] {
-            for (which, m) in [("prior map", prior), ("truth map", truth)] {
-                let c = m.clearance_within(&p, r + 2.0 * m.cell);
-                if c <= r {
-                    return Err(self.field_error(
-                        field,
-                        format!(
-                            "({}, {}) has clearance {c:.4} on the {which}, not more than team.ugv.radius {r}",
-                            p.x, p.y
-                        ),
-                    ));
-                }
-            }
-        }
-        Ok(())
-    }
-
-    /// On the robot's lattices of both maps, the start's and the goal's cells are free and
-    /// touch no blocked cell.
-    fn check_end_cells_clear(
-        &self,
-        prior: &OccupancyMap,
-        truth: &OccupancyMap,
-        spec: &MapSpec,
-    ) -> Result<(), SceneError> {
-        let r = self.team.ugv.radius;
-        for (field, p) in [("start", spec.start), ("goal", spec.goal)] {
-            for (which, m) in [("prior map", prior), ("truth map", truth)] {
-                if m.free_at(&p) != Some(true) || m.touches_obstacle(&p).is_some() {
-                    return Err(self.field_error(
-                        field,
-                        format!(
-                            "({}, {}) keeps team.ugv.radius {r} on the {which}, but the nearest point of the robot's lattice does not (free space is sampled every half cell): move it up to half a cell away from the wall",
-                            p.x, p.y
-                        ),
-                    ));
-                }
-            }
-        }
-        Ok(())
-    }
-
-    /// Every scout starts on the map.
-    fn check_scouts_on(&self, prior: &OccupancyMap) -> Result<(), SceneError> {
-        for (i, u) in self.team.uavs.iter().enumerate() {
-            if !prior.bounds().contains(&u.start) {
-                return Err(self.field_error(
-                    &format!("team.uavs[{i}]"),
+                Some(false) => {
                     format!(
-                        "start ({}, {}) is outside the map",
-                        Num(u.start.x),
-                        Num(u.start.y)
+                        "({}, {}) is in an occupied cell of the {which}",
+                        Num(p.x),
+                        Num(p.y)
+                    )
+                }
+                Some(true) => match m.touches_obstacle(&p) {
+                    Some(why) => format!("({}, {}) {why} of the {which}", p.x, p.y),
+                    None => continue,
+                },
+            };
+            return Err(file.field_error(field, problem));
+        }
+    }
+    Ok(())
+}
+
+/// With a positive `team.ugv.radius`, the start and the goal must keep the radius on both
+/// maps, and stand in cells of the robot's lattice (`OccupancyMap::robot_space`, the free
+/// space the mission plans in); the maps are kept as given.
+fn keep_radius(
+    file: &WorldFile,
+    prior: OccupancyMap,
+    truth: OccupancyMap,
+    spec: &MapSpec,
+) -> Result<(OccupancyMap, OccupancyMap), SceneError> {
+    let r = file.team.ugv.radius;
+    if !homospline_geom::is_robot_radius(r) {
+        return Err(file.field_error(
+            "team.ugv.radius",
+            format!("{r} {}", homospline_geom::ROBOT_RADIUS_RULE),
+        ));
+    }
+    if r > 0.0 {
+        check_ends_clear(file, &prior, &truth, spec)?;
+        let lattice = |m: &OccupancyMap| {
+            m.robot_space(r)
+                .map(|(free, _)| free)
+                .map_err(|e| file.field_error("team.ugv.radius", format!("{r}: {e}")))
+        };
+        check_end_cells_clear(file, &lattice(&prior)?, &lattice(&truth)?, spec)?;
+    }
+    Ok((prior, truth))
+}
+
+/// The start and the goal have more clearance than the robot's radius on both maps.
+fn check_ends_clear(
+    file: &WorldFile,
+    prior: &OccupancyMap,
+    truth: &OccupancyMap,
+    spec: &MapSpec,
+) -> Result<(), SceneError> {
+    let r = file.team.ugv.radius;
+    for (field, p) in [("start", spec.start), ("goal", spec.goal)] {
+        for (which, m) in [("prior map", prior), ("truth map", truth)] {
+            let c = m.clearance_within(&p, r + 2.0 * m.cell);
+            if c <= r {
+                return Err(file.field_error(
+                    field,
+                    format!(
+                        "({}, {}) has clearance {c:.4} on the {which}, not more than team.ugv.radius {r}",
+                        p.x, p.y
                     ),
                 ));
             }
         }
-        Ok(())
     }
+    Ok(())
+}
+
+/// On the robot's lattices of both maps, the start's and the goal's cells are free and
+/// touch no blocked cell.
+fn check_end_cells_clear(
+    file: &WorldFile,
+    prior: &OccupancyMap,
+    truth: &OccupancyMap,
+    spec: &MapSpec,
+) -> Result<(), SceneError> {
+    let r = file.team.ugv.radius;
+    for (field, p) in [("start", spec.start), ("goal", spec.goal)] {
+        for (which, m) in [("prior map", prior), ("truth map", truth)] {
+            if m.free_at(&p) != Some(true) || m.touches_obstacle(&p).is_some() {
+                return Err(file.field_error(
+                    field,
+                    format!(
+                        "({}, {}) keeps team.ugv.radius {r} on the {which}, but the nearest point of the robot's lattice does not (free space is sampled every half cell): move it up to half a cell away from the wall",
+                        p.x, p.y
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Every scout starts on the map.
+fn check_scouts_on(file: &WorldFile, prior: &OccupancyMap) -> Result<(), SceneError> {
+    for (i, u) in file.team.uavs.iter().enumerate() {
+        if !prior.bounds().contains(&u.start) {
+            return Err(file.field_error(
+                &format!("team.uavs[{i}]"),
+                format!(
+                    "start ({}, {}) is outside the map",
+                    Num(u.start.x),
+                    Num(u.start.y)
+                ),
+            ));
+        }
+    }
+    Ok(())
 }

@@ -3,7 +3,7 @@
 
 use homospline_geom::Scene;
 
-use super::types::{AnyWorld, MissionWorld, WorldFile};
+use super::types::{AnyWorld, MapWorld, MissionWorld, WorldFile};
 
 /// Reads a world file and the scene it names (relative to the world file); the caller reads
 /// the files (`read`). The error is the message a front end shows.
@@ -52,7 +52,7 @@ fn scene_world(
         .map_err(|e| format!("{name}: scene: cannot read {}: {e}", scene_path.display()))?;
     let prior = Scene::from_bytes(&scene_bytes, &scene_path.display().to_string())
         .map_err(|e| e.to_string())?;
-    file.with_prior(prior).map_err(|e| e.to_string())
+    MissionWorld::from_file(file, prior).map_err(|e| e.to_string())
 }
 
 /// Reads a world file of either form and the files it names (relative to the world file): a
@@ -84,7 +84,7 @@ pub fn load_any(
     };
     let prior = load_map("map", &spec.map)?;
     let truth = load_map("truth_map", &spec.truth_map)?;
-    file.with_maps(prior, truth, &spec)
+    MapWorld::from_file(file, prior, truth, &spec)
         .map(AnyWorld::Map)
         .map_err(|e| e.to_string())
 }

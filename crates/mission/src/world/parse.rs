@@ -137,6 +137,36 @@ impl WorldFile {
             lines: reader.lines,
         })
     }
+
+    /// A file built in code (no lines to point at): `name` names it in errors.
+    pub(crate) fn unread(name: &str, scene: String, team: Team) -> Self {
+        Self {
+            name: name.to_owned(),
+            scene,
+            map: None,
+            hidden_obstacles: Vec::new(),
+            cleared_obstacles: Vec::new(),
+            team,
+            source: name.to_owned(),
+            lines: Vec::new(),
+        }
+    }
+
+    /// Where a field is in the file.
+    pub(crate) fn line(&self, field: &str) -> Option<u64> {
+        self.lines.iter().find(|(f, _)| f == field).map(|(_, l)| *l)
+    }
+
+    /// The error `problem` with `field`, at the field's line in the file.
+    pub(crate) fn field_error(&self, field: &str, problem: String) -> SceneError {
+        SceneError {
+            source_name: self.source.clone(),
+            line: self.line(field),
+            column: None,
+            field: Some(field.to_owned()),
+            problem,
+        }
+    }
 }
 
 /// The file's fields as written, or the parser's error (its first line, at its place).

@@ -1,7 +1,7 @@
 //! The world's data: the team, the world file as read, and the worlds ready to simulate (a
 //! prior scene, or a prior occupancy map with its truth map).
 
-use homospline_geom::{Obstacle, Point, Real, Scene, SceneError};
+use homospline_geom::{Obstacle, Point, Real, Scene};
 use homospline_maps::OccupancyMap;
 
 /// The world file format version this build reads.
@@ -56,7 +56,7 @@ impl Default for Team {
 }
 
 /// A world file as read: the scene it names is loaded by the caller (only front ends read
-/// files) and joined with [`WorldFile::with_prior`].
+/// files) and joined with [`MissionWorld::from_file`] or [`MapWorld::from_file`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct WorldFile {
     /// Name (the file stem when the file gives none).
@@ -73,38 +73,6 @@ pub struct WorldFile {
     pub team: Team,
     pub(crate) source: String,
     pub(crate) lines: Vec<(String, u64)>,
-}
-
-impl WorldFile {
-    /// A file built in code (no lines to point at): `name` names it in errors.
-    pub(crate) fn unread(name: &str, scene: String, team: Team) -> Self {
-        Self {
-            name: name.to_owned(),
-            scene,
-            map: None,
-            hidden_obstacles: Vec::new(),
-            cleared_obstacles: Vec::new(),
-            team,
-            source: name.to_owned(),
-            lines: Vec::new(),
-        }
-    }
-
-    /// Where a field is in the file.
-    pub(crate) fn line(&self, field: &str) -> Option<u64> {
-        self.lines.iter().find(|(f, _)| f == field).map(|(_, l)| *l)
-    }
-
-    /// The error `problem` with `field`, at the field's line in the file.
-    pub(crate) fn field_error(&self, field: &str, problem: String) -> SceneError {
-        SceneError {
-            source_name: self.source.clone(),
-            line: self.line(field),
-            column: None,
-            field: Some(field.to_owned()),
-            problem,
-        }
-    }
 }
 
 /// The map form of a world file: an occupancy map as the prior, the truth map beside it, and

@@ -201,7 +201,7 @@ fn generated_worlds_are_reached_whenever_the_truth_has_a_path() {
 
 fn world_error(text: &str) -> String {
     let scene = homospline_testkit::fixture_scenes().remove(3); // narrow-pass
-    match WorldFile::from_str(text, "w.yaml").and_then(|f| f.with_prior(scene)) {
+    match WorldFile::from_str(text, "w.yaml").and_then(|f| MissionWorld::from_file(f, scene)) {
         Ok(_) => panic!("accepted: {text}"),
         Err(e) => e.to_string(),
     }
