@@ -153,7 +153,7 @@ struct RawScene {
     #[serde(default)]
     robot_radius: Option<Spanned<Real>>,
     #[serde(default)]
-    obstacles: Vec<Spanned<RawObstacle>>,
+    obstacles: Vec<Spanned<ObstacleEntry>>,
     #[serde(default)]
     danger_points: Vec<Spanned<RawDanger>>,
     #[serde(default)]
@@ -169,12 +169,95 @@ struct RawBounds {
     max: Spanned<[Real; 2]>,
 }
 
-#[derive(Deserialize)]
+/// An obstacle as a scene file or a world file writes it (`name:` and `circles:`), each
+/// circle with its place in the file: the one reader of obstacles ([`ObstacleEntry::obstacle`],
+/// then [`check_obstacle`]).
+#[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-struct RawObstacle {
+pub struct ObstacleEntry {
+    /// Its name, when the file gives one.
     #[serde(default)]
-    name: Option<String>,
-    circles: Vec<Spanned<[Real; 3]>>,
+    pub name: Option<String>,
+    /// Its circles `[x, y, r]`.
+    pub circles: Vec<Spanned<[Real; 3]>>,
+}
+
+impl ObstacleEntry {
+    /// The obstacle, called `unnamed()` when the file gives no name; not checked yet
+    /// ([`check_obstacle`]).
+    pub fn obstacle(&self, unnamed: impl FnOnce() -> String) -> Obstacle {
+        Obstacle {
+            name: self.name.clone().unwrap_or_else(unnamed),
+            circles: self
+                .circles
+                .iter()
+                .map(|c| Circle::new(c.value[0], c.value[1], c.value[2]))
+                .collect(),
+        }
+    }
+}
+
+/// An obstacle as scene and world files write it: the one writer of obstacles.
+#[derive(Debug, Serialize)]
+pub struct WrittenObstacle<'a> {
+    name: &'a str,
+    circles: Vec<[Real; 3]>,
+}
+
+impl<'a> From<&'a Obstacle> for WrittenObstacle<'a> {
+    fn from(o: &'a Obstacle) -> Self {
+        Self {
+            name: &o.name,
+            circles: o
+                .circles
+                .iter()
+                .map(|c| [c.center.x, c.center.y, c.radius])
+                .collect(),
+        }
+    }
+}
+
+/// The checks of one obstacle, `field` its place (`obstacles[3]`): a name without control
+/// characters, at least one circle, each circle's centre and radius finite and at most
+/// [`MAX_MAGNITUDE`] in magnitude, its radius `> 0`. The error is the field to blame
+/// (`obstacles[3].circles[1]`) and the problem. Scenes and world files' hidden obstacles
+/// both use it.
+///
+/// # Examples
+///
+/// ```
+/// use homospline_geom::{Circle, Obstacle, scene::check_obstacle};
+///
+/// let rock = Obstacle { name: "rock".into(), circles: vec![Circle::new(1.0, 2.0, 0.5)] };
+/// assert!(check_obstacle("obstacles[0]", &rock).is_ok());
+/// let flat = Obstacle { name: "flat".into(), circles: vec![Circle::new(1.0, 2.0, 0.0)] };
+/// let (field, problem) = check_obstacle("obstacles[1]", &flat).unwrap_err();
+/// assert_eq!(field, "obstacles[1].circles[0]");
+/// assert_eq!(problem, "radius must be > 0, got 0 (obstacle 'flat')");
+/// ```
+pub fn check_obstacle(field: &str, o: &Obstacle) -> Result<(), (String, String)> {
+    check_name(&format!("{field}.name"), &o.name)?;
+    if o.circles.is_empty() {
+        return Err((
+            format!("{field}.circles"),
+            format!("obstacle '{}' has no circles", o.name),
+        ));
+    }
+    for (j, c) in o.circles.iter().enumerate() {
+        let f = format!("{field}.circles[{j}]");
+        check_point(&f, &c.center)?;
+        check_number(&f, "radius", c.radius)?;
+        if c.radius <= 0.0 {
+            return Err((
+                f,
+                format!(
+                    "radius must be > 0, got {} (obstacle '{}')",
+                    c.radius, o.name
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 #[derive(Deserialize)]
@@ -226,7 +309,7 @@ struct OutScene<'a> {
     start: [Real; 2],
     goal: [Real; 2],
     robot_radius: Real,
-    obstacles: Vec<OutObstacle<'a>>,
+    obstacles: Vec<WrittenObstacle<'a>>,
     #[serde(skip_serializing_if = "Vec::is_empty")]
     danger_points: Vec<OutDanger>,
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -239,12 +322,6 @@ struct OutScene<'a> {
 struct OutBounds {
     min: [Real; 2],
     max: [Real; 2],
-}
-
-#[derive(Serialize)]
-struct OutObstacle<'a> {
-    name: &'a str,
-    circles: Vec<[Real; 3]>,
 }
 
 #[derive(Serialize)]
@@ -355,23 +432,10 @@ impl Scene {
             .enumerate()
             .map(|(i, o)| {
                 lines.put(format!("obstacles[{i}]"), o);
-                Obstacle {
-                    name: o
-                        .value
-                        .name
-                        .clone()
-                        .unwrap_or_else(|| format!("obstacle-{i}")),
-                    circles: o
-                        .value
-                        .circles
-                        .iter()
-                        .enumerate()
-                        .map(|(j, c)| {
-                            lines.put(format!("obstacles[{i}].circles[{j}]"), c);
-                            Circle::new(c.value[0], c.value[1], c.value[2])
-                        })
-                        .collect(),
+                for (j, c) in o.value.circles.iter().enumerate() {
+                    lines.put(format!("obstacles[{i}].circles[{j}]"), c);
                 }
+                o.value.obstacle(|| format!("obstacle-{i}"))
             })
             .collect();
         let danger_points = raw
@@ -491,7 +555,7 @@ impl Scene {
     fn check_obstacles(&self) -> Result<(), (String, String)> {
         let mut names: HashMap<&str, usize> = HashMap::new();
         for (i, o) in self.obstacles.iter().enumerate() {
-            check_name(&format!("obstacles[{i}].name"), &o.name)?;
+            check_obstacle(&format!("obstacles[{i}]"), o)?;
             if let Some(first) = names.insert(&o.name, i) {
                 // An obstacle without a name is called after its index: say so, or the
                 // message blames a name the file does not hold.
@@ -507,26 +571,6 @@ impl Scene {
                         o.name
                     ),
                 ));
-            }
-            if o.circles.is_empty() {
-                return Err((
-                    format!("obstacles[{i}].circles"),
-                    format!("obstacle '{}' has no circles", o.name),
-                ));
-            }
-            for (j, c) in o.circles.iter().enumerate() {
-                let f = format!("obstacles[{i}].circles[{j}]");
-                check_point(&f, &c.center)?;
-                check_number(&f, "radius", c.radius)?;
-                if c.radius <= 0.0 {
-                    return Err((
-                        f,
-                        format!(
-                            "radius must be > 0, got {} (obstacle '{}')",
-                            c.radius, o.name
-                        ),
-                    ));
-                }
             }
         }
         Ok(())
@@ -647,18 +691,7 @@ impl Scene {
             start: xy(&self.start),
             goal: xy(&self.goal),
             robot_radius: self.robot_radius,
-            obstacles: self
-                .obstacles
-                .iter()
-                .map(|o| OutObstacle {
-                    name: &o.name,
-                    circles: o
-                        .circles
-                        .iter()
-                        .map(|c| [c.center.x, c.center.y, c.radius])
-                        .collect(),
-                })
-                .collect(),
+            obstacles: self.obstacles.iter().map(WrittenObstacle::from).collect(),
             danger_points: self
                 .danger_points
                 .iter()

@@ -3,9 +3,8 @@
 //! and the team. Every error names the file, the line where it can and the field.
 
 use homospline_geom::math::Num;
-use homospline_geom::{
-    Circle, Obstacle, Point, ROBOT_RADIUS_RULE, Real, SceneError, is_robot_radius,
-};
+use homospline_geom::scene::{MAX_MAGNITUDE, ObstacleEntry, check_obstacle};
+use homospline_geom::{Obstacle, Point, ROBOT_RADIUS_RULE, Real, SceneError, is_robot_radius};
 use serde::Deserialize;
 use serde_saphyr::Spanned;
 
@@ -29,19 +28,11 @@ struct RawWorld {
     #[serde(default)]
     goal: Option<Spanned<[Real; 2]>>,
     #[serde(default)]
-    hidden_obstacles: Vec<Spanned<RawObstacle>>,
+    hidden_obstacles: Vec<Spanned<ObstacleEntry>>,
     #[serde(default)]
     cleared_obstacles: Vec<Spanned<String>>,
     #[serde(default)]
     team: Option<Spanned<RawTeam>>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawObstacle {
-    #[serde(default)]
-    name: Option<String>,
-    circles: Vec<Spanned<[Real; 3]>>,
 }
 
 #[derive(Deserialize)]
@@ -73,9 +64,6 @@ fn line_of<T>(s: &Spanned<T>) -> u64 {
     s.referenced.line()
 }
 
-/// Largest coordinate or radius accepted, as for scenes.
-const MAX_MAGNITUDE: Real = 1e9;
-
 fn positive(v: Real) -> bool {
     v.is_finite() && v > 0.0 && v <= MAX_MAGNITUDE
 }
@@ -106,6 +94,11 @@ impl Reader<'_> {
     /// Notes where `field` is in the file.
     fn note<T>(&mut self, field: impl Into<String>, at: &Spanned<T>) {
         self.lines.push((field.into(), line_of(at)));
+    }
+
+    /// The line of a field noted so far.
+    fn line_of_field(&self, field: &str) -> Option<u64> {
+        self.lines.iter().find(|(f, _)| f == field).map(|(_, l)| *l)
     }
 }
 
@@ -319,60 +312,27 @@ fn finite_point<T>(
     Ok(Point::new(x, y))
 }
 
-/// The obstacles not on the map: each with a circle at least, named `hidden-I` when it has
-/// no name.
+/// The obstacles not on the map, named `hidden-I` when they have no name, checked as a
+/// scene's obstacles are ([`check_obstacle`]).
 fn hidden_obstacles(
-    raw: &[Spanned<RawObstacle>],
+    raw: &[Spanned<ObstacleEntry>],
     reader: &mut Reader,
 ) -> Result<Vec<Obstacle>, SceneError> {
     let mut hidden = Vec::with_capacity(raw.len());
     for (i, o) in raw.iter().enumerate() {
         let field = format!("hidden_obstacles[{i}]");
         reader.note(field.clone(), o);
-        if o.value.circles.is_empty() {
-            return Err(reader.at(o, &field, "an obstacle needs at least one circle".into()));
+        for (j, c) in o.value.circles.iter().enumerate() {
+            reader.note(format!("{field}.circles[{j}]"), c);
         }
-        let circles = o
-            .value
-            .circles
-            .iter()
-            .enumerate()
-            .map(|(j, c)| circle(c, &format!("{field}.circles[{j}]"), reader))
-            .collect::<Result<Vec<_>, _>>()?;
-        hidden.push(Obstacle {
-            name: o
-                .value
-                .name
-                .clone()
-                .unwrap_or_else(|| format!("hidden-{i}")),
-            circles,
-        });
+        let obstacle = o.value.obstacle(|| format!("hidden-{i}"));
+        if let Err((at, problem)) = check_obstacle(&field, &obstacle) {
+            let line = reader.line_of_field(&at).unwrap_or(line_of(o));
+            return Err(reader.error(Some(line), Some(&at), problem));
+        }
+        hidden.push(obstacle);
     }
     Ok(hidden)
-}
-
-/// A circle `[x, y, r]`: a centre within the coordinate range, a positive radius.
-fn circle(c: &Spanned<[Real; 3]>, field: &str, reader: &Reader) -> Result<Circle, SceneError> {
-    let [x, y, r] = c.value;
-    if !(x.is_finite() && y.is_finite() && x.abs() <= MAX_MAGNITUDE && y.abs() <= MAX_MAGNITUDE) {
-        return Err(reader.at(
-            c,
-            field,
-            format!(
-                "centre ({}, {}) must be finite numbers within 1e9",
-                Num(x),
-                Num(y)
-            ),
-        ));
-    }
-    if !positive(r) {
-        return Err(reader.at(
-            c,
-            field,
-            format!("radius {} must be finite, > 0 and at most 1e9", Num(r)),
-        ));
-    }
-    Ok(Circle::new(x, y, r))
 }
 
 /// The names of the mapped obstacles that are gone (checked against the scene later).

@@ -1,6 +1,7 @@
 //! Writing a scene world as a world file (YAML).
 
 use homospline_geom::Real;
+use homospline_geom::scene::WrittenObstacle;
 
 use super::types::{MissionWorld, WORLD_VERSION};
 
@@ -10,16 +11,10 @@ struct OutWorld<'a> {
     name: &'a str,
     scene: &'a str,
     #[serde(skip_serializing_if = "Vec::is_empty")]
-    hidden_obstacles: Vec<OutObstacle<'a>>,
+    hidden_obstacles: Vec<WrittenObstacle<'a>>,
     #[serde(skip_serializing_if = "Vec::is_empty")]
     cleared_obstacles: Vec<&'a str>,
     team: OutTeam,
-}
-
-#[derive(serde::Serialize)]
-struct OutObstacle<'a> {
-    name: &'a str,
-    circles: Vec<[Real; 3]>,
 }
 
 #[derive(serde::Serialize)]
@@ -59,14 +54,7 @@ impl MissionWorld {
                 .obstacles
                 .iter()
                 .filter(|o| self.hidden.contains(&o.name))
-                .map(|o| OutObstacle {
-                    name: &o.name,
-                    circles: o
-                        .circles
-                        .iter()
-                        .map(|c| [c.center.x, c.center.y, c.radius])
-                        .collect(),
-                })
+                .map(WrittenObstacle::from)
                 .collect(),
             cleared_obstacles: self.cleared.iter().map(String::as_str).collect(),
             team: OutTeam {

@@ -211,7 +211,16 @@ fn world_error(text: &str) -> String {
 fn world_files_are_checked_with_file_line_field_and_problem() {
     assert_eq!(
         world_error("scene: s.yaml\nhidden_obstacles:\n  - circles: [[50, 30, -1]]\n"),
-        "w.yaml:3: hidden_obstacles[0].circles[0]: radius -1 must be finite, > 0 and at most 1e9"
+        // A hidden obstacle is checked as a scene's obstacle is, in the same words.
+        "w.yaml:3: hidden_obstacles[0].circles[0]: radius must be > 0, got -1 (obstacle 'hidden-0')"
+    );
+    assert_eq!(
+        world_error("scene: s.yaml\nhidden_obstacles:\n  - circles: [[50, .nan, 1]]\n"),
+        "w.yaml:3: hidden_obstacles[0].circles[0]: y is NaN"
+    );
+    assert_eq!(
+        world_error("scene: s.yaml\nhidden_obstacles:\n  - name: x\n    circles: []\n"),
+        "w.yaml:3: hidden_obstacles[0].circles: obstacle 'x' has no circles"
     );
     assert_eq!(
         world_error("scene: s.yaml\ncleared_obstacles: [nothing]\n"),
