@@ -7,6 +7,7 @@ use std::fmt;
 use std::str::FromStr;
 
 use homospline_geom::Scene;
+use homospline_optim::planner::{ConfigError, Setting};
 use homospline_optim::{GrowthConfig, Optimizer, PlanConfig, Seed};
 use homospline_spline::{ClearanceSearch, Preset, RoughnessForm};
 
@@ -235,35 +236,44 @@ pub struct PlanOptions {
     pub graph: bool,
 }
 
-/// `x` is in `range`, or the error "must be between a and b".
-fn within(o: Opt, x: usize, range: std::ops::RangeInclusive<usize>) -> Result<usize, OptionError> {
-    if range.contains(&x) {
-        Ok(x)
-    } else {
-        Err(OptionError::new(
-            o,
-            x,
-            format!("must be between {} and {}", range.start(), range.end()),
-        ))
+impl From<ConfigError> for OptionError {
+    /// The planner's setting in the front ends' spelling: the one map from
+    /// [`Setting`] to [`Opt`].
+    fn from(e: ConfigError) -> Self {
+        let option = match e.setting {
+            Setting::Classes => Opt::Classes,
+            Setting::Avoid => Opt::Avoid,
+            Setting::Seed => Opt::Seed,
+            Setting::Threads => Opt::Threads,
+            Setting::Resolution => Opt::Resolution,
+            Setting::ClearanceFloor => Opt::ClearanceFloor,
+            Setting::Cost => Opt::Weight,
+            Setting::Diverse => Opt::Diverse,
+            Setting::Prune => Opt::Prune,
+            Setting::MaxRounds => Opt::Rounds,
+            Setting::MaxViaPoints => Opt::MaxVia,
+            Setting::Polish => Opt::Polish,
+            Setting::Graph => Opt::Graph,
+        };
+        Self {
+            option,
+            value: e.value,
+            problem: e.problem,
+            others: Vec::new(),
+        }
     }
 }
 
-/// `--classes`: 1 to 64.
+/// `--classes`: 1 to 64 ([`homospline_optim::planner::check_classes`]).
 pub fn check_classes(k: usize) -> Result<usize, OptionError> {
-    within(Opt::Classes, k, 1..=64)
+    homospline_optim::planner::check_classes(k)?;
+    Ok(k)
 }
 
-/// `--diverse`: a fraction in [0, 1].
+/// `--diverse`: a fraction in [0, 1] ([`homospline_optim::planner::check_diverse`]).
 pub fn check_diverse(f: f64) -> Result<f64, OptionError> {
-    if f.is_finite() && (0.0..=1.0).contains(&f) {
-        Ok(f)
-    } else {
-        Err(OptionError::new(
-            Opt::Diverse,
-            Num(f),
-            "must be a fraction in [0, 1]",
-        ))
-    }
+    homospline_optim::planner::check_diverse(f)?;
+    Ok(f)
 }
 
 /// Problems of options that apply to scenes only, given with a map.
@@ -329,7 +339,7 @@ impl PlanOptions {
     /// assert!(e.to_string().starts_with("--weight safty=1: unknown weight"));
     /// ```
     pub fn validate(&self, scene: Option<&Scene>) -> Result<PlanConfig, OptionError> {
-        self.check_ranges(scene)?;
+        self.check_given(scene)?;
         self.check_seed()?;
         let base = match scene {
             Some(_) => PlanConfig::default(),
@@ -364,7 +374,7 @@ impl PlanOptions {
             Some(OrOff::Off) => None,
             Some(OrOff::On(n)) => Some(n),
         };
-        Ok(PlanConfig {
+        let cfg = PlanConfig {
             seed: self.seed,
             classes: self.classes.unwrap_or(base.classes),
             resolution: self.resolution,
@@ -388,64 +398,29 @@ impl PlanOptions {
                 .map_dm
                 .filter(|_| !self.weights.iter().any(|(n, _)| n.trim() == "dm")),
             ..base
-        })
+        };
+        cfg.check()?;
+        Ok(cfg)
     }
 
-    /// Numbers in their ranges, and the scene-only options absent on a map.
-    fn check_ranges(&self, scene: Option<&Scene>) -> Result<(), OptionError> {
-        if let Some(k) = self.classes {
-            check_classes(k)?;
+    /// The scene-only options absent on a map (the values' ranges are the planner's:
+    /// [`PlanConfig::check`]).
+    fn check_given(&self, scene: Option<&Scene>) -> Result<(), OptionError> {
+        if scene.is_some() {
+            return Ok(());
         }
-        if let Some(r) = self.resolution {
-            if scene.is_none() {
-                return Err(OptionError::given(
-                    Opt::Resolution,
-                    "applies to scenes; a map's grid is its cells",
-                ));
-            }
-            if !(r.is_finite() && r > 0.0) {
-                return Err(OptionError::new(
-                    Opt::Resolution,
-                    Num(r),
-                    "must be positive",
-                ));
-            }
-        }
-        if let Some(n) = self.threads {
-            within(Opt::Threads, n, 1..=homospline_optim::planner::MAX_THREADS)?;
-        }
-        if !(self.clearance_floor.is_finite() && self.clearance_floor >= 0.0) {
-            return Err(OptionError::new(
-                Opt::ClearanceFloor,
-                Num(self.clearance_floor),
-                "must be a finite number >= 0",
+        if self.resolution.is_some() {
+            return Err(OptionError::given(
+                Opt::Resolution,
+                "applies to scenes; a map's grid is its cells",
             ));
         }
-        if let Some(f) = self.diverse {
-            check_diverse(f)?;
-        }
-        if let Some(OrOff::On(r)) = self.prune
-            && !(r.is_finite() && r >= 1.0)
-        {
-            return Err(OptionError::new(
-                Opt::Prune,
-                Num(r),
-                "expected off or a ratio of at least 1",
-            ));
-        }
-        if let (Some(OrOff::On(n)), None) = (self.finish_within, scene)
+        if let Some(OrOff::On(n)) = self.finish_within
             && n != 0
         {
             return Err(OptionError::given(Opt::FinishWithin, SCENES_ONLY));
         }
-        if let Some(r) = self.rounds {
-            within(Opt::Rounds, r, 1..=100)?;
-        }
-        if let Some(v) = self.max_via {
-            within(Opt::MaxVia, v, 1..=200)?;
-        }
-        within(Opt::Polish, self.polish, 0..=10)?;
-        if self.polish > 0 && scene.is_none() {
+        if self.polish > 0 {
             return Err(OptionError::given(Opt::Polish, SCENES_ONLY));
         }
         Ok(())

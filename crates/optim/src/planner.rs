@@ -45,8 +45,9 @@ mod world;
 
 pub use class::DENSE_SEED_SHARE;
 pub use config::{
-    DEFAULT_FINISH_WITHIN, DEFAULT_PRUNE, DIVERSE_CANDIDATES, DM_RULE_SHARE, Detour, Interrupt,
-    MAX_THREADS, PlanConfig, PlanError, Seed,
+    ConfigError, DEFAULT_FINISH_WITHIN, DEFAULT_PRUNE, DIVERSE_CANDIDATES, DM_RULE_SHARE, Detour,
+    Interrupt, MAX_CLASSES, MAX_POLISH, MAX_ROUNDS, MAX_THREADS, MAX_VIA_POINTS_CAP, PlanConfig,
+    PlanError, Seed, Setting, check_classes, check_diverse,
 };
 pub use report::{ClassPlan, Plan, Timing};
 pub use via::SEED_MAX_GAP;
@@ -147,7 +148,7 @@ pub fn plan_with_graph(
     cfg: &PlanConfig,
 ) -> Result<Plan, PlanError> {
     if let Some(why) = graph.as_ref().and_then(|g| graph_misfit(g, scene, cfg)) {
-        return Err(PlanError::Config(why));
+        return Err(ConfigError::given(Setting::Graph, why).into());
     }
     let circles = ExactCircles::new(scene.circles());
     let model = CircleModel::new(scene.circles());

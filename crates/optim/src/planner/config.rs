@@ -1,6 +1,9 @@
 //! The planner's settings ([`PlanConfig`], [`Seed`] and their defaults), the errors it
 //! reports before any class is optimised ([`PlanError`]), and the checks of a configuration.
 
+use std::fmt;
+
+use homospline_geom::math::Num;
 use homospline_geom::{Real, Vector};
 use homospline_homotopy::{SearchConfig, SearchError};
 use homospline_voronoi::BuildError;
@@ -259,15 +262,220 @@ pub enum PlanError {
     /// Class search.
     #[error(transparent)]
     Search(#[from] SearchError),
-    /// Configuration.
-    #[error("{0}")]
-    Config(String),
+    /// A setting out of its range, or settings that do not go together.
+    #[error(transparent)]
+    Config(#[from] ConfigError),
     /// Thread pool.
     #[error("cannot start worker threads: {0}")]
     Threads(String),
     /// [`PlanConfig::interrupt`] was raised.
     #[error("interrupted")]
     Interrupted,
+}
+
+/// Most classes a plan may ask for ([`PlanConfig::classes`]).
+pub const MAX_CLASSES: usize = 64;
+
+/// Most growth rounds ([`GrowthConfig::max_rounds`]).
+pub const MAX_ROUNDS: usize = 100;
+
+/// The largest [`GrowthConfig::max_via_points`].
+pub const MAX_VIA_POINTS_CAP: usize = 200;
+
+/// Most polish rounds ([`PlanConfig::polish`]).
+pub const MAX_POLISH: usize = 10;
+
+/// A setting of [`PlanConfig`], as a [`ConfigError`] names it; the front ends map each to
+/// their own spelling (`--max-via`, `max_via=`) in one place.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Setting {
+    /// [`PlanConfig::classes`].
+    Classes,
+    /// [`PlanConfig::avoid`].
+    Avoid,
+    /// [`PlanConfig::seed`] against the settings it cannot take.
+    Seed,
+    /// [`PlanConfig::threads`].
+    Threads,
+    /// [`PlanConfig::resolution`].
+    Resolution,
+    /// [`PlanConfig::clearance_floor`].
+    ClearanceFloor,
+    /// The cost's weights and parameters ([`GrowthConfig::cost`]).
+    Cost,
+    /// [`PlanConfig::diverse`].
+    Diverse,
+    /// [`PlanConfig::prune`].
+    Prune,
+    /// [`GrowthConfig::max_rounds`].
+    MaxRounds,
+    /// [`GrowthConfig::max_via_points`].
+    MaxViaPoints,
+    /// [`PlanConfig::polish`].
+    Polish,
+    /// A saved graph given with the configuration.
+    Graph,
+}
+
+impl Setting {
+    /// Its field's path in [`PlanConfig`].
+    pub fn field(self) -> &'static str {
+        match self {
+            Setting::Classes => "classes",
+            Setting::Avoid => "avoid",
+            Setting::Seed => "seed",
+            Setting::Threads => "threads",
+            Setting::Resolution => "resolution",
+            Setting::ClearanceFloor => "clearance_floor",
+            Setting::Cost => "growth.cost",
+            Setting::Diverse => "diverse",
+            Setting::Prune => "prune",
+            Setting::MaxRounds => "growth.max_rounds",
+            Setting::MaxViaPoints => "growth.max_via_points",
+            Setting::Polish => "polish",
+            Setting::Graph => "graph",
+        }
+    }
+}
+
+/// A [`PlanConfig`] setting out of its range (with the value given), or settings that do
+/// not go together: the one check of each value ([`PlanConfig::check`]), which the command
+/// line and Python report in their own spelling.
+///
+/// # Examples
+///
+/// ```
+/// use homospline_optim::PlanConfig;
+/// use homospline_optim::planner::Setting;
+///
+/// let cfg = PlanConfig { classes: 0, ..PlanConfig::default() };
+/// let e = cfg.check().unwrap_err();
+/// assert_eq!(e.setting, Setting::Classes);
+/// assert_eq!(e.to_string(), "classes 0: must be between 1 and 64");
+/// ```
+#[derive(Clone, Debug, Error, PartialEq)]
+#[error("{}{}: {problem}", setting.field(), value.as_ref().map(|v| format!(" {v}")).unwrap_or_default())]
+pub struct ConfigError {
+    /// The setting at fault.
+    pub setting: Setting,
+    /// Its value, when one is to blame.
+    pub value: Option<String>,
+    /// What is wrong.
+    pub problem: String,
+}
+
+impl ConfigError {
+    /// `setting` of `value` has `problem`.
+    pub fn new(setting: Setting, value: impl fmt::Display, problem: impl Into<String>) -> Self {
+        Self {
+            setting,
+            value: Some(value.to_string()),
+            problem: problem.into(),
+        }
+    }
+
+    /// `setting` cannot be given here: `problem` says why.
+    pub fn given(setting: Setting, problem: impl Into<String>) -> Self {
+        Self {
+            setting,
+            value: None,
+            problem: problem.into(),
+        }
+    }
+}
+
+/// `x` of `setting` is in `range`, or "must be between a and b".
+fn within(
+    setting: Setting,
+    x: usize,
+    range: std::ops::RangeInclusive<usize>,
+) -> Result<(), ConfigError> {
+    if range.contains(&x) {
+        Ok(())
+    } else {
+        Err(ConfigError::new(
+            setting,
+            x,
+            format!("must be between {} and {}", range.start(), range.end()),
+        ))
+    }
+}
+
+/// The classes a plan asks for: 1 to [`MAX_CLASSES`].
+pub fn check_classes(k: usize) -> Result<(), ConfigError> {
+    within(Setting::Classes, k, 1..=MAX_CLASSES)
+}
+
+/// The limited overlap: a fraction in `[0, 1]`.
+pub fn check_diverse(f: Real) -> Result<(), ConfigError> {
+    if f.is_finite() && (0.0..=1.0).contains(&f) {
+        Ok(())
+    } else {
+        Err(ConfigError::new(
+            Setting::Diverse,
+            Num(f),
+            "must be a fraction in [0, 1]",
+        ))
+    }
+}
+
+impl PlanConfig {
+    /// Checks every setting against its range, and the straight seed against the settings
+    /// it cannot take: the one place each value is checked (the planner calls it before any
+    /// work; the front ends call it on what their options built, and spell its
+    /// [`ConfigError`] as their options). The classes a plan avoids are checked against a
+    /// world's rays when it plans.
+    pub fn check(&self) -> Result<(), ConfigError> {
+        check_classes(self.classes)?;
+        if self.seed == Seed::Straight && (!self.avoid.is_empty() || self.diverse.is_some()) {
+            return Err(ConfigError::given(
+                Setting::Seed,
+                "avoid and diverse choose among the Voronoi seed's classes; the straight seed plans one class",
+            ));
+        }
+        if let Some(n) = self.threads {
+            within(Setting::Threads, n, 1..=MAX_THREADS)?;
+        }
+        if let Some(r) = self.resolution
+            && !(r.is_finite() && r > 0.0)
+        {
+            return Err(ConfigError::new(
+                Setting::Resolution,
+                Num(r),
+                "must be positive",
+            ));
+        }
+        if !(self.clearance_floor.is_finite() && self.clearance_floor >= 0.0) {
+            return Err(ConfigError::new(
+                Setting::ClearanceFloor,
+                Num(self.clearance_floor),
+                "must be a finite number >= 0",
+            ));
+        }
+        self.growth
+            .cost
+            .validate()
+            .map_err(|e| ConfigError::given(Setting::Cost, e.to_string()))?;
+        if let Some(f) = self.diverse {
+            check_diverse(f)?;
+        }
+        if let Some(r) = self.prune
+            && !(r.is_finite() && r >= 1.0)
+        {
+            return Err(ConfigError::new(
+                Setting::Prune,
+                Num(r),
+                "expected off or a ratio of at least 1",
+            ));
+        }
+        within(Setting::MaxRounds, self.growth.max_rounds, 1..=MAX_ROUNDS)?;
+        within(
+            Setting::MaxViaPoints,
+            self.growth.max_via_points,
+            1..=MAX_VIA_POINTS_CAP,
+        )?;
+        within(Setting::Polish, self.polish, 0..=MAX_POLISH)
+    }
 }
 
 /// Why `text` names no class of a scene or map with `rays` rays, if it does not: a class is
@@ -309,54 +517,14 @@ pub(super) fn avoid_misfit(text: &str, rays: usize) -> Option<String> {
     None
 }
 
-/// Whether `cfg` can plan in a world of `rays` rays: the class count, the avoided classes
-/// (each must name a class there), the thread count, the clearance floor, the cost, the
-/// overlap limit and the pruning ratio are checked before any work.
+/// Whether `cfg` can plan in a world of `rays` rays: [`PlanConfig::check`], and each
+/// avoided class must name a class there.
 pub(super) fn validate(cfg: &PlanConfig, rays: usize) -> Result<(), PlanError> {
-    if cfg.classes == 0 {
-        return Err(PlanError::Config("classes must be at least 1".into()));
-    }
+    cfg.check()?;
     for a in &cfg.avoid {
-        avoid_misfit(a, rays).map_or(Ok(()), |why| {
-            Err(PlanError::Config(format!("avoid '{a}': {why}")))
-        })?;
-    }
-    if cfg.seed == Seed::Straight && (!cfg.avoid.is_empty() || cfg.diverse.is_some()) {
-        return Err(PlanError::Config(
-            "avoid and diverse choose among the Voronoi seed's classes; the straight seed plans one class"
-                .into(),
-        ));
-    }
-    if let Some(n) = cfg.threads
-        && !(1..=MAX_THREADS).contains(&n)
-    {
-        return Err(PlanError::Config(format!(
-            "threads must be between 1 and {MAX_THREADS}, got {n}"
-        )));
-    }
-    if !(cfg.clearance_floor.is_finite() && cfg.clearance_floor >= 0.0) {
-        return Err(PlanError::Config(format!(
-            "clearance floor must be finite and >= 0, got {}",
-            cfg.clearance_floor
-        )));
-    }
-    cfg.growth
-        .cost
-        .validate()
-        .map_err(|e| PlanError::Config(e.to_string()))?;
-    if let Some(f) = cfg.diverse
-        && !(f.is_finite() && (0.0..=1.0).contains(&f))
-    {
-        return Err(PlanError::Config(format!(
-            "diverse must be a fraction in [0, 1], got {f}"
-        )));
-    }
-    if let Some(r) = cfg.prune
-        && !(r.is_finite() && r >= 1.0)
-    {
-        return Err(PlanError::Config(format!(
-            "prune must be a ratio of at least 1, got {r}"
-        )));
+        if let Some(why) = avoid_misfit(a, rays) {
+            return Err(ConfigError::new(Setting::Avoid, format!("'{a}'"), why).into());
+        }
     }
     Ok(())
 }

@@ -4,6 +4,7 @@
 
 mod barrier;
 mod budget;
+mod config;
 mod dm_gap;
 mod interrupt;
 mod nelder_mead;
