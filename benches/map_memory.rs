@@ -118,7 +118,7 @@ fn main() -> std::process::ExitCode {
             homospline_testkit::free_diagonal_centre(&map, 10, 1),
             homospline_testkit::free_diagonal_centre(&map, n - 96, -1),
         );
-        let mut cfg = homospline_maps::map_config();
+        let mut cfg = homospline_optim::PlanConfig::maps();
         cfg.classes = 2;
         let clock = Instant::now();
         let result = prepared.plan(s, t, &cfg);

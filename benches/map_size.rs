@@ -8,7 +8,8 @@
 //! 3.95 M edges and the optimisation.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use homospline_maps::{PreparedMap, map_config};
+use homospline_maps::PreparedMap;
+use homospline_optim::PlanConfig;
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -32,7 +33,7 @@ fn bench(c: &mut Criterion) {
         homospline_testkit::free_diagonal_centre(&map, 10, 1),
         homospline_testkit::free_diagonal_centre(&map, 4000, -1),
     );
-    let mut cfg = map_config();
+    let mut cfg = PlanConfig::maps();
     cfg.classes = 2;
     let mut g = c.benchmark_group("map_size");
     g.sample_size(10).measurement_time(Duration::from_secs(40));

@@ -63,7 +63,7 @@ fn fixture(name: &str) -> (OccupancyMap, Vec<movingai::Scenario>) {
 fn bench(c: &mut Criterion) {
     let map = city();
     let (s, t) = (Point::new(8.5, 256.5), Point::new(503.5, 256.5));
-    let cfg = homospline_maps::map_config();
+    let cfg = PlanConfig::maps();
     let (plan, prepared) = plan_map(&map, s, t, &cfg).unwrap();
     eprintln!(
         "city-512: graph {} nodes {} edges; {} classes, best {:?}, free {}; stages voronoi {:.1} ms classes {:.2} ms optimise {:.1} ms",

@@ -354,7 +354,7 @@ fn regress_maps(root: &Path, bless: bool) -> Result<(bool, usize)> {
         let scen =
             homospline_maps::movingai::read_scen(&scen_text, &scen_path.display().to_string())?;
         let prepared = homospline_maps::PreparedMap::new(&map)?;
-        let cfg = homospline_maps::map_config();
+        let cfg = PlanConfig::maps();
         let mut actual = String::new();
         for k in 0..MAP_SCENARIOS.min(scen.len()) {
             let i = if MAP_SCENARIOS > 1 {

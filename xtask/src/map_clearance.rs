@@ -3,7 +3,7 @@
 //!
 //! For each `.scen` file (its map beside it), or ROS map YAML (`--sample` seeded pairs of
 //! free cell centres that keep the radius, the straight line as the optimum): `--sample N` scenarios spread evenly over the
-//! file (default 40), planned at the map defaults ([`homospline_maps::map_config`]) on the map
+//! file (default 40), planned at the map defaults ([`homospline_optim::PlanConfig::maps`]) on the map
 //! prepared for `--robot-radius R` (default 0). Printed per file:
 //! - `keep`: scenarios whose start and goal keep `R` from every occupied cell (the others are
 //!   refused, as the planner refuses them); `apart`: of those, how many have no free route at
@@ -307,7 +307,7 @@ pub fn run(o: &Options) -> Result<()> {
         "detour"
     );
     let mut refused_joined = 0;
-    let mut cfg = homospline_maps::map_config();
+    let mut cfg = homospline_optim::PlanConfig::maps();
     cfg.growth.cost.safety_along = o.along;
     if !o.detour {
         cfg.detour = None;

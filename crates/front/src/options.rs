@@ -302,7 +302,7 @@ impl PlanOptions {
     /// assert_eq!(cfg.finish_within, base.finish_within);
     /// assert_eq!(cfg.growth.max_rounds, base.growth.max_rounds);
     /// let map = PlanOptions::default().validate(None).unwrap();
-    /// assert_eq!(map.growth.cost, homospline_maps::map_config().growth.cost);
+    /// assert_eq!(map.growth.cost, homospline_optim::PlanConfig::maps().growth.cost);
     /// // "off" reads as off.
     /// assert_eq!("off".parse::<OrOff<f64>>(), Ok(OrOff::Off));
     /// assert_eq!("2".parse::<OrOff<f64>>(), Ok(OrOff::On(2.0)));
@@ -343,7 +343,7 @@ impl PlanOptions {
         self.check_seed()?;
         let base = match scene {
             Some(_) => PlanConfig::default(),
-            None => homospline_maps::map_config(),
+            None => PlanConfig::maps(),
         };
         let mut cost = self.preset.config();
         if let Some(s) = scene {
@@ -351,7 +351,7 @@ impl PlanOptions {
         } else {
             // The map defaults of the safety term, whatever the preset; `--weight` may
             // change them below.
-            homospline_maps::map_safety(&mut cost);
+            homospline_optim::planner::profile::map_safety(&mut cost);
         }
         for (name, v) in &self.weights {
             cost.set(name.trim(), *v).map_err(|e| {

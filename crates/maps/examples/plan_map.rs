@@ -5,7 +5,8 @@
 //! `cargo run --release -p homospline-maps --example plan_map [RADIUS]`
 
 use homospline_geom::Point;
-use homospline_maps::{PreparedMap, map_config, movingai};
+use homospline_maps::{PreparedMap, movingai};
+use homospline_optim::PlanConfig;
 
 fn main() -> std::process::ExitCode {
     match run() {
@@ -26,7 +27,7 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     let map = movingai::read_map(&std::fs::read_to_string(path)?, path)?;
     // Preparing costs the most; each query after it reuses the prepared map.
     let prepared = PreparedMap::for_robot(&map, radius)?;
-    let cfg = map_config();
+    let cfg = PlanConfig::maps();
     // Room centres 1.5 cells from every wall: corner to corner, and across.
     for (s, g) in [
         ((2.5, 2.5), (30.5, 30.5)),

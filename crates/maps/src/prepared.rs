@@ -22,7 +22,8 @@ use crate::{GridModel, footprint};
 ///
 /// ```
 /// use homospline_geom::Point;
-/// use homospline_maps::{OccupancyMap, PreparedMap, map_config};
+/// use homospline_maps::{OccupancyMap, PreparedMap};
+/// use homospline_optim::PlanConfig;
 ///
 /// let (w, h) = (16, 10);
 /// // A wall across the map with a diagonal door between the corners (8, 4) and (9, 5).
@@ -38,7 +39,7 @@ use crate::{GridModel, footprint};
 ///     y_down: true,
 /// };
 /// let prepared = PreparedMap::for_robot(&map, 0.6)?;
-/// let cfg = map_config();
+/// let cfg = PlanConfig::maps();
 /// for goal in [Point::new(13.5, 3.5), Point::new(12.5, 1.5)] {
 ///     let plan = prepared.plan(Point::new(3.5, 4.5), goal, &cfg)?;
 ///     let chosen = plan.chosen().expect("through the door");

@@ -36,6 +36,7 @@ mod config;
 mod finish;
 mod optimise;
 mod pool;
+pub mod profile;
 mod pull;
 mod rank;
 mod report;

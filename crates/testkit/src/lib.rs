@@ -531,7 +531,7 @@ fn map_world(prior: &OccupancyMap, seed: u64) -> Option<homospline_mission::MapW
     let (start, goal) = (0..50)
         .map(|_| (pick(&mut rng), pick(&mut rng)))
         .find(|(s, g)| (s - g).norm() > 0.6 * diag)?;
-    let cfg = homospline_maps::map_config();
+    let cfg = homospline_optim::PlanConfig::maps();
     let radius = if seed % 2 == 1 { 0.3 } else { 0.0 };
     let prepared = homospline_maps::PreparedMap::for_robot(prior, radius).ok()?;
     let plan = prepared.plan(start, goal, &cfg).ok()?;

@@ -206,7 +206,7 @@ fn plans_on_a_ros_map() {
 fn the_certificate_is_as_fine_as_the_cell() {
     let base = movingai_map("room-32-32-4");
     let (s, g) = (Point::new(21.5, 14.5), Point::new(9.5, 0.5));
-    let cfg = homospline_maps::map_config();
+    let cfg = PlanConfig::maps();
     for cell in [1e-6, 1e-5, 1e-3, 1.0] {
         let map = OccupancyMap {
             cell,
@@ -242,7 +242,7 @@ fn a_map_plan_gets_no_finish_or_polish_whatever_the_configuration() {
                 finish_within,
                 polish,
                 diverse,
-                ..homospline_maps::map_config()
+                ..PlanConfig::maps()
             };
             let (plan, _) = plan_map(&map, s, g, &cfg).unwrap();
             assert!(plan.best.is_some());
@@ -366,7 +366,7 @@ fn brute_clearance(map: &OccupancyMap, p: Point) -> f64 {
 fn curves_do_not_curl_at_their_ends() {
     let map = movingai_map("Boston_0_256");
     let prepared = homospline_maps::PreparedMap::new(&map).unwrap();
-    let cfg = homospline_maps::map_config();
+    let cfg = PlanConfig::maps();
     for (s, g) in [
         ((89, 49), (146, 93)),
         ((182, 252), (9, 53)),
@@ -404,7 +404,7 @@ fn a_random_field_yields_its_classes() {
     let graph = prepared
         .query_graph(Point::new(80.5, 475.5), Point::new(499.5, 93.5))
         .unwrap();
-    let cfg = homospline_maps::map_config();
+    let cfg = PlanConfig::maps();
     let found = homospline_homotopy::k_best_classes(&graph, &prepared.rays, &cfg.search).unwrap();
     assert_eq!(
         found.classes.len(),
@@ -431,7 +431,7 @@ fn map_plans_are_the_same_for_any_thread_count() {
     let with = |threads| {
         let cfg = PlanConfig {
             threads: Some(threads),
-            ..homospline_maps::map_config()
+            ..PlanConfig::maps()
         };
         strip(prepared.plan(s, g, &cfg).unwrap())
     };

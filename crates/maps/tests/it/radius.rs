@@ -194,7 +194,7 @@ fn diagonal_corridor(a: i64, b: i64, n: usize) -> OccupancyMap {
 
 #[test]
 fn a_diagonal_corridor_of_width_2r_plus_half_a_cell_is_driven() {
-    let cfg = homospline_maps::map_config();
+    let cfg = homospline_optim::PlanConfig::maps();
     for (a, b) in [(1, 1), (1, 2), (2, 2), (2, 3), (3, 3)] {
         let m = diagonal_corridor(a, b, 40);
         let width = (a + b) as Real / std::f64::consts::SQRT_2;
@@ -228,7 +228,7 @@ fn a_two_cell_corridor_takes_a_disc_of_radius_just_under_one() {
         occupied: (0..w * h).map(|k| !(2..4).contains(&(k / w))).collect(),
         y_down: true,
     };
-    let cfg = homospline_maps::map_config();
+    let cfg = homospline_optim::PlanConfig::maps();
     let (plan, _) =
         plan_map_for_robot(&m, 0.99, Point::new(2.0, 3.0), Point::new(28.0, 3.0), &cfg).unwrap();
     let c = plan.chosen().expect("a plan for the disc");
@@ -313,7 +313,7 @@ fn ordered(x: Real) -> u64 {
 #[test]
 fn no_route_names_the_widest_route_as_brute_force_finds_it() {
     use homospline_maps::footprint::widest_route;
-    let cfg = homospline_maps::map_config();
+    let cfg = homospline_optim::PlanConfig::maps();
     let mut checked = 0;
     for seed in 40..52 {
         let m = random_map(seed, 12, 9, 0.22, 1.0);
@@ -394,7 +394,7 @@ fn room() -> OccupancyMap {
 #[test]
 fn plans_keep_the_radius_from_every_true_cell_segment_by_segment() {
     let m = room();
-    let cfg = homospline_maps::map_config();
+    let cfg = homospline_optim::PlanConfig::maps();
     for radius in [0.0, 0.7, 1.0, 1.8] {
         let (plan, _) = plan_map_for_robot(
             &m,
@@ -423,7 +423,7 @@ fn plans_keep_the_radius_from_every_true_cell_segment_by_segment() {
 #[test]
 fn a_start_closer_than_the_radius_is_refused_with_its_clearance() {
     let m = room();
-    let cfg = homospline_maps::map_config();
+    let cfg = homospline_optim::PlanConfig::maps();
     let e = plan_map_for_robot(
         &m,
         1.0,
@@ -536,7 +536,7 @@ fn maze(seed: u64, n: usize, w: usize) -> (OccupancyMap, Point, Point) {
 /// a known limit, left out here.)
 #[test]
 fn radii_just_under_half_a_corridor_plan_within_5_s() {
-    let cfg = homospline_maps::map_config();
+    let cfg = homospline_optim::PlanConfig::maps();
     let mut planned = 0;
     for seed in 1..=3u64 {
         for w in [1usize, 2] {
@@ -591,7 +591,7 @@ fn a_disc_turns_through_a_diagonal_door_up_to_its_half_width() {
     // the ridge passed there. Radii 0.6 and 0.7 were "no collision-free class" (the pulled
     // seed kept a vertex 0.008 inside the radius); the door takes up to 0.7071.
     let m = homospline_testkit::diagonal_door_map(None);
-    let cfg = homospline_maps::map_config();
+    let cfg = homospline_optim::PlanConfig::maps();
     for radius in [0.3, 0.5, 0.6, 0.65, 0.7] {
         let (plan, _) = plan_map_for_robot(
             &m,

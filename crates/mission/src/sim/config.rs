@@ -126,7 +126,7 @@ impl Default for MissionConfig {
 
 impl MissionConfig {
     /// The settings of a mission on an occupancy-map world ([`simulate_map`](crate::simulate_map)):
-    /// [`MissionConfig::default`] with the map defaults of `homospline_maps::map_config` for
+    /// [`MissionConfig::default`] with the map defaults of `homospline_optim::PlanConfig::maps` for
     /// the via-points, the evaluation budget (rounds on long curves stop at 40 evaluations:
     /// the seeds are pulled taut), the class search, the safety term (`dm` a quarter cell,
     /// along the whole path) and the detour rule. Change any of them after: `simulate_map`
@@ -138,12 +138,12 @@ impl MissionConfig {
     /// use homospline_mission::MissionConfig;
     ///
     /// let mut cfg = MissionConfig::for_maps();
-    /// assert_eq!(cfg.plan.growth.cost.dm, homospline_maps::map_config().growth.cost.dm);
+    /// assert_eq!(cfg.plan.growth.cost.dm, homospline_optim::PlanConfig::maps().growth.cost.dm);
     /// cfg.plan.growth.cost.dm = 0.5; // kept: nothing overwrites it
     /// ```
     pub fn for_maps() -> Self {
         let mut cfg = Self::default();
-        let map = homospline_maps::map_config();
+        let map = PlanConfig::maps();
         let (plan, growth) = (&mut cfg.plan, &map.growth);
         plan.growth.max_via_points = growth.max_via_points;
         plan.growth.max_evaluations_per_round = growth.max_evaluations_per_round;
@@ -151,7 +151,7 @@ impl MissionConfig {
         plan.growth.min_evaluations_per_round = growth.min_evaluations_per_round;
         plan.search.one_path_per_state = map.search.one_path_per_state;
         plan.search.max_expansions = map.search.max_expansions;
-        homospline_maps::map_safety(&mut plan.growth.cost);
+        homospline_optim::planner::profile::map_safety(&mut plan.growth.cost);
         plan.detour = map.detour;
         cfg
     }

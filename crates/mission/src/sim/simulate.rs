@@ -70,7 +70,7 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
 
 /// Simulates the mission on an occupancy map world: the same loop as [`simulate`], with the
 /// known map updated locally at each discovery (`MissionResult::map_updates`). Give it
-/// [`MissionConfig::for_maps`] (the map defaults of `homospline_maps::map_config` for
+/// [`MissionConfig::for_maps`] (the map defaults of `homospline_optim::PlanConfig::maps` for
 /// via-points, the class search, the evaluation budget and the safety term), changed as you
 /// like: the settings are taken as given (it had copied the map defaults over the caller's,
 /// `dm` among them).

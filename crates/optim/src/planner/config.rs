@@ -41,7 +41,7 @@ pub const DM_RULE_SHARE: Real = 0.9;
 
 /// Settings of [`plan`](super::plan): classes, seed, resolution, the growth loop and its
 /// cost, the class search, the clearance floor. `Default` is the scene profile (5 classes,
-/// Nelder-Mead); maps start from `homospline_maps::map_config()`.
+/// Nelder-Mead); maps start from `homospline_optim::PlanConfig::maps()`.
 ///
 /// # Examples
 ///
@@ -84,7 +84,7 @@ pub struct PlanConfig {
     /// it. Without it `dm` acts only through the penalty `D`, which at the paper's weights
     /// trades clearance for roughness and length (chosen paths at 0.8 to 1.0 dm). On
     /// (default) for scenes; off on maps, whose one-cell doors and corners sit far below
-    /// any `dm` (see `homospline_maps::map_config`).
+    /// any `dm` (see `homospline_optim::PlanConfig::maps`).
     pub dm_rule: bool,
     /// The robot's heading at the start, when it is moving (a re-plan on the way): curves
     /// leave along it, unless their class path starts backwards (the robot turns on the
@@ -143,7 +143,7 @@ pub struct PlanConfig {
     /// least [`Detour::clearance_share`] of its least clearance, as often as one exists (each
     /// step shortens the choice by that ratio, so it ends). The class chosen so is ranked
     /// just before the one it replaced. `None` (scenes: the paper's choice by cost alone):
-    /// never. On by default on maps (`homospline_maps::map_config`), where a safety term
+    /// never. On by default on maps (`homospline_optim::PlanConfig::maps`), where a safety term
     /// along the whole path could buy a few hundredths of a cell with a loop three times as
     /// long.
     pub detour: Option<Detour>,
