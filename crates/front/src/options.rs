@@ -253,6 +253,7 @@ impl From<ConfigError> for OptionError {
             Setting::MaxRounds => Opt::Rounds,
             Setting::MaxViaPoints => Opt::MaxVia,
             Setting::Polish => Opt::Polish,
+            Setting::LbfgsValueTolerance => Opt::Optimizer,
             Setting::Graph => Opt::Graph,
         };
         Self {

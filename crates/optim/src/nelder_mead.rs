@@ -2,7 +2,9 @@
 //! `terminate`, a termination reason, validating setters and an observer.
 
 use homospline_geom::Real;
-use thiserror::Error;
+
+use crate::solver::{self, Solver, SolverState};
+pub use crate::solver::{Observer, SettingError, Termination};
 
 /// Reflection, expansion, contraction and shrink coefficients.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -40,22 +42,6 @@ impl Coefficients {
     }
 }
 
-/// A setting out of range.
-#[derive(Debug, Error, PartialEq)]
-#[error("{0}")]
-pub struct SettingError(pub String);
-
-/// Why the solver stopped.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Termination {
-    /// The values at the simplex vertices agree within the value tolerance.
-    ValueTolerance,
-    /// The simplex is smaller than the size tolerance.
-    SimplexSize,
-    /// The evaluation budget is spent.
-    MaxEvaluations,
-}
-
 /// The solver's state.
 #[derive(Clone, Debug, PartialEq)]
 pub struct State {
@@ -69,26 +55,17 @@ pub struct State {
     pub iterations: usize,
 }
 
-impl State {
-    /// The best point.
-    pub fn best(&self) -> (&[Real], Real) {
+impl SolverState for State {
+    fn best(&self) -> (&[Real], Real) {
         (&self.simplex[0], self.values[0])
     }
-}
 
-/// What an observer sees after every iteration.
-pub trait Observer {
-    /// Called after `init` and after each `step`.
-    fn observe(&mut self, state: &State);
-}
+    fn evaluations(&self) -> usize {
+        self.evaluations
+    }
 
-impl Observer for () {
-    fn observe(&mut self, _: &State) {}
-}
-
-impl<F: FnMut(&State)> Observer for F {
-    fn observe(&mut self, state: &State) {
-        self(state)
+    fn iterations(&self) -> usize {
+        self.iterations
     }
 }
 
@@ -204,8 +181,64 @@ impl NelderMead {
         self
     }
 
+    /// Runs to termination, then restarts from the best point while restarts remain and the
+    /// last run improved.
+    pub fn minimize(
+        &self,
+        f: &mut dyn FnMut(&[Real]) -> Real,
+        x0: &[Real],
+        observer: &mut dyn Observer<State>,
+    ) -> Outcome {
+        self.minimize_bounded(&mut |x: &[Real], _| f(x), x0, observer)
+    }
+
+    /// [`NelderMead::minimize`] on a [`BoundedObjective`]: the same path and result as with
+    /// the exact values.
+    pub fn minimize_bounded(
+        &self,
+        f: &mut BoundedObjective<'_>,
+        x0: &[Real],
+        observer: &mut dyn Observer<State>,
+    ) -> Outcome {
+        let mut x = x0.to_vec();
+        let (mut evaluations, mut iterations, mut restarts) = (0, 0, 0);
+        let mut best = Real::INFINITY;
+        loop {
+            // Each run may spend what the runs before it left of the budget.
+            let this_run = Self {
+                max_evaluations: self.max_evaluations.saturating_sub(evaluations),
+                ..self.clone()
+            };
+            let (s, reason) = solver::run(&this_run, f, &x, observer);
+            evaluations += s.evaluations;
+            iterations += s.iterations;
+            let (bx, bv) = s.best();
+            let improved = bv < best - self.value_tolerance * (1.0 + bv.abs());
+            if bv < best {
+                best = bv;
+                x = bx.to_vec();
+            }
+            if restarts >= self.restarts || !improved || reason == Termination::MaxEvaluations {
+                return Outcome {
+                    x,
+                    value: best,
+                    termination: reason,
+                    evaluations,
+                    iterations,
+                    restarts,
+                };
+            }
+            restarts += 1;
+        }
+    }
+}
+
+impl Solver for NelderMead {
+    type Objective<'a> = BoundedObjective<'a>;
+    type State = State;
+
     /// The initial simplex around `x0` (every value is needed exactly).
-    pub fn init(&self, f: &mut BoundedObjective<'_>, x0: &[Real]) -> State {
+    fn init(&self, f: &mut BoundedObjective<'_>, x0: &[Real]) -> State {
         let n = x0.len();
         let mut simplex = vec![x0.to_vec()];
         for i in 0..n {
@@ -231,7 +264,7 @@ impl NelderMead {
     /// value it must beat to be taken: the worst vertex for the reflection and the inside
     /// contraction, the reflection for the expansion and the outside contraction; a shrink
     /// needs every value.
-    pub fn step(&self, f: &mut BoundedObjective<'_>, s: &mut State) {
+    fn step(&self, f: &mut BoundedObjective<'_>, s: &mut State) {
         let n = s.simplex.len() - 1;
         let c = &self.coefficients;
         let centroid: Vec<Real> = (0..n)
@@ -293,7 +326,7 @@ impl NelderMead {
     }
 
     /// Why to stop now, if at all.
-    pub fn terminate(&self, s: &State) -> Option<Termination> {
+    fn terminate(&self, s: &State) -> Option<Termination> {
         if s.evaluations >= self.max_evaluations {
             return Some(Termination::MaxEvaluations);
         }
@@ -311,63 +344,6 @@ impl NelderMead {
             })
             .fold(0.0, Real::max);
         (size <= self.size_tolerance).then_some(Termination::SimplexSize)
-    }
-
-    /// Runs to termination, then restarts from the best point while restarts remain and the
-    /// last run improved.
-    pub fn minimize(
-        &self,
-        f: &mut dyn FnMut(&[Real]) -> Real,
-        x0: &[Real],
-        observer: &mut dyn Observer,
-    ) -> Outcome {
-        self.minimize_bounded(&mut |x: &[Real], _| f(x), x0, observer)
-    }
-
-    /// [`NelderMead::minimize`] on a [`BoundedObjective`]: the same path and result as with
-    /// the exact values.
-    pub fn minimize_bounded(
-        &self,
-        f: &mut BoundedObjective<'_>,
-        x0: &[Real],
-        observer: &mut dyn Observer,
-    ) -> Outcome {
-        let mut x = x0.to_vec();
-        let (mut evaluations, mut iterations, mut restarts) = (0, 0, 0);
-        let mut best = Real::INFINITY;
-        loop {
-            let mut s = self.init(f, &x);
-            observer.observe(&s);
-            let reason = loop {
-                if let Some(r) = self.terminate(&s) {
-                    break r;
-                }
-                if evaluations + s.evaluations >= self.max_evaluations {
-                    break Termination::MaxEvaluations;
-                }
-                self.step(f, &mut s);
-                observer.observe(&s);
-            };
-            evaluations += s.evaluations;
-            iterations += s.iterations;
-            let (bx, bv) = s.best();
-            let improved = bv < best - self.value_tolerance * (1.0 + bv.abs());
-            if bv < best {
-                best = bv;
-                x = bx.to_vec();
-            }
-            if restarts >= self.restarts || !improved || reason == Termination::MaxEvaluations {
-                return Outcome {
-                    x,
-                    value: best,
-                    termination: reason,
-                    evaluations,
-                    iterations,
-                    restarts,
-                };
-            }
-            restarts += 1;
-        }
     }
 }
 

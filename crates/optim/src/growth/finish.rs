@@ -154,10 +154,11 @@ pub(super) fn interior_finish(
                 None => (Real::INFINITY, g),
             }
         };
-        let lb = Lbfgs {
-            max_evaluations: (budget / FINISH_WEIGHTS.len()).max(2),
-            value_tolerance: cfg.lbfgs_value_tolerance,
-            ..Lbfgs::default()
+        let Ok(lb) = Lbfgs::default()
+            .with_value_tolerance(cfg.lbfgs_value_tolerance)
+            .and_then(|l| l.with_max_evaluations((budget / FINISH_WEIGHTS.len()).max(2)))
+        else {
+            break;
         };
         let out = lb.minimize(&mut fg, &x);
         if !out.value.is_finite() || !proven(&out.x) {

@@ -310,10 +310,11 @@ impl Objective<'_> {
         current: Real,
         count: &mut usize,
     ) -> (Vec<Real>, Real) {
-        let lb = Lbfgs {
-            max_evaluations: budget.max(4) / 4,
-            value_tolerance: self.cfg.lbfgs_value_tolerance,
-            ..Lbfgs::default()
+        let Ok(lb) = Lbfgs::default()
+            .with_value_tolerance(self.cfg.lbfgs_value_tolerance)
+            .and_then(|l| l.with_max_evaluations(budget.max(4) / 4))
+        else {
+            return (x0.to_vec(), Real::INFINITY);
         };
         let mut fg = |x: &[Real]| -> (Real, Vec<Real>) {
             *count += 1;

@@ -12,6 +12,7 @@ use thiserror::Error;
 use crate::growth::GrowthConfig;
 #[cfg(doc)]
 use crate::growth::{Growth, Guard};
+use crate::lbfgs::Lbfgs;
 
 /// How the initial spline is made.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -313,6 +314,8 @@ pub enum Setting {
     MaxViaPoints,
     /// [`PlanConfig::polish`].
     Polish,
+    /// [`GrowthConfig::lbfgs_value_tolerance`].
+    LbfgsValueTolerance,
     /// A saved graph given with the configuration.
     Graph,
 }
@@ -333,6 +336,7 @@ impl Setting {
             Setting::MaxRounds => "growth.max_rounds",
             Setting::MaxViaPoints => "growth.max_via_points",
             Setting::Polish => "polish",
+            Setting::LbfgsValueTolerance => "growth.lbfgs_value_tolerance",
             Setting::Graph => "graph",
         }
     }
@@ -468,6 +472,15 @@ impl PlanConfig {
                 "expected off or a ratio of at least 1",
             ));
         }
+        Lbfgs::default()
+            .with_value_tolerance(self.growth.lbfgs_value_tolerance)
+            .map_err(|_| {
+                ConfigError::new(
+                    Setting::LbfgsValueTolerance,
+                    Num(self.growth.lbfgs_value_tolerance),
+                    "must be a finite number >= 0",
+                )
+            })?;
         within(Setting::MaxRounds, self.growth.max_rounds, 1..=MAX_ROUNDS)?;
         within(
             Setting::MaxViaPoints,

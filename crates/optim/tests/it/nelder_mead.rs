@@ -1,6 +1,7 @@
 //! Nelder-Mead and L-BFGS on standard test functions with known minima.
 
 use homospline_optim::nelder_mead::State;
+use homospline_optim::solver::SolverState;
 use homospline_optim::{Coefficients, Lbfgs, NelderMead, Termination};
 
 fn rosenbrock(x: &[f64]) -> f64 {
@@ -142,12 +143,13 @@ fn the_observer_sees_every_iteration_and_values_never_increase() {
 #[test]
 fn lbfgs_finds_the_rosenbrock_minimum() {
     for n in [2, 5, 10] {
-        let lb = Lbfgs {
-            max_evaluations: 20_000,
-            gradient_tolerance: 1e-10,
-            value_tolerance: 0.0,
-            ..Lbfgs::default()
-        };
+        let lb = Lbfgs::default()
+            .with_max_evaluations(20_000)
+            .unwrap()
+            .with_gradient_tolerance(1e-10)
+            .unwrap()
+            .with_value_tolerance(0.0)
+            .unwrap();
         let out = lb.minimize(
             &mut |x: &[f64]| (rosenbrock(x), rosenbrock_grad(x)),
             &vec![-1.2; n],
@@ -196,4 +198,59 @@ fn a_bounded_objective_gives_the_exact_objectives_path() {
             "n = {n}: {answered_above} of {calls}"
         );
     }
+}
+
+#[test]
+fn lbfgs_says_why_it_stopped() {
+    let f = |x: &[f64]| (rosenbrock(x), rosenbrock_grad(x));
+    let small = Lbfgs::default().with_max_evaluations(5).unwrap();
+    let out = small.minimize(&mut |x: &[f64]| f(x), &[-1.2, 1.0]);
+    assert_eq!(out.termination, Termination::MaxEvaluations);
+    assert_eq!(out.evaluations, 5);
+    // A start outside the domain: nothing can be judged.
+    let out = Lbfgs::default().minimize(&mut |_: &[f64]| (f64::INFINITY, vec![0.0; 2]), &[0.0; 2]);
+    assert_eq!(
+        (out.termination, out.evaluations, out.iterations),
+        (Termination::NonFiniteStart, 1, 0)
+    );
+    // A wall just past the start in every direction: the line search backs off to nothing.
+    let walled = |x: &[f64]| {
+        if x[0].abs() + x[1].abs() > 1e-13 {
+            (f64::INFINITY, vec![0.0; 2])
+        } else {
+            (x[0] + x[1], vec![1.0, 1.0])
+        }
+    };
+    let out = Lbfgs::default().minimize(&mut |x: &[f64]| walled(x), &[0.0; 2]);
+    assert_eq!(out.termination, Termination::LineSearchFailed);
+    assert_eq!(out.x, vec![0.0, 0.0]);
+    // Settings are checked where they are set.
+    assert!(Lbfgs::default().with_memory(0).is_err());
+    assert!(Lbfgs::default().with_gradient_tolerance(f64::NAN).is_err());
+    assert!(Lbfgs::default().with_value_tolerance(-1.0).is_err());
+    assert!(Lbfgs::default().with_max_evaluations(0).is_err());
+}
+
+#[test]
+fn both_solvers_run_through_one_driver_and_the_observer_sees_each_iteration() {
+    use homospline_optim::solver::{Solver, run};
+    fn trace<S: Solver>(solver: &S, f: &mut S::Objective<'_>, x0: &[f64]) -> (Vec<f64>, usize) {
+        let mut values = Vec::new();
+        let (state, _) = run(solver, f, x0, &mut |s: &S::State| values.push(s.best().1));
+        assert_eq!(values.len(), state.iterations() + 1);
+        (values, state.evaluations())
+    }
+    let nm = NelderMead::new(3).with_max_evaluations(2000).unwrap();
+    let (values, evaluations) = trace(&nm, &mut |x: &[f64], _: f64| rosenbrock(x), &[0.0; 3]);
+    assert!(values.windows(2).all(|w| w[1] <= w[0]) && evaluations <= 2000 + 3);
+    let lb = Lbfgs::default().with_max_evaluations(400).unwrap();
+    let mut fg = |x: &[f64]| (rosenbrock(x), rosenbrock_grad(x));
+    let (values, evaluations) = trace(&lb, &mut fg, &[0.0; 3]);
+    // Armijo steps only go down; the driver and `minimize` take the same path.
+    assert!(values.windows(2).all(|w| w[1] < w[0]), "{values:?}");
+    let out = lb.minimize(&mut fg, &[0.0; 3]);
+    assert_eq!(
+        (out.value, out.evaluations),
+        (*values.last().unwrap(), evaluations)
+    );
 }
