@@ -268,7 +268,8 @@ fn bench_map(c: &mut Criterion) {
 
 /// A mission on the paper's narrow pass with 20,000 hidden obstacles in a corner no robot
 /// comes near: every look of every robot scans the obstacles not yet found, so this is the
-/// sensors' cost at scale (a name lookup in a list once made it quadratic: 11 s for 2,000).
+/// sensors' cost at scale (a name lookup in a list once made it quadratic; measured:
+/// docs/performance.md, "Measurements behind the defaults").
 fn bench_hidden(c: &mut Criterion) {
     let scene = homospline_testkit::fixture_scenes()
         .into_iter()

@@ -2,9 +2,10 @@
 //! run in turns, so that a shared machine's slow and quiet periods fall on both alike.
 //!
 //! A time target set on one machine cannot be read off another by the milliseconds alone:
-//! the same binary here reads 5 ms in one run and 6.3 ms in the next. What the code did is
-//! the ratio to a reference run beside it (docs/performance.md reads the 5 ms plan target
-//! against revision b4711fd this way). REV is checked out in a worktree
+//! the same binary on a shared machine reads a quite different time from one run to the
+//! next (measured: docs/performance.md, "Measurements behind the defaults"). What the code
+//! did is the ratio to a reference run beside it (docs/performance.md reads the 5 ms plan
+//! target against revision b4711fd this way). REV is checked out in a worktree
 //! under `target/bench-against/` (registered with git, and kept for the next run) with its own
 //! target directory. The checkout's side is its working tree, uncommitted changes included;
 //! criterion's saved baselines of both are overwritten as by any bench run.

@@ -2,7 +2,7 @@
 //! and its animated picture.
 
 use homospline_front::mission;
-use homospline_front::options::{check_classes, check_diverse};
+use homospline_front::{OptionError, Spelling};
 use homospline_geom::math::Num;
 use homospline_mission::{AnyWorld, MissionConfig};
 use homospline_optim::PlanConfig;
@@ -78,22 +78,6 @@ pub fn run(a: &SimulateArgs, world: &AnyWorld, wants: (bool, bool)) -> anyhow::R
             Num(t)
         )));
     }
-    check_classes(a.classes).map_err(|e| bad(e.to_string()))?;
-    if let Some(f) = a.diverse {
-        check_diverse(f).map_err(|e| bad(e.to_string()))?;
-    }
-    if !(a.switch_margin.is_finite() && (0.0..1.0).contains(&a.switch_margin)) {
-        return Err(bad(format!(
-            "--switch-margin {}: must be in [0, 1)",
-            Num(a.switch_margin)
-        )));
-    }
-    if !(a.min_switch_interval.is_finite() && a.min_switch_interval >= 0.0) {
-        return Err(bad(format!(
-            "--min-switch-interval {}: must be >= 0 seconds",
-            Num(a.min_switch_interval)
-        )));
-    }
     // The profile of the world's kind; the options go on top.
     let base = match world {
         AnyWorld::Scene(_) => MissionConfig::default(),
@@ -113,6 +97,9 @@ pub fn run(a: &SimulateArgs, world: &AnyWorld, wants: (bool, bool)) -> anyhow::R
         blockage_prior: a.blockage_prior,
         ..base
     };
+    // Every value's one check, spelled as the command line's options.
+    cfg.check()
+        .map_err(|e| bad(OptionError::from(e).spelled(Spelling::Flag)))?;
     let failed = |e: homospline_mission::MissionError| bad(format!("{}: {e}", a.world.display()));
     let (result, text, json, (svg, png)) = match world {
         AnyWorld::Scene(w) => {

@@ -7,15 +7,14 @@ use homospline_maps::footprint::Lattice;
 use thiserror::Error;
 
 /// Address space a process planning on a grid of `cells` cells may need, at most, beyond
-/// [`BASE_BYTES`]: bytes per cell. Measured (2026-12-06, `ulimit -v` bisection of
-/// `homospline plan MAP --classes 2` corner to corner, release build) on random maps with
-/// 20 % of their cells occupied, the hardest kind (a cycle every 14 cells): 1024^2 cells
-/// needed 281 MB, 2048^2 675 MB, so 127 bytes a cell beyond the base; an open 2048^2 map
-/// needed 308 MB. Rounded up.
+/// [`BASE_BYTES`]: bytes per cell. The slope of the address space a corner-to-corner plan
+/// needs against the cells, on the hardest random maps, rounded up (measured:
+/// docs/performance.md, "Measurements behind the defaults").
 pub const BYTES_PER_CELL: u64 = 130;
 
 /// Address space of the process before its grid: the program, its threads' stacks and
-/// their allocator arenas (the intercept of the same measurement, 156 MB), rounded up.
+/// their allocator arenas: the intercept of the same measurement, rounded up (measured:
+/// docs/performance.md, "Measurements behind the defaults").
 pub const BASE_BYTES: u64 = 160 << 20;
 
 /// The grid is larger than the process may hold.

@@ -7,6 +7,7 @@ use std::fmt;
 use std::str::FromStr;
 
 use homospline_geom::Scene;
+use homospline_mission::{MissionConfigError, MissionSetting};
 use homospline_optim::planner::{ConfigError, Setting};
 use homospline_optim::{GrowthConfig, Optimizer, PlanConfig, Seed};
 use homospline_spline::{ClearanceSearch, Preset, RoughnessForm};
@@ -37,6 +38,11 @@ pub enum Opt {
     Sample,
     Limit,
     TimeLimit,
+    Scouts,
+    Dt,
+    SwitchMargin,
+    MinSwitchInterval,
+    BlockagePrior,
 }
 
 impl Opt {
@@ -65,6 +71,11 @@ impl Opt {
             Self::Sample => "--sample",
             Self::Limit => "--limit",
             Self::TimeLimit => "--time-limit",
+            Self::Scouts => "--scouts",
+            Self::Dt => "--dt",
+            Self::SwitchMargin => "--switch-margin",
+            Self::MinSwitchInterval => "--min-switch-interval",
+            Self::BlockagePrior => "--blockage-prior",
         }
     }
 
@@ -240,21 +251,49 @@ impl From<ConfigError> for OptionError {
     /// The planner's setting in the front ends' spelling: the one map from
     /// [`Setting`] to [`Opt`].
     fn from(e: ConfigError) -> Self {
+        Self {
+            option: plan_option(e.setting),
+            value: e.value,
+            problem: e.problem,
+            others: Vec::new(),
+        }
+    }
+}
+
+fn plan_option(setting: Setting) -> Opt {
+    match setting {
+        Setting::Classes => Opt::Classes,
+        Setting::Avoid => Opt::Avoid,
+        Setting::Seed => Opt::Seed,
+        Setting::Threads => Opt::Threads,
+        Setting::Resolution => Opt::Resolution,
+        Setting::ClearanceFloor => Opt::ClearanceFloor,
+        Setting::Cost => Opt::Weight,
+        Setting::Diverse => Opt::Diverse,
+        Setting::Prune => Opt::Prune,
+        Setting::MaxRounds => Opt::Rounds,
+        Setting::MaxViaPoints => Opt::MaxVia,
+        Setting::Polish => Opt::Polish,
+        Setting::LbfgsValueTolerance => Opt::Optimizer,
+        Setting::Graph => Opt::Graph,
+    }
+}
+
+impl From<MissionConfigError> for OptionError {
+    /// A mission's setting in the front ends' spelling: the one map from
+    /// [`MissionSetting`] to [`Opt`]. The re-plan settings no front end offers are named
+    /// by the option they follow (the classes, the optimiser, the resolution).
+    fn from(e: MissionConfigError) -> Self {
         let option = match e.setting {
-            Setting::Classes => Opt::Classes,
-            Setting::Avoid => Opt::Avoid,
-            Setting::Seed => Opt::Seed,
-            Setting::Threads => Opt::Threads,
-            Setting::Resolution => Opt::Resolution,
-            Setting::ClearanceFloor => Opt::ClearanceFloor,
-            Setting::Cost => Opt::Weight,
-            Setting::Diverse => Opt::Diverse,
-            Setting::Prune => Opt::Prune,
-            Setting::MaxRounds => Opt::Rounds,
-            Setting::MaxViaPoints => Opt::MaxVia,
-            Setting::Polish => Opt::Polish,
-            Setting::LbfgsValueTolerance => Opt::Optimizer,
-            Setting::Graph => Opt::Graph,
+            MissionSetting::Plan(s) => plan_option(s),
+            MissionSetting::ReplanClasses => Opt::Classes,
+            MissionSetting::ReplanValueTolerance => Opt::Optimizer,
+            MissionSetting::ReplanCoarsening => Opt::Resolution,
+            MissionSetting::Dt => Opt::Dt,
+            MissionSetting::Scouts => Opt::Scouts,
+            MissionSetting::SwitchMargin => Opt::SwitchMargin,
+            MissionSetting::MinSwitchInterval => Opt::MinSwitchInterval,
+            MissionSetting::BlockagePrior => Opt::BlockagePrior,
         };
         Self {
             option,

@@ -190,7 +190,8 @@ fn enters(d: &Circle, a: &Point, b: &Point) -> bool {
 /// millionth of a bucket) meets, so that a feasibility test reads the discs near a point,
 /// box or segment instead of all of them: the tangent graph's `O(n^2)` candidate segments
 /// each test a few buckets (a blocked one stops at the first disc it enters) where they
-/// tested every disc, `O(n^3)` in all (`plan --optimum` took 23 s on 2,000 circles). The
+/// tested every disc, `O(n^3)` in all, too slow for scenes of thousands of circles
+/// (measured: docs/performance.md, "Measurements behind the defaults"). The
 /// buckets only choose which discs are tested: every disc that can meet the query is among
 /// them, so the answers are the same.
 #[derive(Clone, Debug)]

@@ -392,8 +392,9 @@ struct Frontier<'a> {
     cost: &'a [Real],
     h: &'a [Real],
     /// Edge words, forward, computed when the search first walks the edge: a map's graph
-    /// has tens of thousands of edges (60,000 on random512-20-0, 70 ms for all their words),
-    /// of which a search walks a few hundred.
+    /// has tens of thousands of edges, whose words all together take long to compute, and a
+    /// search walks a few hundred of them (measured: docs/performance.md, "Measurements
+    /// behind the defaults").
     words: Vec<Option<Signature>>,
     /// The partial paths' words, interned.
     path_words: Words,

@@ -11,7 +11,8 @@
 //! [`MAX_STATES`] states or [`MAX_LETTERS`] letters in their words rather than fill the
 //! memory (dozens of obstacles each passed either way make that many words; a loose bound
 //! lets routes wind round obstacles again and again, and their words grow long: unbounded,
-//! concave-cup's search held 24 GB before it had a million states). An arc's word is
+//! a search can fill the memory before it reaches its budget of states; measured:
+//! docs/performance.md, "Measurements behind the defaults"). An arc's word is
 //! taken on chords whose lenses hold no ray origin (see `word`).
 
 use std::cmp::Reverse;
@@ -219,7 +220,8 @@ mod tests {
         // A ring of twelve circles, S and T outside it, a word no route has
         // (every letter +1): without a bound the routes wind round the ring again and again,
         // and the search must give up by the letters its words hold, not fill the memory
-        // (it held 24 GB before it had MAX_STATES states).
+        // (it filled the memory before it had MAX_STATES states; measured:
+        // docs/performance.md, "Measurements behind the defaults").
         let circles: Vec<Circle> = (0..12)
             .map(|i| {
                 let a = i as Real * std::f64::consts::TAU / 12.0;

@@ -436,7 +436,8 @@ impl Rays {
         for (i, o) in self.origins.iter().enumerate() {
             sides_and_flips(&xs, &ys, o, &self.dir, &mut left, &mut flips);
             // Segments whose ends are on different sides, found 8 at a time (most words
-            // of 8 segments have none: 1 % of a plan's instructions against a byte scan).
+            // of 8 segments have none, so this is cheaper than a byte scan; measured:
+            // docs/performance.md, "Measurements behind the defaults").
             for (c, chunk) in flips.chunks(8).enumerate() {
                 let mut word = [0u8; 8];
                 word[..chunk.len()].copy_from_slice(chunk);

@@ -173,10 +173,11 @@ pub(crate) fn round4(x: Real) -> Real {
 }
 
 /// Most cells a map may have: 4096 x 4096. Preparing a map (grid, brushfire, complete
-/// Voronoi graph and its index, clearance model) peaks at about 80 bytes per cell on the
-/// hardest maps (20 % random one-cell obstacles, a cycle every 14 cells; `cargo xtask
-/// map-memory`), so the largest map fits in [`MAP_MEMORY`]. Larger maps are refused before
-/// anything of their size is allocated, with [`MapError::TooLarge`].
+/// Voronoi graph and its index, clearance model) takes a roughly fixed number of bytes per
+/// cell on the hardest maps (`cargo xtask map-memory`), and at this size that fits in
+/// [`MAP_MEMORY`] (measured: docs/performance.md, "Measurements behind the defaults").
+/// Larger maps are refused before anything of their size is allocated, with
+/// [`MapError::TooLarge`].
 pub const MAX_MAP_CELLS: usize = 4096 * 4096;
 
 /// The memory a map's preparation may take, as the refusal of a larger map says.
@@ -185,8 +186,9 @@ pub const MAP_MEMORY: &str = "1.5 GB";
 /// Checks a map's cell size and origin, as every front end gives them (a ROS YAML, a NumPy
 /// array's `resolution` and `origin`): the cell at least [`ros::MIN_RESOLUTION`], the origin
 /// finite, and the map within [`homospline_geom::scene::MAX_MAGNITUDE`] of the frame's origin,
-/// as a scene's coordinates are (a resolution of 1e300 hung the planner, 1e9 asked for
-/// 104 GB of path samples, 1e13 took 78 s). `Err((field, problem))`, the field being
+/// as a scene's coordinates are (huge resolutions hung the planner or asked for more path
+/// samples than any memory holds; measured: docs/performance.md, "Measurements behind the
+/// defaults"). `Err((field, problem))`, the field being
 /// `resolution` or `origin`.
 pub fn check_geometry(
     resolution: Real,

@@ -24,7 +24,8 @@ pub mod world;
 
 pub use map::{Change, MapUpdate, MapWorld};
 pub use sim::{
-    Adopted, Event, EventKind, MissionConfig, MissionError, MissionResult, Policy, Robot,
-    ScoutPolicy, Track, replan_scene, should_switch, simulate, simulate_map, time_step,
+    Adopted, Event, EventKind, MissionConfig, MissionConfigError, MissionError, MissionResult,
+    MissionSetting, Policy, Robot, ScoutPolicy, Track, replan_scene, should_switch, simulate,
+    simulate_map, time_step,
 };
 pub use world::{AnyWorld, MissionWorld, Team, Uav, Ugv, WorldFile};

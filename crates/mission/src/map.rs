@@ -6,7 +6,8 @@
 //! [`DistanceField::remove_obstacle`] (a whole obstacle gone), else rebuilt; the clearance
 //! model is rebuilt from the updated field. After blockages only, the complete Voronoi graph
 //! is kept and its edges through the blocked cells are closed to the class search (a
-//! rebuild costs 40 ms on a 512 x 512 map, the whole re-plan budget); freed cells, and a
+//! rebuild would take the whole re-plan budget; measured: docs/performance.md,
+//! "Measurements behind the defaults"); freed cells, and a
 //! re-plan that finds no collision-free class on the kept graph, rebuild it from the field.
 //!
 //! [`DistanceField::add_cells`]: homospline_voronoi::DistanceField::add_cells

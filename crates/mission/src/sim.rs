@@ -28,7 +28,8 @@ mod simulate;
 
 pub use crate::known::scene::replan_scene;
 pub use config::{
-    MAX_SCOUTS, MAX_STEPS, MIN_DT, MissionConfig, MissionError, TURN_ANGLE_DEG, time_step,
+    MAX_SCOUTS, MAX_STEPS, MIN_DT, MissionConfig, MissionConfigError, MissionError, MissionSetting,
+    TURN_ANGLE_DEG, time_step,
 };
 pub use policy::{Policy, ScoutPolicy};
 pub use record::{Adopted, Event, EventKind, MissionResult, Robot, Track};

@@ -636,6 +636,7 @@ fn simulate<'py>(
             AnyWorld::Map(_) => MissionConfig::for_maps(),
         }
     };
+    cfg.check().map_err(|e| bad_option(e.into()))?;
     let text = py
         .detach(|| match &w {
             AnyWorld::Scene(w) => {

@@ -350,6 +350,12 @@ def test_negative_counts_are_value_errors_naming_the_keyword(call, message):
         call(homospline.Scene.example())
 
 
+def test_a_mission_setting_out_of_range_names_the_keyword():
+    # The mission's own check (MissionConfig::check), spelled as Python's keywords.
+    with pytest.raises(ValueError, match="^scouts=65: must be at most 64$"):
+        homospline.simulate(ROOT / "fixtures/worlds/convex-blocked.yaml", scouts=65)
+
+
 def test_simulate_takes_every_registered_policy_and_names_them_when_one_is_unknown():
     r = homospline.simulate(ROOT / "fixtures/worlds/narrow-pass-blocked.yaml")
     assert r["policy"] == "guard" and r["reached"]

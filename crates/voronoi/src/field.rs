@@ -226,12 +226,10 @@ fn transform(
     (g, max_d2)
 }
 
-/// Windows of at least this many cells are transformed in parallel. (A loop of graph builds
-/// alone ran a paper scene's 258 x 258 grid 0.1 ms faster serially, but inside the plan,
-/// whose pool is awake from its classes, the serial transform made the paper scenes' plans
-/// 0.1 to 0.7 ms slower in interleaved criterion runs of clean builds (field 5.25 against
-/// 4.83 ms, two-homotopies 5.43 against 4.72 with a threshold of 2^19), so the threshold
-/// stays small.)
+/// Windows of at least this many cells are transformed in parallel. The threshold stays
+/// small: a graph build alone runs a paper scene's grid a little faster serially, but inside
+/// the plan, whose pool is awake from its classes, the parallel transform makes the plans
+/// faster (measured: docs/performance.md, "Measurements behind the defaults").
 pub const PARALLEL_CELLS: usize = 1 << 14;
 
 /// The narrowest strip of columns worth a thread of its own.

@@ -402,6 +402,34 @@ fn extreme_numbers_are_named_short() {
             ],
             "--dt 1e-300: must be between",
         ),
+        // The mission's settings are checked once, by the library, and spelled as flags.
+        (
+            vec![
+                "simulate",
+                "fixtures/worlds/narrow-pass-blocked.yaml",
+                "--switch-margin",
+                "1",
+            ],
+            "--switch-margin 1: must be in [0, 1)",
+        ),
+        (
+            vec![
+                "simulate",
+                "fixtures/worlds/narrow-pass-blocked.yaml",
+                "--scouts",
+                "65",
+            ],
+            "--scouts 65: must be at most 64",
+        ),
+        (
+            vec![
+                "simulate",
+                "fixtures/worlds/narrow-pass-blocked.yaml",
+                "--classes",
+                "0",
+            ],
+            "--classes 0: must be between 1 and 64",
+        ),
     ] {
         let err = assert_refused_with(&args, needle);
         assert!(err.len() < 300, "{err}");

@@ -45,8 +45,9 @@ pub(crate) struct SceneKnown<'w> {
     model: CircleModel,
     known_cleared: rustc_hash::FxHashSet<String>,
     /// The truth's hidden obstacles not found yet, by index, in order: sensing scans these
-    /// only (a scan of every obstacle with a name lookup in a list took 11 s for 2,000
-    /// hidden obstacles).
+    /// only (a scan of every obstacle with a name lookup in a list made sensing quadratic in
+    /// the hidden obstacles; measured: docs/performance.md, "Measurements behind the
+    /// defaults").
     pending_hidden: Vec<usize>,
     /// The prior's cleared obstacles not found gone yet, by index, in order.
     pending_cleared: Vec<usize>,

@@ -1,8 +1,11 @@
 //! A mission's settings: the scout policy's choice, the planner offline and on the move, the time
 //! step and the hysteresis, with their ranges.
 
+use std::fmt;
+
 use homospline_geom::math::Num;
 use homospline_geom::{Real, Scene, Vector};
+use homospline_optim::planner::{ConfigError, MAX_CLASSES, Setting};
 use homospline_optim::{GrowthConfig, Optimizer, PlanConfig, default_resolution};
 use thiserror::Error;
 
@@ -32,29 +35,28 @@ pub struct MissionConfig {
     pub max_time: Option<Real>,
     /// Classes optimised at a re-plan on the move (the offline plan takes `plan.classes`):
     /// the UGV's next class and the alternatives the scouts may verify. Fewer classes, a
-    /// shorter stop. Default 2: on `cargo xtask missions --worlds 200` 3 classes drove no
-    /// less (`none` 1.075 against 1.064 of the truth plan, `guard` 1.003 against 1.001)
-    /// and put the replayed re-plans' p99 at 7.4 ms (4.5 ms with 2).
+    /// shorter stop. Default 2: a third class made the missions drive no less and the
+    /// re-plans slower (measured: docs/performance.md, "Measurements behind the defaults").
     pub replan_classes: usize,
     /// A re-plan on the move stops each L-BFGS round when an iteration improves the cost by
     /// less than this, relatively (`GrowthConfig::lbfgs_value_tolerance`; the offline plan
-    /// runs to its budget). 1e-5 cut the p99 re-plan latency in the missions from 12.2 to
-    /// 8.75 ms with the distances over the optimum within 0.007 of the full budget's
-    /// (docs/decisions/0018-coarse-replans.md).
+    /// runs to its budget). 1e-5 cut the re-plans' tail latency with the missions'
+    /// distances nearly those of the full budget (docs/decisions/0018-coarse-replans.md;
+    /// measured: docs/performance.md, "Measurements behind the defaults").
     pub replan_value_tolerance: Real,
     /// On scene worlds, a re-plan's Voronoi graph is this many times coarser than the
     /// offline plan's (its resolution divided by it; 1: the same graph). Half the cells
-    /// across (the default, 2) cut the graph's time about sevenfold and the seeds' via-points
-    /// with it; a re-plan whose coarse graph offers no collision-free class is planned again
+    /// across (the default, 2) cut the graph's time several times over and the seeds'
+    /// via-points with it; a re-plan whose coarse graph offers no collision-free class is planned again
     /// on the full one, so a passage narrower than a coarse cell is still found when it is
     /// the way left (docs/decisions/0018-coarse-replans.md). Maps keep their own grid.
     pub replan_coarsening: Real,
     /// The blockage prior `P`: a class the UGV re-plans into costs `1 + P u` times its plan's
     /// cost, `u` the share of its route no robot has seen, so that the UGV keeps to ways
     /// seen clear where a way not seen yet is barely shorter (0: plans as if the unseen were
-    /// clear). Default 0.1: on `cargo xtask missions --worlds 200` it cut the distance over
-    /// the truth plan of every policy (`none` 1.065 -> 1.051, worst 2.07 -> 1.63; `guard`
-    /// 1.001 -> 0.991), and 0.3 gave the same.
+    /// clear). Default 0.1: it cut every policy's distance over the truth plan on the
+    /// generated missions, and a higher prior gave the same (measured: docs/performance.md,
+    /// "Measurements behind the defaults").
     pub blockage_prior: Real,
 }
 
@@ -90,15 +92,11 @@ impl Default for MissionConfig {
             plan: PlanConfig {
                 growth: GrowthConfig {
                     optimizer: Optimizer::Lbfgs,
-                    // Every round is L-BFGS, as the mission figures were measured. With the
-                    // planner's default (a round short of the dm rule's target climbs by
-                    // Nelder-Mead), the 200 generated worlds of `cargo xtask missions
-                    // --worlds 200`, generated as before, drove 1.112 / 1.038 / 1.042 times
-                    // the truth plan (`none` / `ahead` / `alternatives`) against
-                    // 1.093 / 1.013 / 1.020: the classes L-BFGS leaves short of dm are
-                    // shorter. On narrow-pass-blocked the other way round: the offline plan
-                    // drives class `e` (139 long) where climbing makes `-1-2` (96) safe
-                    // (docs/decisions/0004-lbfgs-climbs-by-simplex.md).
+                    // Every round is L-BFGS, as the mission figures were measured: the
+                    // classes L-BFGS leaves short of dm are shorter, and the generated
+                    // missions drove less than with the climb by Nelder-Mead
+                    // (docs/decisions/0004-lbfgs-climbs-by-simplex.md; measured:
+                    // docs/performance.md, "Measurements behind the defaults").
                     climb_by_simplex: false,
                     ..GrowthConfig::default()
                 },
@@ -160,9 +158,99 @@ impl MissionConfig {
 /// Why a mission could not be simulated at all.
 #[derive(Debug, Error)]
 pub enum MissionError {
-    /// A setting is out of range.
+    /// A setting is out of its range ([`MissionConfig::check`]).
+    #[error(transparent)]
+    Setting(#[from] MissionConfigError),
+    /// The mission cannot run as set up: too many time steps, or a map world whose known
+    /// map cannot be modelled.
     #[error("{0}")]
     Config(String),
+}
+
+/// A setting of [`MissionConfig`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MissionSetting {
+    /// A setting of [`MissionConfig::plan`].
+    Plan(Setting),
+    /// [`MissionConfig::replan_classes`].
+    ReplanClasses,
+    /// [`MissionConfig::dt`].
+    Dt,
+    /// [`MissionConfig::scouts`].
+    Scouts,
+    /// [`MissionConfig::switch_margin`].
+    SwitchMargin,
+    /// [`MissionConfig::min_switch_interval`].
+    MinSwitchInterval,
+    /// [`MissionConfig::replan_value_tolerance`].
+    ReplanValueTolerance,
+    /// [`MissionConfig::replan_coarsening`].
+    ReplanCoarsening,
+    /// [`MissionConfig::blockage_prior`].
+    BlockagePrior,
+}
+
+impl MissionSetting {
+    /// Its field's path in [`MissionConfig`].
+    pub fn field(self) -> String {
+        match self {
+            Self::Plan(s) => format!("plan.{}", s.field()),
+            Self::ReplanClasses => "replan_classes".into(),
+            Self::Dt => "dt".into(),
+            Self::Scouts => "scouts".into(),
+            Self::SwitchMargin => "switch_margin".into(),
+            Self::MinSwitchInterval => "min_switch_interval".into(),
+            Self::ReplanValueTolerance => "replan_value_tolerance".into(),
+            Self::ReplanCoarsening => "replan_coarsening".into(),
+            Self::BlockagePrior => "blockage_prior".into(),
+        }
+    }
+}
+
+/// A [`MissionConfig`] setting out of its range, with the value given: the one check of each
+/// value ([`MissionConfig::check`]), which the command line and Python report in their own
+/// spelling.
+///
+/// # Examples
+///
+/// ```
+/// use homospline_mission::MissionConfig;
+/// use homospline_mission::sim::MissionSetting;
+///
+/// let cfg = MissionConfig { switch_margin: 1.0, ..MissionConfig::default() };
+/// let e = cfg.check().unwrap_err();
+/// assert_eq!(e.setting, MissionSetting::SwitchMargin);
+/// assert_eq!(e.to_string(), "switch_margin 1: must be in [0, 1)");
+/// ```
+#[derive(Clone, Debug, Error, PartialEq)]
+#[error("{}{}: {problem}", setting.field(), value.as_ref().map(|v| format!(" {v}")).unwrap_or_default())]
+pub struct MissionConfigError {
+    /// The setting at fault.
+    pub setting: MissionSetting,
+    /// Its value, when one is to blame.
+    pub value: Option<String>,
+    /// What is wrong.
+    pub problem: String,
+}
+
+impl MissionConfigError {
+    fn new(setting: MissionSetting, value: impl fmt::Display, problem: impl Into<String>) -> Self {
+        Self {
+            setting,
+            value: Some(value.to_string()),
+            problem: problem.into(),
+        }
+    }
+}
+
+impl From<ConfigError> for MissionConfigError {
+    fn from(e: ConfigError) -> Self {
+        Self {
+            setting: MissionSetting::Plan(e.setting),
+            value: e.value,
+            problem: e.problem,
+        }
+    }
 }
 
 /// Smallest time step, seconds.
@@ -194,56 +282,74 @@ pub fn time_step<'a>(requested: Real, ugv: &Ugv, uavs: impl IntoIterator<Item = 
         .fold(requested, Real::min)
 }
 
-/// The settings' ranges.
-pub(super) fn check_config(cfg: &MissionConfig) -> Result<(), MissionError> {
-    if cfg.replan_classes == 0 || cfg.plan.classes == 0 {
-        return Err(MissionError::Config(
-            "--classes: plans need at least 1 class".into(),
-        ));
+impl MissionConfig {
+    /// Checks every setting against its range: the planner's ([`PlanConfig::check`]) and the
+    /// mission's own. The one place each value is checked: [`simulate`](crate::simulate) and
+    /// [`simulate_map`](crate::simulate_map) call it before any work, and the front ends on
+    /// what their options built, spelling its [`MissionConfigError`] as their options.
+    pub fn check(&self) -> Result<(), MissionConfigError> {
+        use MissionSetting as S;
+        self.plan.check()?;
+        if !(1..=MAX_CLASSES).contains(&self.replan_classes) {
+            return Err(MissionConfigError::new(
+                S::ReplanClasses,
+                self.replan_classes,
+                format!("must be between 1 and {MAX_CLASSES}"),
+            ));
+        }
+        if !(self.dt.is_finite() && (MIN_DT..=10.0).contains(&self.dt)) {
+            return Err(MissionConfigError::new(
+                S::Dt,
+                Num(self.dt),
+                format!("must be between {MIN_DT} and 10 seconds"),
+            ));
+        }
+        if let Some(n) = self.scouts.filter(|&n| n > MAX_SCOUTS) {
+            return Err(MissionConfigError::new(
+                S::Scouts,
+                n,
+                format!("must be at most {MAX_SCOUTS}"),
+            ));
+        }
+        if !(self.switch_margin.is_finite() && (0.0..1.0).contains(&self.switch_margin)) {
+            return Err(MissionConfigError::new(
+                S::SwitchMargin,
+                Num(self.switch_margin),
+                "must be in [0, 1)",
+            ));
+        }
+        if !(self.min_switch_interval.is_finite() && self.min_switch_interval >= 0.0) {
+            return Err(MissionConfigError::new(
+                S::MinSwitchInterval,
+                Num(self.min_switch_interval),
+                "must be >= 0 seconds",
+            ));
+        }
+        if !(self.replan_value_tolerance.is_finite() && self.replan_value_tolerance >= 0.0) {
+            return Err(MissionConfigError::new(
+                S::ReplanValueTolerance,
+                Num(self.replan_value_tolerance),
+                "must be a finite number >= 0",
+            ));
+        }
+        if !(self.replan_coarsening.is_finite() && self.replan_coarsening >= 1.0) {
+            return Err(MissionConfigError::new(
+                S::ReplanCoarsening,
+                Num(self.replan_coarsening),
+                "must be a finite number >= 1",
+            ));
+        }
+        if !(self.blockage_prior.is_finite()
+            && (0.0..=MAX_BLOCKAGE_PRIOR).contains(&self.blockage_prior))
+        {
+            return Err(MissionConfigError::new(
+                S::BlockagePrior,
+                Num(self.blockage_prior),
+                format!("must be between 0 and {MAX_BLOCKAGE_PRIOR}"),
+            ));
+        }
+        Ok(())
     }
-    if !(cfg.dt.is_finite() && (MIN_DT..=10.0).contains(&cfg.dt)) {
-        return Err(MissionError::Config(format!(
-            "--dt {}: must be between {MIN_DT} and 10 seconds",
-            Num(cfg.dt)
-        )));
-    }
-    if cfg.scouts.is_some_and(|n| n > MAX_SCOUTS) {
-        return Err(MissionError::Config(format!(
-            "--scouts: at most {MAX_SCOUTS}"
-        )));
-    }
-    if !(cfg.switch_margin.is_finite() && cfg.switch_margin >= 0.0) {
-        return Err(MissionError::Config(format!(
-            "switch margin must be >= 0, got {}",
-            cfg.switch_margin
-        )));
-    }
-    if !(cfg.replan_value_tolerance.is_finite() && cfg.replan_value_tolerance >= 0.0) {
-        return Err(MissionError::Config(format!(
-            "re-plan value tolerance must be a finite number >= 0, got {}",
-            cfg.replan_value_tolerance
-        )));
-    }
-    if !(cfg.replan_coarsening.is_finite() && cfg.replan_coarsening >= 1.0) {
-        return Err(MissionError::Config(format!(
-            "re-plan coarsening must be a finite number >= 1, got {}",
-            cfg.replan_coarsening
-        )));
-    }
-    if !(cfg.blockage_prior.is_finite() && (0.0..=MAX_BLOCKAGE_PRIOR).contains(&cfg.blockage_prior))
-    {
-        return Err(MissionError::Config(format!(
-            "--blockage-prior {}: must be between 0 and {MAX_BLOCKAGE_PRIOR}",
-            Num(cfg.blockage_prior)
-        )));
-    }
-    if !(cfg.min_switch_interval.is_finite() && cfg.min_switch_interval >= 0.0) {
-        return Err(MissionError::Config(format!(
-            "minimum time between switches must be >= 0, got {}",
-            cfg.min_switch_interval
-        )));
-    }
-    Ok(())
 }
 
 /// The mission's length in steps is in range: a positive time limit `max_time` of at most

@@ -172,8 +172,8 @@ impl Policy {
 
 impl Default for Policy {
     /// [`Policy::GUARD`]: on `cargo xtask missions` it drives the least distance over the
-    /// truth plan and is never more than 1 % worse than flying no scouts (docs/performance.md,
-    /// "Missions").
+    /// truth plan and is worse than flying no scouts on the fewest worlds (measured:
+    /// docs/performance.md, "Missions").
     fn default() -> Self {
         Policy::GUARD
     }

@@ -4,7 +4,7 @@
 use homospline_homotopy::Rays;
 use homospline_optim::{GrowthConfig, PlanConfig, plan};
 
-use super::config::{MissionConfig, MissionError, check_config};
+use super::config::{MissionConfig, MissionError};
 use super::mission::run_mission;
 use super::record::MissionResult;
 use crate::known::map::MapKnown;
@@ -38,7 +38,7 @@ use crate::world::types::{MapWorld, MissionWorld};
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResult, MissionError> {
-    check_config(cfg)?;
+    cfg.check()?;
     // The scene's danger points, critical points and hazards join the cost of every plan.
     let plan_cfg = PlanConfig {
         growth: GrowthConfig {
@@ -75,7 +75,7 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
 /// like: the settings are taken as given (it had copied the map defaults over the caller's,
 /// `dm` among them).
 pub fn simulate_map(world: &MapWorld, cfg: &MissionConfig) -> Result<MissionResult, MissionError> {
-    check_config(cfg)?;
+    cfg.check()?;
     // The truth plan: the best-cost plan on the true map.
     let truth_plan_length =
         homospline_maps::PreparedMap::for_robot(&world.truth, world.team.ugv.radius)

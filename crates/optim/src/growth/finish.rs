@@ -68,7 +68,7 @@ pub(super) fn guarded_gradient(
 /// or 0 for a collision-free guard), in the stages of [`FINISH_WEIGHTS`], each with a third
 /// of the round's `budget` (a value with its gradient counts one evaluation). Nelder-Mead at
 /// a round's budget stops far from the best curve of its via-points where the constraint
-/// `m(C) >= target` binds (field: 28 % above it); L-BFGS against the guard's rejection alone
+/// `m(C) >= target` binds; L-BFGS against the guard's rejection alone
 /// stalls on that constraint, while the barrier lets it slide along it. A stage's curve is
 /// kept only if it is certified collision-free (for a collision-free guard) and inside the
 /// bounds, and proven at the target and the floor ([`is_clear_by`] less [`STRICT_SLACK`],
@@ -76,7 +76,8 @@ pub(super) fn guarded_gradient(
 /// not: L-BFGS presses against the constraint, and the cost's search of `m(C)` can miss a
 /// dip that it found. Returns the last kept stage's point and its guard value if that is
 /// below `value0`, else `x0` and `value0`, with the evaluations spent (a value with its
-/// gradient counts one, though it costs 1.7 times a value on the paper scenes). Only for
+/// gradient counts one, though it costs more than a value; measured: docs/performance.md,
+/// "Measurements behind the defaults"). Only for
 /// uniform parameters (the spline is then linear in its points); otherwise it returns `x0`
 /// at once.
 #[allow(clippy::too_many_arguments)]

@@ -132,8 +132,8 @@ pub const SHORT_OF_TARGET: Real = 1e9;
 /// Up to this many obstacles (rays), the class check computes the samples' signature
 /// directly; beyond, it first tries the sweep's proof ([`Rays::sweep_is_clear`]). The answer
 /// is the same either way. On the paper scenes (3 to 6 obstacles) the direct signature is
-/// cheaper (plan bench, one noisy run each: convex 6.5 -> 5.8 ms, two-homotopies 10.2 -> 9.6
-/// ms); on a map's thousands of wall pieces the sweep is.
+/// cheaper; on a map's thousands of wall pieces the sweep is (measured: docs/performance.md,
+/// "Measurements behind the defaults").
 pub const DIRECT_SIGNATURE_RAYS: usize = 64;
 
 /// Whether the spline stays in bounds and (when asked) in its class, on dense samples. The
@@ -176,7 +176,8 @@ pub const MAX_REPORT_SAMPLES: Real = 100_000.0;
 /// Spacing of the reported path's samples along a curve of length `length`: a thousandth of
 /// it, at most half a unit (two samples per cell of a map), but no finer than
 /// [`MAX_REPORT_SAMPLES`] along the curve: a scene of kilometres in metres has paths
-/// of millions of half units (at 1e7 units across, 4.7 GB of samples and no end).
+/// of millions of half units, and an enormous scene would otherwise need billions of
+/// samples (measured: docs/performance.md, "Measurements behind the defaults").
 pub fn report_spacing(length: Real) -> Real {
     (length / 1000.0).min(0.5).max(length / MAX_REPORT_SAMPLES)
 }

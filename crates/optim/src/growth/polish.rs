@@ -78,8 +78,9 @@ impl Growth {
     /// via-points: no via-point is grown, and each round starts a fresh simplex where the
     /// last one stopped. A round at the default budget stops far from the best curve of its
     /// via-points (on the paper scenes one more round from the chosen curve, with its
-    /// finish, lowers its cost by 0.4 to 23 % without [`Growth::finish`] before it;
-    /// docs/decisions/0015-polish-opt-in.md),
+    /// finish, still lowers its cost when no [`Growth::finish`] ran before it;
+    /// docs/decisions/0015-polish-opt-in.md; measured: docs/performance.md, "Measurements
+    /// behind the defaults"),
     /// and a growth's new curve starts off the curve before it, so a planner spends these
     /// on the class it chose.
     /// Under a clearance target, on a model that bounds how the clearance bends, the rounds
@@ -88,7 +89,7 @@ impl Growth {
     /// Each round ends with an interior-point finish (`interior_finish`: L-BFGS on the cost
     /// plus a [`crate::barrier::Barrier`] on the clearance, its weight falling in three
     /// stages), which moves the curve along the clearance constraint where Nelder-Mead
-    /// stalls on it (field: 155.8 after the simplex round, 121.8 after the finish).
+    /// stalls on it.
     /// The rounds are marked ([`Round::polish`]). If the best curve was proven to keep the
     /// target ([`homospline_spline::is_clear_by`], less [`STRICT_SLACK`]) and a round's is
     /// not, the loop's curve goes back to the one before that round and the polish ends;
@@ -113,9 +114,10 @@ impl Growth {
     /// a round's budget, at most `cap` evaluations (a value with its gradient counts one).
     /// A `cap` below [`MIN_FINISH_EVALUATIONS`] runs nothing (each of the finish's stages
     /// takes at least two evaluations, so a smaller one would spend more than `cap`).
-    /// At a full round's budget, on the 320 scanned scenes, this planned about as well as a
-    /// full polish round for 16 to 44 % less of its work
-    /// (docs/decisions/0016-finish-within-budget.md). Kept or put back as
+    /// At a full round's budget, on the scanned scenes, this planned about as well as a
+    /// full polish round for clearly less of its work
+    /// (docs/decisions/0016-finish-within-budget.md; measured: docs/performance.md,
+    /// "Measurements behind the defaults"). Kept or put back as
     /// a polish round is; returns whether it was kept.
     pub fn finish(
         &mut self,

@@ -134,9 +134,10 @@ impl Growth {
     /// Where it falls short of the clearance target, the segment's midpoint becomes one
     /// (with natural ends the curve is the same line), so that the round can bend the curve
     /// up to the target: else the class stayed on its seed, unsafe, while a curve of the
-    /// class keeping dm was often barely longer (on generated scenes, 0.4 % longer, while
-    /// the class chosen instead was 24 % longer; found by the class's exact optimum,
-    /// `homospline_homotopy::shortest_in_class`).
+    /// class keeping dm was often barely longer than the seed, and much shorter than the
+    /// class chosen instead (found by the class's exact optimum,
+    /// `homospline_homotopy::shortest_in_class`; measured: docs/performance.md,
+    /// "Measurements behind the defaults").
     fn needs_midpoint(&self, cfg: &GrowthConfig, outer: &Guard<'_>) -> bool {
         self.points.len() == 2
             && self.round == 0

@@ -101,22 +101,17 @@ pub struct PlanConfig {
     /// cost exceeds this ratio times that of the class ranked first (keeping `dm` itself as
     /// the dm rule's target, certified clear) runs no further rounds, and is reported from its
     /// first round's curve, marked [`ClassPlan::pruned`](super::ClassPlan::pruned). A heuristic: a first round can be a
-    /// poor guide (a class's cost fell by 54 % in its second round on one generated scene).
-    /// On 1,020 scenes (the fixtures and 1,000 generated ones; the ignored test
-    /// `scan_the_ratio` in `tests/it/prune.rs`, with [`PlanConfig::finish_within`] off), the
-    /// default [`DEFAULT_PRUNE`] of 1.5 changes one chosen class against running every
-    /// class to its end (world-030: a class whose
-    /// first round cost 1.98 times the reference's won, and the plan chosen instead costs
-    /// 1.4 % more), as do 1.4 to 1.75, while 1.25 changes three (one of them 45 % dearer)
-    /// and 2 to 4 none; 1.5 saves 60 % of the evaluations there (2.5: 53 %), and on the
-    /// paper scenes 30 to 47 % of them (2.5: none on three of the five). With either
-    /// optimiser (L-BFGS plans take half the evaluations with it, the same chosen cost in 319
-    /// of 320 scanned scenes, one 6.8 % dearer). `None`
+    /// poor guide. The default [`DEFAULT_PRUNE`] of 1.5 was chosen on the fixtures and
+    /// generated scenes (the ignored test `scan_the_ratio` in `tests/it/prune.rs`): it
+    /// rarely changes the chosen class against running every class to its end, and saves
+    /// a large share of the evaluations, with either optimiser; lower ratios change more choices,
+    /// higher ones save less (measured: docs/performance.md, "Measurements behind the
+    /// defaults"). `None`
     /// runs every class to its end (a mission does: its other classes are its alternatives).
     /// Applies where the classes are optimised after the search (scenes), not to a map's
     /// classes, optimised while the search goes on. At the defaults the evaluations it saves
     /// also decide whether the chosen class gets its finish ([`PlanConfig::finish_within`]):
-    /// convex's does with pruning (1,324 evaluations) and not without (2,707).
+    /// on a scene near that budget, with pruning it does and without it does not.
     pub prune: Option<Real>,
     /// Rounds of polish for the class the plan chooses ([`Growth::polish`]): after the
     /// classes are ranked, the first one's loop runs up to this many more rounds at its
@@ -248,7 +243,8 @@ pub const DEFAULT_FINISH_WITHIN: usize = 1500;
 pub const DEFAULT_PRUNE: Real = 1.5;
 
 /// Most worker threads a plan may ask for ([`PlanConfig::threads`]): far beyond the
-/// classes a plan has, and a pool of 5,000 threads took longer to start than 20 s.
+/// classes a plan has, and a pool of thousands of threads is slow to start (measured:
+/// docs/performance.md, "Measurements behind the defaults").
 pub const MAX_THREADS: usize = 256;
 
 /// Candidates searched per class wanted when the selection limits overlap.

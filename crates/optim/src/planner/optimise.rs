@@ -36,7 +36,8 @@ pub(super) fn optimise_classes(
     // ([`board`]) runs rounds ahead of it only on a core that would otherwise wait, and
     // undoes them for a class it stops. (Without a decision point, the tasks ran to their
     // ends one after the other on each thread, and the decision came after the classes to be
-    // stopped had run every round: two-homotopies took 14.6 ms against 10.1 ms.)
+    // stopped had run every round, which made plans much slower; measured:
+    // docs/performance.md, "Measurements behind the defaults".)
     let board::Ran {
         mut tasks,
         mut runs,

@@ -21,12 +21,10 @@ pub const MAX_EVALUATIONS_PER_ROUND: usize = 800;
 /// Curves of more segments than this get a smaller budget per round, in proportion, down to
 /// [`MIN_EVALUATIONS_PER_ROUND`] (40 evaluations) from 100 segments on. The seeds are pulled
 /// taut in their class before they are optimised, so a long curve starts close to where its
-/// cost flattens out. Measured with `plan --json` on 6 scenarios spread over each of the ten
-/// full-scale MovingAI maps, this budget (20 segments, 40 evaluations) against the previous
-/// one (40 segments, 80 evaluations): the summed cost of the chosen classes moved by at most
-/// 0.6 % on every map (ost003d +0.6 %, 16room_000 +0.3 %, den520d -0.1 %, the others under
-/// 0.05 %). Short curves (the small maps' goldens) keep the whole budget: their rounds do
-/// improve with it.
+/// cost flattens out: on the full-scale MovingAI maps, halving the previous budget (40
+/// segments, 80 evaluations) barely moved the chosen classes' cost (measured:
+/// docs/performance.md, "Measurements behind the defaults"). Short curves (the small maps'
+/// goldens) keep the whole budget: their rounds do improve with it.
 pub const BUDGET_SEGMENTS: usize = 20;
 
 /// The floor of the shrinking budget on long curves.

@@ -23,9 +23,9 @@ use super::clearance::{clear_at_least, clearances_of};
 ///
 /// The passes run unchecked first and the class is tested once, on the result; if it left
 /// the class, they run again with every chord proven to keep it. Failing both, the ridge
-/// path is kept. The cost then decides how far from walls the curve ends up. Measured on
-/// the MovingAI maps (`bench-scen --sample 20`): the median length over the octile optimum
-/// fell from 1.03 to 1.22 to between 0.96 and 1.00.
+/// path is kept. The cost then decides how far from walls the curve ends up. On the
+/// MovingAI maps this brought the median length down to about the octile optimum (measured:
+/// docs/performance.md, "Measurements behind the defaults").
 pub(super) fn pull_taut(
     poly: &[Point],
     model: &dyn ClearanceModel,

@@ -73,27 +73,29 @@ impl ExactCircles {
 }
 
 /// How much longer than its graph path a class's shortest path that keeps `dm` may be for
-/// [`keeps_dm`] to look for it. With this bound and [`KEEPS_DM_STATES`] the chosen plans of
-/// 320 scenes and all 59 goldens are those of 1.5 and 4,096 (and the chosen plans those of an
-/// unlimited search), and a search that finds nothing ends sooner: re-plans during a mission
-/// take it too (256 states lost a class of one golden, 128 of four).
+/// [`keeps_dm`] to look for it. With this bound and [`KEEPS_DM_STATES`] the chosen plans are
+/// those of looser bounds and of an unlimited search, and a search that finds nothing ends
+/// sooner: re-plans during a mission take it too; fewer states lost classes (measured:
+/// docs/performance.md, "Measurements behind the defaults").
 pub const KEEPS_DM_LENGTH: Real = 1.25;
 
 /// The most (node, word) states [`keeps_dm`]'s search may hold.
 pub const KEEPS_DM_STATES: usize = 1024;
 
 /// Scenes of more circles than this keep the rule's graph-path target: the tangent graph's
-/// build is cubic in the circles (400 circles: 100 ms, more than the plan gains).
+/// build is cubic in the circles, and on large scenes costs more than the plan gains
+/// (measured: docs/performance.md, "Measurements behind the defaults").
 pub const KEEPS_DM_CIRCLES: usize = 128;
 
 /// Whether a path of the class `signature` keeps `clearance` from every circle and stays in
 /// the world's bounds, within [`KEEPS_DM_LENGTH`] times the length of `poly` (its graph
 /// path): the class's exact shortest path at that clearance
 /// ([`homospline_homotopy::shortest_in_class_within`]). The graph path's clearance (at its
-/// vertices, from the grid) does not say what the class can keep: of the 512 classes of 320
-/// scenes whose graph path is less clear than `dm / 0.9`, 259 can keep `dm`. The rule aimed
-/// those at 0.9 of it, and on two generated worlds a class ended a hair below `dm` while a
-/// safe class 31 and 52 % longer was chosen. `false` when the search gives up.
+/// vertices, from the grid) does not say what the class can keep: about half of the classes
+/// whose graph path is less clear than `dm / 0.9` can keep `dm`. The rule aimed those at 0.9
+/// of it, and a class could end a hair below `dm` while a much longer safe class was chosen
+/// (measured: docs/performance.md, "Measurements behind the defaults"). `false` when the
+/// search gives up.
 pub fn keeps_dm(
     world: &World<'_>,
     circles: &ExactCircles,

@@ -92,8 +92,9 @@ pub struct CostConfig {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum ClearanceSearch {
     /// Brent's method between the worst node's two neighbours: the optimiser's default. It
-    /// misses a dip between two other nodes (on 320 scenes, 181 of 1,266 classes whose
-    /// `m(C)` kept `dm` were certified below it). The planner gives a class whose final
+    /// misses a dip between two other nodes (a fair share of the classes whose `m(C)` kept
+    /// `dm` were certified below it; measured: docs/performance.md, "Measurements behind the
+    /// defaults"). The planner gives a class whose final
     /// curve has such a dip, and that could rank first, one more round with `EveryStretch`
     /// (`homospline_optim::Growth::repair`).
     #[default]
