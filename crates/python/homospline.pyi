@@ -146,9 +146,11 @@ class NoRoute(ValueError):
 def build_graph(scene: Scene, resolution: Optional[float] = None) -> Graph:
     """The Voronoi graph of a scene, start and goal attached."""
 
-def simulate(world: _Path, policy: str = "ahead", scouts: Optional[int] = None) -> dict[str, Any]:
+def simulate(world: _Path, policy: Optional[str] = None, scouts: Optional[int] = None) -> dict[str, Any]:
     """Runs the mission of a world file (a scene world or a map world with its truth map);
-    returns the mission JSON of docs/formats.md."""
+    returns the mission JSON of docs/formats.md. ``policy`` is a registered scout policy's
+    name (``none``, ``ahead``, ``alternatives``, ``guard``); None takes the library's default,
+    ``guard``."""
 
 def bench_scen(
     files: Sequence[_Path],

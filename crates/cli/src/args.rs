@@ -6,8 +6,8 @@ use std::path::PathBuf;
 use clap::Args;
 use homospline_front::OrOff;
 use homospline_front::report::ClassNames;
-use homospline_mission::Policy;
-use homospline_optim::{Optimizer, Seed};
+use homospline_mission::{MissionConfig, Policy};
+use homospline_optim::{Optimizer, PlanConfig, Seed};
 use homospline_spline::{Choice, ClearanceSearch, Preset, RoughnessForm};
 
 /// The help heading of the options that say what is planned on.
@@ -120,7 +120,7 @@ pub struct PlanArgs {
     /// Hard margin, map units: the chosen class must be certified at least this clear.
     ///
     /// Candidates less clear than this are rejected; 0 rejects only collisions.
-    #[arg(long, value_name = "X", default_value_t = 0.0, help_heading = COST)]
+    #[arg(long, value_name = "X", default_value_t = PlanConfig::default().clearance_floor, help_heading = COST)]
     pub clearance_floor: f64,
     /// Let dm act only through the safety penalty D, as in the paper's cost alone.
     ///
@@ -172,7 +172,7 @@ pub struct PlanArgs {
     /// simplex and ending with an interior-point finish (L-BFGS with a barrier on the
     /// clearance), kept only if the class stays collision-free, safe if it was, at the
     /// floor and no dearer.
-    #[arg(long, value_name = "N", default_value_t = 0, help_heading = ADVANCED)]
+    #[arg(long, value_name = "N", default_value_t = PlanConfig::default().polish, help_heading = ADVANCED)]
     pub polish: usize,
     /// Work budget in evaluations for a scene's chosen-class finish [default: 1500].
     ///
@@ -234,24 +234,24 @@ pub struct SimulateArgs {
     #[arg(long, value_parser = policy_arg(), help_heading = TEAM)]
     pub policy: Option<Policy>,
     /// Homotopy classes per plan, 1 to 64.
-    #[arg(long, default_value_t = 5, help_heading = CLASSES)]
+    #[arg(long, default_value_t = MissionConfig::default().plan.classes, help_heading = CLASSES)]
     pub classes: usize,
     /// Limited overlap between the classes (see `plan --diverse`).
     #[arg(long, value_name = "F", help_heading = CLASSES)]
     pub diverse: Option<f64>,
     /// Time step, seconds, 0.001 to 10.
-    #[arg(long, default_value_t = 0.25, help_heading = ADVANCED)]
+    #[arg(long, default_value_t = MissionConfig::default().dt, help_heading = ADVANCED)]
     pub dt: f64,
     /// Hysteresis: relative cost margin a class must win by to replace a valid plan.
-    #[arg(long, default_value_t = 0.1, help_heading = ADVANCED)]
+    #[arg(long, default_value_t = MissionConfig::default().switch_margin, help_heading = ADVANCED)]
     pub switch_margin: f64,
     /// Hysteresis: seconds between voluntary class switches.
-    #[arg(long, default_value_t = 10.0, help_heading = ADVANCED)]
+    #[arg(long, default_value_t = MissionConfig::default().min_switch_interval, help_heading = ADVANCED)]
     pub min_switch_interval: f64,
     /// Blockage prior P, 0 to 10: a class costs 1 + P x (the share of its route no robot
     /// has seen) times its plan's cost when the UGV re-plans; 0 plans as if the unseen were
     /// clear.
-    #[arg(long, value_name = "P", default_value_t = 0.1, help_heading = TEAM)]
+    #[arg(long, value_name = "P", default_value_t = MissionConfig::default().blockage_prior, help_heading = TEAM)]
     pub blockage_prior: f64,
     /// Write the mission (timeline and every trajectory) as JSON.
     #[arg(long, value_name = "FILE", help_heading = OUTPUT)]
@@ -298,7 +298,7 @@ pub struct BenchArgs {
     #[arg(long, value_name = "R", help_heading = INPUT)]
     pub robot_radius: Option<f64>,
     /// Homotopy classes per plan, 1 to 64.
-    #[arg(long, default_value_t = 5, help_heading = CLASSES)]
+    #[arg(long, default_value_t = PlanConfig::maps().classes, help_heading = CLASSES)]
     pub classes: usize,
     /// Set a weight or parameter over the map defaults, e.g. --weight dm=1 (repeatable).
     #[arg(long = "weight", value_name = "NAME=VALUE", help_heading = COST)]

@@ -53,15 +53,23 @@ pub fn map_mission_svg(world: &MapWorld, r: &MissionResult, at: Option<Real>) ->
         &mut |s, x, y, scale, when, still| {
             let b = map.bounds();
             let (ya, yb) = (y(b.min.y), y(b.max.y));
-            let _ = writeln!(
-                s,
-                r#"<g id="map"><image x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" preserveAspectRatio="none" image-rendering="optimizeSpeed" style="image-rendering: pixelated" href="{}"/></g>"#,
-                x(b.min.x),
-                ya.min(yb),
-                (b.max.x - b.min.x) * scale,
-                (ya - yb).abs(),
-                crate::picture::occupancy_href(map, map.y_down)
-            );
+            let _ = match crate::picture::occupancy_href(map, map.y_down) {
+                Ok(href) => writeln!(
+                    s,
+                    r#"<g id="map"><image x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" preserveAspectRatio="none" image-rendering="optimizeSpeed" style="image-rendering: pixelated" href="{href}"/></g>"#,
+                    x(b.min.x),
+                    ya.min(yb),
+                    (b.max.x - b.min.x) * scale,
+                    (ya - yb).abs(),
+                ),
+                // Said in the picture rather than left out unseen.
+                Err(e) => writeln!(
+                    s,
+                    r#"<g id="map"><text x="{:.2}" y="{:.2}">the map's cells could not be drawn: {e}</text></g>"#,
+                    x(b.min.x),
+                    ya.min(yb) + 14.0,
+                ),
+            };
             s.push_str("<g id=\"hidden\">\n");
             for c in &world.changes {
                 let colour = if c.blocked { "#d62728" } else { "#2ca02c" };

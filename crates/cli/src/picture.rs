@@ -7,6 +7,8 @@
 //! so that no seams show between cells; its Voronoi graph is drawn thin and light, under the
 //! paths.
 
+use base64::Engine as _;
+use base64::engine::general_purpose::STANDARD;
 use homospline_front::report::ClassNames;
 use homospline_geom::{Bounds, Point, Real, Scene};
 use homospline_maps::OccupancyMap;
@@ -234,160 +236,77 @@ fn voronoi(graph: &VoronoiGraph, v: &View, style: &GraphStyle) -> Group {
 /// screen: cell row `j` is picture row `j` when the map's y runs down (MovingAI), row
 /// `height - 1 - j` when it runs up (ROS).
 fn cells(map: &OccupancyMap, v: &View) -> Group {
-    let (w, h) = (map.width, map.height);
     let b = map.bounds();
     let (y_a, y_b) = (v.y(b.min.y), v.y(b.max.y));
     // Whether cell row 0 is at the top of the picture (the map's y runs down the screen).
     let row0_on_top = y_a <= y_b;
-    let png = png::indexed_1bit(w, h, [[0xff; 3], OCCUPIED], [0, 0xff], |i, r| {
-        let j = if row0_on_top { r } else { h - 1 - r };
-        map.occupied[j * w + i]
-    });
-    let image = Image::new()
-        .set("x", v.x(b.min.x))
-        .set("y", y_a.min(y_b))
-        .set("width", (b.max.x - b.min.x) * v.scale)
-        .set("height", (y_a - y_b).abs())
-        .set("preserveAspectRatio", "none")
-        .set("image-rendering", "optimizeSpeed")
-        .set("style", "image-rendering: pixelated")
-        .set("href", format!("data:image/png;base64,{}", base64(&png)));
-    Group::new().set("id", "obstacles").add(image)
+    let group = Group::new().set("id", "obstacles");
+    match occupancy_href(map, row0_on_top) {
+        Ok(href) => group.add(
+            Image::new()
+                .set("x", v.x(b.min.x))
+                .set("y", y_a.min(y_b))
+                .set("width", (b.max.x - b.min.x) * v.scale)
+                .set("height", (y_a - y_b).abs())
+                .set("preserveAspectRatio", "none")
+                .set("image-rendering", "optimizeSpeed")
+                .set("style", "image-rendering: pixelated")
+                .set("href", href),
+        ),
+        // Said in the picture rather than left out unseen.
+        Err(e) => group.add(
+            Text::new(format!("the map's cells could not be drawn: {e}"))
+                .set("x", v.x(b.min.x))
+                .set("y", y_a.min(y_b) + 13.0)
+                .set("font-size", 13),
+        ),
+    }
 }
 
 /// The occupancy of `map` as a `data:` URI of a 1-bit PNG, one pixel per cell (occupied grey,
-/// free transparent), cell row 0 at the top when `row0_on_top`.
-pub(crate) fn occupancy_href(map: &OccupancyMap, row0_on_top: bool) -> String {
+/// free transparent), cell row 0 at the top when `row0_on_top`; the encoder's error in words
+/// when the map has no cells to draw.
+pub(crate) fn occupancy_href(map: &OccupancyMap, row0_on_top: bool) -> Result<String, String> {
     let (w, h) = (map.width, map.height);
-    let png = png::indexed_1bit(w, h, [[0xff; 3], OCCUPIED], [0, 0xff], |i, r| {
+    let png = indexed_1bit(w, h, [[0xff; 3], OCCUPIED], [0, 0xff], |i, r| {
         let j = if row0_on_top { r } else { h - 1 - r };
         map.occupied[j * w + i]
-    });
-    format!("data:image/png;base64,{}", base64(&png))
+    })?;
+    Ok(format!("data:image/png;base64,{}", STANDARD.encode(png)))
 }
 
-/// Standard base64 with padding.
-fn base64(bytes: &[u8]) -> String {
-    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
-    for chunk in bytes.chunks(3) {
-        let n = chunk
-            .iter()
-            .enumerate()
-            .fold(0u32, |n, (k, &b)| n | u32::from(b) << (16 - 8 * k));
-        for k in 0..4 {
-            if k <= chunk.len() {
-                out.push(ALPHABET[(n >> (18 - 6 * k) & 63) as usize] as char);
-            } else {
-                out.push('=');
+/// The PNG of a `width x height` image whose pixel `(column, row)` (row 0 at the top) is
+/// palette entry 1 where `pixel` says so and entry 0 elsewhere; `palette` gives the two RGB
+/// colours and `alpha` their opacities: 1-bit indexed colour, encoded by the `png` crate.
+fn indexed_1bit(
+    width: usize,
+    height: usize,
+    palette: [[u8; 3]; 2],
+    alpha: [u8; 2],
+    pixel: impl Fn(usize, usize) -> bool,
+) -> Result<Vec<u8>, String> {
+    let stride = width.div_ceil(8);
+    let mut packed = vec![0u8; stride * height];
+    for (r, row) in packed.chunks_mut(stride.max(1)).enumerate() {
+        for i in 0..width {
+            if pixel(i, r) {
+                row[i / 8] |= 0x80 >> (i % 8);
             }
         }
     }
-    out
-}
-
-/// A minimal PNG encoder: 1-bit indexed colour, the zlib stream made of stored (uncompressed)
-/// deflate blocks. A map picture's occupancy is small at one bit per cell; no compression
-/// library is needed.
-mod png {
-    /// The PNG of a `width x height` image whose pixel `(column, row)` (row 0 at the top) is
-    /// palette entry 1 where `pixel` says so and entry 0 elsewhere; `palette` gives the two
-    /// RGB colours and `alpha` their opacities.
-    pub(super) fn indexed_1bit(
-        width: usize,
-        height: usize,
-        palette: [[u8; 3]; 2],
-        alpha: [u8; 2],
-        pixel: impl Fn(usize, usize) -> bool,
-    ) -> Vec<u8> {
-        let stride = width.div_ceil(8);
-        let mut raw = vec![0u8; (stride + 1) * height];
-        for (r, row) in raw.chunks_mut(stride + 1).enumerate() {
-            // row[0] = 0: no filter.
-            for i in 0..width {
-                if pixel(i, r) {
-                    row[1 + i / 8] |= 0x80 >> (i % 8);
-                }
-            }
-        }
-        let mut ihdr = Vec::with_capacity(13);
-        ihdr.extend_from_slice(&(width as u32).to_be_bytes());
-        ihdr.extend_from_slice(&(height as u32).to_be_bytes());
-        // Bit depth 1, colour type 3 (indexed), deflate, no filter method, no interlace.
-        ihdr.extend_from_slice(&[1, 3, 0, 0, 0]);
-        let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
-        chunk(&mut out, b"IHDR", &ihdr);
-        chunk(&mut out, b"PLTE", palette.as_flattened());
-        chunk(&mut out, b"tRNS", &alpha);
-        chunk(&mut out, b"IDAT", &zlib_stored(&raw));
-        chunk(&mut out, b"IEND", &[]);
-        out
-    }
-
-    /// A chunk: length, type, data, CRC-32 of type and data.
-    fn chunk(out: &mut Vec<u8>, kind: &[u8; 4], data: &[u8]) {
-        out.extend_from_slice(&(data.len() as u32).to_be_bytes());
-        let start = out.len();
-        out.extend_from_slice(kind);
-        out.extend_from_slice(data);
-        let crc = crc32(&out[start..]);
-        out.extend_from_slice(&crc.to_be_bytes());
-    }
-
-    /// A zlib stream of `data` in stored deflate blocks (at most 65,535 bytes each).
-    fn zlib_stored(data: &[u8]) -> Vec<u8> {
-        // CMF: deflate, 32 KiB window; FLG: no dictionary, check bits making CMF FLG a
-        // multiple of 31.
-        let mut out = vec![0x78, 0x01];
-        let mut blocks = data.chunks(0xffff).peekable();
-        if blocks.peek().is_none() {
-            out.extend_from_slice(&[1, 0, 0, 0xff, 0xff]);
-        }
-        while let Some(block) = blocks.next() {
-            // BFINAL on the last block, BTYPE 00 (stored), then padding to the byte.
-            out.push(u8::from(blocks.peek().is_none()));
-            let len = block.len() as u16;
-            out.extend_from_slice(&len.to_le_bytes());
-            out.extend_from_slice(&(!len).to_le_bytes());
-            out.extend_from_slice(block);
-        }
-        out.extend_from_slice(&adler32(data).to_be_bytes());
-        out
-    }
-
-    /// CRC-32 (ISO-HDLC, as PNG uses it).
-    pub(super) fn crc32(data: &[u8]) -> u32 {
-        let mut table = [0u32; 256];
-        for (n, t) in table.iter_mut().enumerate() {
-            let mut c = n as u32;
-            for _ in 0..8 {
-                c = if c & 1 == 1 {
-                    0xedb8_8320 ^ (c >> 1)
-                } else {
-                    c >> 1
-                };
-            }
-            *t = c;
-        }
-        !data.iter().fold(!0u32, |c, &b| {
-            table[((c ^ u32::from(b)) & 0xff) as usize] ^ (c >> 8)
-        })
-    }
-
-    /// Adler-32 (zlib's check of the uncompressed data).
-    pub(super) fn adler32(data: &[u8]) -> u32 {
-        let (mut a, mut b) = (1u32, 0u32);
-        // 5,552 bytes is the longest run whose sums cannot overflow before the modulo.
-        for run in data.chunks(5552) {
-            for &x in run {
-                a += u32::from(x);
-                b += a;
-            }
-            a %= 65521;
-            b %= 65521;
-        }
-        b << 16 | a
-    }
+    let size = |n: usize| u32::try_from(n).map_err(|_| format!("{n} pixels do not fit a PNG"));
+    let mut out = Vec::new();
+    let mut encoder = png::Encoder::new(&mut out, size(width)?, size(height)?);
+    encoder.set_color(png::ColorType::Indexed);
+    encoder.set_depth(png::BitDepth::One);
+    encoder.set_palette(palette.as_flattened().to_vec());
+    encoder.set_trns(alpha.to_vec());
+    let mut writer = encoder.write_header().map_err(|e| e.to_string())?;
+    writer
+        .write_image_data(&packed)
+        .and_then(|()| writer.finish())
+        .map_err(|e| e.to_string())?;
+    Ok(out)
 }
 
 /// Width of a line of `text` in pixels at `font_size`, an upper estimate for sans-serif
@@ -700,21 +619,6 @@ mod tests {
     use super::*;
     use homospline_voronoi::{Edge, Node, NodeKind};
 
-    #[test]
-    fn checksums_match_their_check_values() {
-        assert_eq!(png::crc32(b"123456789"), 0xcbf4_3926);
-        assert_eq!(png::adler32(b"Wikipedia"), 0x11e6_0398);
-        // Past the 5,552-byte runs: the sums are reduced in time.
-        let long = vec![0xffu8; 100_000];
-        let (mut a, mut b) = (1u64, 0u64);
-        for &x in &long {
-            a = (a + u64::from(x)) % 65521;
-            b = (b + a) % 65521;
-        }
-        assert_eq!(png::adler32(&long), (b << 16 | a) as u32);
-    }
-
-    /// A map `w x h` with a ring and a few cells set, not symmetric in either axis.
     fn map(w: usize, h: usize, y_down: bool) -> OccupancyMap {
         let occupied = (0..w * h)
             .map(|k| {
@@ -761,22 +665,6 @@ mod tests {
         out
     }
 
-    fn unbase64(text: &str) -> Vec<u8> {
-        const ALPHABET: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-        let mut bits = 0u32;
-        let mut n = 0;
-        let mut out = Vec::new();
-        for c in text.bytes().filter(|&c| c != b'=') {
-            bits = bits << 6 | ALPHABET.iter().position(|&a| a == c).unwrap() as u32;
-            n += 6;
-            if n >= 8 {
-                n -= 8;
-                out.push((bits >> n) as u8);
-            }
-        }
-        out
-    }
-
     /// The occupancy a PNG holds: its opaque dark pixels (occupied cells are opaque grey,
     /// free ones transparent), decoded by the `image` crate, laid out as the map readers lay
     /// rows out (image row 0 at the top, y up: row `r` at y index `h - 1 - r`).
@@ -795,7 +683,7 @@ mod tests {
         // Wider than 8 and not a multiple of it; more than one stored block.
         for (w, h) in [(1, 1), (13, 5), (300, 1800)] {
             let on = |i: usize, r: usize| (i * 5 + r * 3) % 7 < 2;
-            let png = png::indexed_1bit(w, h, [[0xff; 3], [0x55; 3]], [0, 0xff], on);
+            let png = indexed_1bit(w, h, [[0xff; 3], [0x55; 3]], [0, 0xff], on).unwrap();
             assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
             let occ = decode(&png, w, h);
             for r in 0..h {
@@ -863,7 +751,9 @@ mod tests {
             assert!((num("width") - 900.0).abs() < 1e-9);
             assert!((num("height") - 4.5 * scale).abs() < 1e-9);
             assert!(attr("style").contains("image-rendering: pixelated"));
-            let png = unbase64(attr("href").strip_prefix("data:image/png;base64,").unwrap());
+            let png = STANDARD
+                .decode(attr("href").strip_prefix("data:image/png;base64,").unwrap())
+                .unwrap();
             let occ = decode(&png, w, h);
             for j in 0..h {
                 // Picture row of cell row j: from the top, j when y runs down.

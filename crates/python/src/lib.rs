@@ -10,7 +10,7 @@ use homospline_geom::math::Num;
 use homospline_geom::{Point, Scene};
 use homospline_maps::OccupancyMap;
 use homospline_mission::{AnyWorld, MissionConfig, Policy};
-use homospline_optim::{ClassPlan, Plan};
+use homospline_optim::{ClassPlan, Plan, PlanConfig};
 use homospline_voronoi::VoronoiGraph;
 use numpy::{PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyMemoryError, PyOSError, PyTypeError, PyValueError};
@@ -549,7 +549,7 @@ fn plan_map(
     classes: Option<&Bound<'_, PyAny>>,
     robot_radius: f64,
 ) -> PyResult<PyPlan> {
-    let classes = count("classes", classes)?.unwrap_or(5);
+    let classes = count("classes", classes)?.unwrap_or(PlanConfig::maps().classes);
     let (rows, cols, cells) = occupancy_of(occupancy)?;
     // The checks a ROS map's YAML gets, named by keyword.
     homospline_maps::check_geometry(resolution, [origin.0, origin.1], cols, rows).map_err(
@@ -613,21 +613,24 @@ pyo3::create_exception!(
 /// Runs the mission of a world file, on a scene or an occupancy map (`homospline simulate`),
 /// and returns its JSON as a dict.
 #[pyfunction]
-#[pyo3(signature = (world, policy="guard", scouts=None))]
+#[pyo3(signature = (world, policy=None, scouts=None))]
 fn simulate<'py>(
     py: Python<'py>,
     world: PathBuf,
-    policy: &str,
+    policy: Option<&str>,
     scouts: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let scouts = count("scouts", scouts)?;
     let w = homospline_mission::world::load_any(&world, |p| std::fs::read(p)).map_err(bad)?;
-    let policy = Policy::named(policy).ok_or_else(|| {
-        bad(format!(
-            "policy='{policy}': expected one of {}",
-            Policy::names()
-        ))
-    })?;
+    let policy = match policy {
+        None => Policy::default(),
+        Some(policy) => Policy::named(policy).ok_or_else(|| {
+            bad(format!(
+                "policy='{policy}': expected one of {}",
+                Policy::names()
+            ))
+        })?,
+    };
     let cfg = MissionConfig {
         policy,
         scouts,
@@ -669,7 +672,7 @@ fn bench_scen(
 ) -> PyResult<String> {
     let sample = count("sample", sample)?;
     let limit = count("limit", limit)?;
-    let classes = count("classes", classes)?.unwrap_or(5);
+    let classes = count("classes", classes)?.unwrap_or(PlanConfig::maps().classes);
     let shard = match &shard {
         Some((k, n)) => (
             count("shard[0]", Some(k))?.unwrap_or(1),

@@ -103,6 +103,24 @@ fn check_same_grid(
     Ok(())
 }
 
+/// The first problem `problem` finds with the start or the goal on the prior or the truth
+/// map (named "prior map" or "truth map"), as an error of the end's field.
+fn check_ends(
+    file: &WorldFile,
+    (prior, truth): (&OccupancyMap, &OccupancyMap),
+    spec: &MapSpec,
+    problem: impl Fn(Point, &str, &OccupancyMap) -> Option<String>,
+) -> Result<(), SceneError> {
+    for (field, p) in [("start", spec.start), ("goal", spec.goal)] {
+        for (which, m) in [("prior map", prior), ("truth map", truth)] {
+            if let Some(why) = problem(p, which, m) {
+                return Err(file.field_error(field, why));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// The start and the goal are on both maps, in free cells that touch no obstacle.
 fn check_ends_free(
     file: &WorldFile,
@@ -110,31 +128,24 @@ fn check_ends_free(
     truth: &OccupancyMap,
     spec: &MapSpec,
 ) -> Result<(), SceneError> {
-    for (field, p) in [("start", spec.start), ("goal", spec.goal)] {
-        for (which, m) in [("prior map", prior), ("truth map", truth)] {
-            let problem = match m.free_at(&p) {
-                None => format!(
-                    "({}, {}) is outside the map {}",
-                    Num(p.x),
-                    Num(p.y),
-                    m.bounds()
-                ),
-                Some(false) => {
-                    format!(
-                        "({}, {}) is in an occupied cell of the {which}",
-                        Num(p.x),
-                        Num(p.y)
-                    )
-                }
-                Some(true) => match m.touches_obstacle(&p) {
-                    Some(why) => format!("({}, {}) {why} of the {which}", p.x, p.y),
-                    None => continue,
-                },
-            };
-            return Err(file.field_error(field, problem));
+    check_ends(file, (prior, truth), spec, |p, which, m| {
+        match m.free_at(&p) {
+            None => Some(format!(
+                "({}, {}) is outside the map {}",
+                Num(p.x),
+                Num(p.y),
+                m.bounds()
+            )),
+            Some(false) => Some(format!(
+                "({}, {}) is in an occupied cell of the {which}",
+                Num(p.x),
+                Num(p.y)
+            )),
+            Some(true) => m
+                .touches_obstacle(&p)
+                .map(|why| format!("({}, {}) {why} of the {which}", p.x, p.y)),
         }
-    }
-    Ok(())
+    })
 }
 
 /// With a positive `team.ugv.radius`, the start and the goal must keep the radius on both
@@ -173,21 +184,15 @@ fn check_ends_clear(
     spec: &MapSpec,
 ) -> Result<(), SceneError> {
     let r = file.team.ugv.radius;
-    for (field, p) in [("start", spec.start), ("goal", spec.goal)] {
-        for (which, m) in [("prior map", prior), ("truth map", truth)] {
-            let c = m.clearance_within(&p, r + 2.0 * m.cell);
-            if c <= r {
-                return Err(file.field_error(
-                    field,
-                    format!(
-                        "({}, {}) has clearance {c:.4} on the {which}, not more than team.ugv.radius {r}",
-                        p.x, p.y
-                    ),
-                ));
-            }
-        }
-    }
-    Ok(())
+    check_ends(file, (prior, truth), spec, |p, which, m| {
+        let c = m.clearance_within(&p, r + 2.0 * m.cell);
+        (c <= r).then(|| {
+            format!(
+                "({}, {}) has clearance {c:.4} on the {which}, not more than team.ugv.radius {r}",
+                p.x, p.y
+            )
+        })
+    })
 }
 
 /// On the robot's lattices of both maps, the start's and the goal's cells are free and
@@ -199,20 +204,14 @@ fn check_end_cells_clear(
     spec: &MapSpec,
 ) -> Result<(), SceneError> {
     let r = file.team.ugv.radius;
-    for (field, p) in [("start", spec.start), ("goal", spec.goal)] {
-        for (which, m) in [("prior map", prior), ("truth map", truth)] {
-            if m.free_at(&p) != Some(true) || m.touches_obstacle(&p).is_some() {
-                return Err(file.field_error(
-                    field,
-                    format!(
-                        "({}, {}) keeps team.ugv.radius {r} on the {which}, but the nearest point of the robot's lattice does not (free space is sampled every half cell): move it up to half a cell away from the wall",
-                        p.x, p.y
-                    ),
-                ));
-            }
-        }
-    }
-    Ok(())
+    check_ends(file, (prior, truth), spec, |p, which, m| {
+        (m.free_at(&p) != Some(true) || m.touches_obstacle(&p).is_some()).then(|| {
+            format!(
+                "({}, {}) keeps team.ugv.radius {r} on the {which}, but the nearest point of the robot's lattice does not (free space is sampled every half cell): move it up to half a cell away from the wall",
+                p.x, p.y
+            )
+        })
+    })
 }
 
 /// Every scout starts on the map.

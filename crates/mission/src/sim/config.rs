@@ -318,27 +318,24 @@ impl MissionConfig {
                 "must be in [0, 1)",
             ));
         }
-        if !(self.min_switch_interval.is_finite() && self.min_switch_interval >= 0.0) {
-            return Err(MissionConfigError::new(
-                S::MinSwitchInterval,
-                Num(self.min_switch_interval),
-                "must be >= 0 seconds",
-            ));
-        }
-        if !(self.replan_value_tolerance.is_finite() && self.replan_value_tolerance >= 0.0) {
-            return Err(MissionConfigError::new(
-                S::ReplanValueTolerance,
-                Num(self.replan_value_tolerance),
-                "must be a finite number >= 0",
-            ));
-        }
-        if !(self.replan_coarsening.is_finite() && self.replan_coarsening >= 1.0) {
-            return Err(MissionConfigError::new(
-                S::ReplanCoarsening,
-                Num(self.replan_coarsening),
-                "must be a finite number >= 1",
-            ));
-        }
+        at_least(
+            S::MinSwitchInterval,
+            self.min_switch_interval,
+            0.0,
+            "must be >= 0 seconds",
+        )?;
+        at_least(
+            S::ReplanValueTolerance,
+            self.replan_value_tolerance,
+            0.0,
+            "must be a finite number >= 0",
+        )?;
+        at_least(
+            S::ReplanCoarsening,
+            self.replan_coarsening,
+            1.0,
+            "must be a finite number >= 1",
+        )?;
         if !(self.blockage_prior.is_finite()
             && (0.0..=MAX_BLOCKAGE_PRIOR).contains(&self.blockage_prior))
         {
@@ -349,6 +346,20 @@ impl MissionConfig {
             ));
         }
         Ok(())
+    }
+}
+
+/// `x` of `setting` is finite and at least `min`, or `problem`.
+fn at_least(
+    setting: MissionSetting,
+    x: Real,
+    min: Real,
+    problem: &str,
+) -> Result<(), MissionConfigError> {
+    if x.is_finite() && x >= min {
+        Ok(())
+    } else {
+        Err(MissionConfigError::new(setting, Num(x), problem))
     }
 }
 
