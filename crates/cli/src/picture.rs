@@ -726,7 +726,7 @@ mod tests {
                     length: 5.0,
                     min_clearance: 1.0,
                     mean_clearance: 1.0,
-                    polyline: vec![[1.0, 5.0], [6.0, 5.0]],
+                    polyline: vec![[1.0, 5.0], [6.0, 5.0]].into(),
                 }],
                 start: None,
                 goal: None,

@@ -326,7 +326,7 @@ fn enters_blocked_region(e: &Edge, regions: &[(Point, Real)]) -> bool {
         return false;
     }
     let (mut lo, mut hi) = ([Real::INFINITY; 2], [Real::NEG_INFINITY; 2]);
-    for q in &e.polyline {
+    for q in e.polyline.iter() {
         lo = [lo[0].min(q[0]), lo[1].min(q[1])];
         hi = [hi[0].max(q[0]), hi[1].max(q[1])];
     }

@@ -313,13 +313,13 @@ fn split(g: &mut VoronoiGraph, field: &DistanceField, grid: &Grid, a: Anchor) ->
     g.edges[edge] = Edge {
         to: n,
         length: len(&head),
-        polyline: head,
+        polyline: head.into(),
         ..old.clone()
     };
     g.edges.push(Edge {
         from: n,
         length: len(&tail),
-        polyline: tail,
+        polyline: tail.into(),
         ..old
     });
     n

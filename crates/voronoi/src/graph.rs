@@ -10,6 +10,8 @@
 //! to it ([`crate::attach`]). Pruning is in `prune`; the complete graph of a map is
 //! [`crate::skeleton`] and [`crate::attach::MapGraph`].
 
+use std::sync::Arc;
+
 use homospline_geom::Real;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -65,8 +67,10 @@ pub struct Edge {
     pub min_clearance: Real,
     /// Mean clearance along it, map units.
     pub mean_clearance: Real,
-    /// From `from` to `to`, map coordinates.
-    pub polyline: Vec<[Real; 2]>,
+    /// From `from` to `to`, map coordinates. Shared by the copies of a graph: a prepared
+    /// map's query graph ([`MapGraph::with_endpoints`](crate::MapGraph::with_endpoints))
+    /// copies the complete graph's edges, not their polylines.
+    pub polyline: Arc<[[Real; 2]]>,
 }
 
 /// An obstacle of the grid (an 8-connected component of occupied cells other than the wall).

@@ -40,7 +40,11 @@ fn saved_graphs_that_lie_are_refused_before_planning() {
         // Far off the map: its index's sampling had looped for ever.
         (
             "far",
-            |g| g.edges[0].polyline[0] = [1e300, -1e300],
+            |g| {
+                let mut p = g.edges[0].polyline.to_vec();
+                p[0] = [1e300, -1e300];
+                g.edges[0].polyline = p.into();
+            },
             "not in a free cell",
         ),
     ];

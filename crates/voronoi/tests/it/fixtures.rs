@@ -76,7 +76,7 @@ fn short_dead_end_spurs_are_pruned_and_long_ones_kept() {
         length,
         min_clearance: 1.0,
         mean_clearance: 1.0,
-        polyline: vec![[from as f64, 0.0], [to as f64, 0.0]],
+        polyline: vec![[from as f64, 0.0], [to as f64, 0.0]].into(),
     };
     // start - a - goal, with a short spur a - b - c (two edges) and a long spur a - d.
     let mut g = VoronoiGraph {
