@@ -165,53 +165,37 @@ fn keep_radius(
         ));
     }
     if r > 0.0 {
-        check_ends_clear(file, &prior, &truth, spec)?;
+        // More clearance than the radius on both maps...
+        check_ends(file, (&prior, &truth), spec, |p, which, m| {
+            let c = m.clearance_within(&p, r + 2.0 * m.cell);
+            (c <= r).then(|| {
+                format!(
+                    "({}, {}) has clearance {c:.4} on the {which}, not more than team.ugv.radius {r}",
+                    p.x, p.y
+                )
+            })
+        })?;
+        // ...and free cells touching no blocked cell on the robot's lattices of both.
         let lattice = |m: &OccupancyMap| {
             m.robot_space(r)
                 .map(|(free, _)| free)
                 .map_err(|e| file.field_error("team.ugv.radius", format!("{r}: {e}")))
         };
-        check_end_cells_clear(file, &lattice(&prior)?, &lattice(&truth)?, spec)?;
+        check_ends(
+            file,
+            (&lattice(&prior)?, &lattice(&truth)?),
+            spec,
+            |p, which, m| {
+                (m.free_at(&p) != Some(true) || m.touches_obstacle(&p).is_some()).then(|| {
+                format!(
+                    "({}, {}) keeps team.ugv.radius {r} on the {which}, but the nearest point of the robot's lattice does not (free space is sampled every half cell): move it up to half a cell away from the wall",
+                    p.x, p.y
+                )
+            })
+            },
+        )?;
     }
     Ok((prior, truth))
-}
-
-/// The start and the goal have more clearance than the robot's radius on both maps.
-fn check_ends_clear(
-    file: &WorldFile,
-    prior: &OccupancyMap,
-    truth: &OccupancyMap,
-    spec: &MapSpec,
-) -> Result<(), SceneError> {
-    let r = file.team.ugv.radius;
-    check_ends(file, (prior, truth), spec, |p, which, m| {
-        let c = m.clearance_within(&p, r + 2.0 * m.cell);
-        (c <= r).then(|| {
-            format!(
-                "({}, {}) has clearance {c:.4} on the {which}, not more than team.ugv.radius {r}",
-                p.x, p.y
-            )
-        })
-    })
-}
-
-/// On the robot's lattices of both maps, the start's and the goal's cells are free and
-/// touch no blocked cell.
-fn check_end_cells_clear(
-    file: &WorldFile,
-    prior: &OccupancyMap,
-    truth: &OccupancyMap,
-    spec: &MapSpec,
-) -> Result<(), SceneError> {
-    let r = file.team.ugv.radius;
-    check_ends(file, (prior, truth), spec, |p, which, m| {
-        (m.free_at(&p) != Some(true) || m.touches_obstacle(&p).is_some()).then(|| {
-            format!(
-                "({}, {}) keeps team.ugv.radius {r} on the {which}, but the nearest point of the robot's lattice does not (free space is sampled every half cell): move it up to half a cell away from the wall",
-                p.x, p.y
-            )
-        })
-    })
 }
 
 /// Every scout starts on the map.
