@@ -371,7 +371,7 @@ fn distances_to(goal: usize, n: usize, adjacency: &Adjacency, cost: &[Real]) -> 
         if f > h[id] {
             continue;
         }
-        for &(m, e, _) in adjacency.of(id) {
+        for (m, e, _) in adjacency.of(id) {
             let d = f + cost[e];
             if d < h[m] {
                 h[m] = d;
@@ -394,8 +394,9 @@ struct Frontier<'a> {
     /// Edge words, forward, computed when the search first walks the edge: a map's graph
     /// has tens of thousands of edges, whose words all together take long to compute, and a
     /// search walks a few hundred of them (measured: docs/performance.md, "Measurements
-    /// behind the defaults").
-    words: Vec<Option<Signature>>,
+    /// behind the defaults"). Keyed by edge, so that the cache is as large as the walk, not
+    /// as the graph.
+    words: HashMap<usize, Signature>,
     /// The partial paths' words, interned.
     path_words: Words,
     arena: Vec<Partial>,
@@ -436,7 +437,7 @@ impl<'a> Frontier<'a> {
             adjacency,
             cost,
             h,
-            words: vec![None; graph.edges.len()],
+            words: HashMap::new(),
             path_words: Words::new(),
             arena,
             queue: BinaryHeap::new(),
@@ -523,13 +524,15 @@ impl<'a> Frontier<'a> {
     /// (off the path) from which the goal can be reached.
     fn expand(&mut self, id: usize, on_path: &[usize], stamp: usize) {
         let (graph, rays, adjacency) = (self.graph, self.rays, self.adjacency);
-        for &(m, e, fwd) in adjacency.of(self.arena[id].node) {
+        for (m, e, fwd) in adjacency.of(self.arena[id].node) {
             if on_path[m] == stamp || !self.h[m].is_finite() {
                 continue;
             }
             let g = self.arena[id].g + self.cost[e];
-            let edge_word =
-                self.words[e].get_or_insert_with(|| rays.signature(&edge_polyline(graph, e, true)));
+            let edge_word = self
+                .words
+                .entry(e)
+                .or_insert_with(|| rays.signature(&edge_polyline(graph, e, true)));
             let word = self.path_words.concat(self.arena[id].word, edge_word, fwd);
             self.arena.push(Partial {
                 parent: id,

@@ -180,20 +180,30 @@ pub enum GraphError {
 
 /// The edges at each node in one array: node `k`'s are `links[first[k]..first[k + 1]]`, as
 /// `(other end, edge, walked from -> to)`, in edge order (a loop once, at its node). A graph
-/// of a whole map has tens of thousands of nodes, and a list each cost more than the search
-/// or the pruning that used it.
+/// of a whole map has millions of nodes, and a list each cost more than the search or the
+/// pruning that used it. Stored in 32 bits (the edge and the direction in one word), a third
+/// of the memory of machine words: a graph has fewer than [`MAX_EDGES`] edges.
 #[derive(Clone, Debug, Default)]
 pub struct Adjacency {
-    first: Vec<usize>,
-    links: Vec<(usize, usize, bool)>,
+    first: Vec<u32>,
+    /// `(other end, edge << 1 | walked from -> to)`.
+    links: Vec<(u32, u32)>,
 }
 
 impl Adjacency {
-    /// Node `k`'s links.
-    pub fn of(&self, k: usize) -> &[(usize, usize, bool)] {
-        &self.links[self.first[k]..self.first[k + 1]]
+    /// Node `k`'s links, `(other end, edge, walked from -> to)`.
+    pub fn of(&self, k: usize) -> impl ExactSizeIterator<Item = (usize, usize, bool)> + '_ {
+        let (a, b) = (self.first[k] as usize, self.first[k + 1] as usize);
+        self.links[a..b]
+            .iter()
+            .map(|&(m, e)| (m as usize, (e >> 1) as usize, e & 1 == 1))
     }
 }
+
+/// More edges or nodes than this is not a graph this program builds (a grid holds at most
+/// [`crate::grid::MAX_CELLS`] cells) nor reads ([`VoronoiGraph::validate`]): [`Adjacency`]
+/// numbers them in 31 bits.
+pub const MAX_EDGES: usize = 1 << 31;
 
 impl VoronoiGraph {
     /// Whether nodes `a` and `b` are joined by edges.
@@ -208,8 +218,11 @@ impl VoronoiGraph {
 
     /// The adjacency of the edges that `keep` accepts.
     pub fn adjacency(&self, keep: impl Fn(usize) -> bool) -> Adjacency {
+        // Both fewer than MAX_EDGES (2^31): built graphs by the grid's size, read ones by
+        // `validate`; so every index and count below fits its 32 bits.
+        debug_assert!(self.nodes.len() < MAX_EDGES && self.edges.len() < MAX_EDGES);
         let n = self.nodes.len();
-        let mut first = vec![0usize; n + 1];
+        let mut first = vec![0u32; n + 1];
         for (i, e) in self.edges.iter().enumerate() {
             if keep(i) {
                 first[e.from + 1] += 1;
@@ -222,13 +235,14 @@ impl VoronoiGraph {
             first[k + 1] += first[k];
         }
         let mut fill = first.clone();
-        let mut links = vec![(0usize, 0usize, false); first[n]];
+        let mut links = vec![(0u32, 0u32); first[n] as usize];
         for (i, e) in self.edges.iter().enumerate() {
             if keep(i) {
-                links[fill[e.from]] = (e.to, i, true);
+                let edge = (i as u32) << 1;
+                links[fill[e.from] as usize] = (e.to as u32, edge | 1);
                 fill[e.from] += 1;
                 if e.from != e.to {
-                    links[fill[e.to]] = (e.from, i, false);
+                    links[fill[e.to] as usize] = (e.from as u32, edge);
                     fill[e.to] += 1;
                 }
             }
@@ -316,6 +330,13 @@ impl VoronoiGraph {
             ));
         }
         let n = self.nodes.len();
+        if n >= MAX_EDGES || self.edges.len() >= MAX_EDGES {
+            return bad(format!(
+                "{n} nodes and {} edges: at most {} of each",
+                self.edges.len(),
+                MAX_EDGES - 1
+            ));
+        }
         for (i, node) in self.nodes.iter().enumerate() {
             if node.id != i {
                 return bad(format!(

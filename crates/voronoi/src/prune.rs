@@ -80,7 +80,7 @@ impl VoronoiGraph {
             degree[e.to] += 1;
         }
         let adjacency = self.adjacency(|_| true);
-        let incident = |k: usize| adjacency.of(k).iter().map(|l| l.1);
+        let incident = |k: usize| adjacency.of(k).map(|l| l.1);
         let had_edges: Vec<bool> = degree.iter().map(|&d| d > 0).collect();
         let protected = |k: usize, g: &VoronoiGraph| {
             matches!(g.nodes[k].kind, NodeKind::Start | NodeKind::Goal)
