@@ -185,7 +185,10 @@ impl MapGraph {
         if self.component[node_of(&rs.1)] != self.component[node_of(&rg.1)] {
             return Err(GraphError::DifferentRegions);
         }
-        let mut g = self.graph.clone();
+        // Room for what the two splits and the two endpoints add (a node and an edge each):
+        // a plain clone has none, and its first push would double both arrays, a map-sized
+        // allocation held through the whole query.
+        let mut g = self.graph.clone_with_room(4, 4);
         let ns = split(&mut g, field, grid, rs.1);
         // The goal's anchor, moved onto the halves when it was on the start's edge.
         let ag = match (rs.1, rg.1) {

@@ -216,6 +216,23 @@ impl VoronoiGraph {
         find_root(&mut parent, a) == find_root(&mut parent, b)
     }
 
+    /// A copy with room for `nodes` more nodes and `edges` more edges without reallocating.
+    pub(crate) fn clone_with_room(&self, nodes: usize, edges: usize) -> Self {
+        let mut copy_nodes = Vec::with_capacity(self.nodes.len() + nodes);
+        copy_nodes.extend_from_slice(&self.nodes);
+        let mut copy_edges = Vec::with_capacity(self.edges.len() + edges);
+        copy_edges.extend_from_slice(&self.edges);
+        Self {
+            resolution: self.resolution,
+            nodes: copy_nodes,
+            edges: copy_edges,
+            start: self.start,
+            goal: self.goal,
+            obstacles: self.obstacles.clone(),
+            built_for: self.built_for.clone(),
+        }
+    }
+
     /// The adjacency of the edges that `keep` accepts.
     pub fn adjacency(&self, keep: impl Fn(usize) -> bool) -> Adjacency {
         // Both fewer than MAX_EDGES (2^31): built graphs by the grid's size, read ones by

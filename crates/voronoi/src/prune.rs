@@ -5,7 +5,7 @@
 
 use homospline_geom::Real;
 
-use crate::graph::{Node, NodeKind, VoronoiGraph};
+use crate::graph::{NodeKind, VoronoiGraph};
 
 impl VoronoiGraph {
     /// Removes dead-end spurs shorter than `min_length` (map units), repeatedly (all the short
@@ -48,24 +48,27 @@ impl VoronoiGraph {
         for n in [self.start, self.goal].into_iter().flatten() {
             keep[n] = true;
         }
+        // Compacted in place, in order (a second array of nodes was as large as the graph's
+        // nodes on a map's query graph); `map` takes each kept node to its new index.
         let mut map = vec![usize::MAX; self.nodes.len()];
-        let mut nodes = Vec::with_capacity(keep.iter().filter(|&&k| k).count());
-        for (i, n) in self.nodes.iter().enumerate() {
-            if keep[i] {
-                map[i] = nodes.len();
-                nodes.push(Node {
-                    id: nodes.len(),
-                    ..n.clone()
-                });
+        let (mut old, mut new) = (0, 0);
+        self.nodes.retain_mut(|node| {
+            let kept = keep[old];
+            if kept {
+                map[old] = new;
+                node.id = new;
+                new += 1;
             }
-        }
+            old += 1;
+            kept
+        });
+        self.nodes.shrink_to_fit();
         for e in &mut self.edges {
             e.from = map[e.from];
             e.to = map[e.to];
         }
         self.start = self.start.map(|s| map[s]);
         self.goal = self.goal.map(|s| map[s]);
-        self.nodes = nodes;
     }
 
     /// Removes dead ends, leaf first, while `removable(graph, edge, leaf node)` says so. Start
