@@ -65,9 +65,10 @@ pub fn map_mission_svg(world: &MapWorld, r: &MissionResult, at: Option<Real>) ->
                 // Said in the picture rather than left out unseen.
                 Err(e) => writeln!(
                     s,
-                    r#"<g id="map"><text x="{:.2}" y="{:.2}">the map's cells could not be drawn: {e}</text></g>"#,
+                    r#"<g id="map"><text x="{:.2}" y="{:.2}">the map's cells could not be drawn: {}</text></g>"#,
                     x(b.min.x),
                     ya.min(yb) + 14.0,
+                    e.replace('&', "&amp;").replace('<', "&lt;"),
                 ),
             };
             s.push_str("<g id=\"hidden\">\n");

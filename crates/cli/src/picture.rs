@@ -2,8 +2,8 @@
 //! obstacles, the Voronoi graph, the class seeds, the optimised paths (the chosen one bold),
 //! start and goal, a legend and a scale bar. Each layer is a `<g>` with its own `id`.
 //!
-//! A map's occupancy is one raster, a PNG of one pixel per cell (a minimal encoder below:
-//! 1-bit indexed colour, stored deflate blocks) embedded as a data URI and drawn pixelated,
+//! A map's occupancy is one raster, a PNG of one pixel per cell (1-bit indexed colour,
+//! encoded by the `png` crate) embedded as a base64 data URI and drawn pixelated,
 //! so that no seams show between cells; its Voronoi graph is drawn thin and light, under the
 //! paths.
 
@@ -680,7 +680,7 @@ mod tests {
 
     #[test]
     fn the_png_decodes_back_to_the_pixels() {
-        // Wider than 8 and not a multiple of it; more than one stored block.
+        // Wider than 8 and not a multiple of it; a tall one besides.
         for (w, h) in [(1, 1), (13, 5), (300, 1800)] {
             let on = |i: usize, r: usize| (i * 5 + r * 3) % 7 < 2;
             let png = indexed_1bit(w, h, [[0xff; 3], [0x55; 3]], [0, 0xff], on).unwrap();

@@ -251,6 +251,10 @@ impl From<ConfigError> for OptionError {
     /// The planner's setting in the front ends' spelling: the one map from
     /// [`Setting`] to [`Opt`].
     fn from(e: ConfigError) -> Self {
+        if e.setting == Setting::LbfgsValueTolerance {
+            // Set by the profiles only: named by its field.
+            return Self::given(Opt::Optimizer, e.to_string());
+        }
         Self {
             option: plan_option(e.setting),
             value: e.value,
@@ -281,19 +285,29 @@ fn plan_option(setting: Setting) -> Opt {
 
 impl From<MissionConfigError> for OptionError {
     /// A mission's setting in the front ends' spelling: the one map from
-    /// [`MissionSetting`] to [`Opt`]. The re-plan settings no front end offers are named
-    /// by the option they follow (the classes, the optimiser, the resolution).
+    /// [`MissionSetting`] to [`Opt`]. A setting no front end offers (the re-plan settings,
+    /// the time limit) comes only from a profile, never from the user: it is named by its
+    /// field under the option closest to it, so the message says which value is at fault.
     fn from(e: MissionConfigError) -> Self {
         let option = match e.setting {
             MissionSetting::Plan(s) => plan_option(s),
-            MissionSetting::ReplanClasses => Opt::Classes,
-            MissionSetting::ReplanValueTolerance => Opt::Optimizer,
-            MissionSetting::ReplanCoarsening => Opt::Resolution,
             MissionSetting::Dt => Opt::Dt,
             MissionSetting::Scouts => Opt::Scouts,
             MissionSetting::SwitchMargin => Opt::SwitchMargin,
             MissionSetting::MinSwitchInterval => Opt::MinSwitchInterval,
             MissionSetting::BlockagePrior => Opt::BlockagePrior,
+            s @ (MissionSetting::ReplanClasses
+            | MissionSetting::ReplanValueTolerance
+            | MissionSetting::ReplanCoarsening
+            | MissionSetting::MaxTime) => {
+                let near = match s {
+                    MissionSetting::ReplanClasses => Opt::Classes,
+                    MissionSetting::ReplanValueTolerance => Opt::Optimizer,
+                    MissionSetting::ReplanCoarsening => Opt::Resolution,
+                    _ => Opt::Dt,
+                };
+                return Self::given(near, e.to_string());
+            }
         };
         Self {
             option,
@@ -302,18 +316,6 @@ impl From<MissionConfigError> for OptionError {
             others: Vec::new(),
         }
     }
-}
-
-/// `--classes`: 1 to 64 ([`homospline_optim::planner::check_classes`]).
-pub fn check_classes(k: usize) -> Result<usize, OptionError> {
-    homospline_optim::planner::check_classes(k)?;
-    Ok(k)
-}
-
-/// `--diverse`: a fraction in [0, 1] ([`homospline_optim::planner::check_diverse`]).
-pub fn check_diverse(f: f64) -> Result<f64, OptionError> {
-    homospline_optim::planner::check_diverse(f)?;
-    Ok(f)
 }
 
 /// Problems of options that apply to scenes only, given with a map.

@@ -240,8 +240,8 @@ impl TangentGraph {
     /// shortest route and a class's are those of the whole graph whenever they are no
     /// longer than `bound`; longer routes may be missing. With a curve's length as the
     /// bound, the candidate tangents fall to those in the ellipse of foci `start` and
-    /// `goal` through the curve's length: 3 to 10 times fewer on random fields for curves
-    /// 1.02 to 1.18 times the straight line. An infinite bound keeps everything.
+    /// `goal` through the curve's length, several times fewer on random fields for curves
+    /// near the straight line (docs/performance.md). An infinite bound keeps everything.
     ///
     /// # Examples
     ///

@@ -13,6 +13,7 @@ use std::collections::{BinaryHeap, HashMap, HashSet};
 
 use homospline_geom::{Point, Real};
 use homospline_voronoi::{Adjacency, Edge, VoronoiGraph};
+use rustc_hash::FxHashMap;
 use thiserror::Error;
 
 use crate::signature::{Rays, Signature};
@@ -158,7 +159,7 @@ type WordId = usize;
 /// is its last letter below the word before it, and equal words have equal ids. A partial
 /// path holds one id, and the states `(node, word)` compare in constant time. (Each partial
 /// path had held its word whole: on a map of 4096 x 4096 cells the words of long paths run to
-/// thousands of letters, and copying them at every step took gigabytes.)
+/// thousands of letters, and copying them at every step filled the memory.)
 struct Words {
     /// `(parent, letter)` of each word; word 0 is the empty word.
     nodes: Vec<(WordId, i32)>,
@@ -396,7 +397,7 @@ struct Frontier<'a> {
     /// search walks a few hundred of them (measured: docs/performance.md, "Measurements
     /// behind the defaults"). Keyed by edge, so that the cache is as large as the walk, not
     /// as the graph.
-    words: HashMap<usize, Signature>,
+    words: FxHashMap<usize, Signature>,
     /// The partial paths' words, interned.
     path_words: Words,
     arena: Vec<Partial>,
@@ -437,7 +438,7 @@ impl<'a> Frontier<'a> {
             adjacency,
             cost,
             h,
-            words: HashMap::new(),
+            words: FxHashMap::default(),
             path_words: Words::new(),
             arena,
             queue: BinaryHeap::new(),

@@ -3,8 +3,8 @@
 
 use homospline_geom::Real;
 
-use crate::solver::{self, Solver, SolverState};
 pub use crate::solver::{Observer, SettingError, Termination};
+use crate::solver::{Solver, SolverState};
 
 /// Reflection, expansion, contraction and shrink coefficients.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -204,12 +204,20 @@ impl NelderMead {
         let (mut evaluations, mut iterations, mut restarts) = (0, 0, 0);
         let mut best = Real::INFINITY;
         loop {
-            // Each run may spend what the runs before it left of the budget.
-            let this_run = Self {
-                max_evaluations: self.max_evaluations.saturating_sub(evaluations),
-                ..self.clone()
+            // `solver::run`'s loop, with the budget counted across the runs: a run stops by
+            // its own test first, then when the runs together have spent the budget.
+            let mut s = self.init(f, &x);
+            observer.observe(&s);
+            let reason = loop {
+                if let Some(r) = self.terminate(&s) {
+                    break r;
+                }
+                if evaluations + s.evaluations >= self.max_evaluations {
+                    break Termination::MaxEvaluations;
+                }
+                self.step(f, &mut s);
+                observer.observe(&s);
             };
-            let (s, reason) = solver::run(&this_run, f, &x, observer);
             evaluations += s.evaluations;
             iterations += s.iterations;
             let (bx, bv) = s.best();

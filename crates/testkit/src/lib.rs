@@ -160,7 +160,7 @@ pub fn scan_scenes(default: u64) -> Vec<Scene> {
     all
 }
 
-/// The prior scene of [`random_world`] `seed`: a random 60 x 60 scene of 5 to 12 circles.
+/// The prior scene of `random_world(seed, _)` (feature `mission`): a random 60 x 60 scene of 5 to 12 circles.
 pub fn world_scene(seed: u64) -> Scene {
     let mut rng = SplitMix(seed ^ 0x5EED);
     let n = 5 + (rng.next_unit() * 8.0) as usize;

@@ -200,7 +200,7 @@ impl Adjacency {
     }
 }
 
-/// More edges or nodes than this is not a graph this program builds (a grid holds at most
+/// As many edges or nodes as this, or more, is not a graph this program builds (a grid holds at most
 /// [`crate::grid::MAX_CELLS`] cells) nor reads ([`VoronoiGraph::validate`]): [`Adjacency`]
 /// numbers them in 31 bits.
 pub const MAX_EDGES: usize = 1 << 31;

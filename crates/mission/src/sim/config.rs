@@ -27,7 +27,7 @@ pub struct MissionConfig {
     pub dt: Real,
     /// Hysteresis: a valid plan is given up for another class only if that class costs at
     /// least this fraction less; and after a blockage, the current class is kept if it costs
-    /// at most this fraction more than the best.
+    /// at most this fraction more than the best. In `[0, 1)`.
     pub switch_margin: Real,
     /// Hysteresis: seconds between two voluntary switches.
     pub min_switch_interval: Real,
@@ -188,6 +188,8 @@ pub enum MissionSetting {
     ReplanCoarsening,
     /// [`MissionConfig::blockage_prior`].
     BlockagePrior,
+    /// [`MissionConfig::max_time`].
+    MaxTime,
 }
 
 impl MissionSetting {
@@ -203,6 +205,7 @@ impl MissionSetting {
             Self::ReplanValueTolerance => "replan_value_tolerance".into(),
             Self::ReplanCoarsening => "replan_coarsening".into(),
             Self::BlockagePrior => "blockage_prior".into(),
+            Self::MaxTime => "max_time".into(),
         }
     }
 }
@@ -316,6 +319,15 @@ impl MissionConfig {
                 S::SwitchMargin,
                 Num(self.switch_margin),
                 "must be in [0, 1)",
+            ));
+        }
+        if let Some(t) = self.max_time
+            && !(t.is_finite() && t > 0.0)
+        {
+            return Err(MissionConfigError::new(
+                S::MaxTime,
+                Num(t),
+                "must be a positive number of seconds",
             ));
         }
         at_least(

@@ -406,6 +406,12 @@ fn a_bad_re_plan_tolerance_is_refused() {
         };
         let e = simulate(w, &cfg).expect_err("refused").to_string();
         assert!(e.starts_with("replan_coarsening "), "{e}");
+        let cfg = MissionConfig {
+            max_time: Some(if bad < 0.0 { -1.0 } else { bad }),
+            ..MissionConfig::default()
+        };
+        let e = simulate(w, &cfg).expect_err("refused").to_string();
+        assert!(e.starts_with("max_time "), "{e}");
     }
 }
 

@@ -11,7 +11,6 @@ use super::state::{build, to_points};
 #[cfg(doc)]
 use super::{guard::STRICT_SLACK, state::Growth};
 use crate::barrier::Barrier;
-use crate::lbfgs::Lbfgs;
 #[cfg(doc)]
 use homospline_spline::is_clear_by;
 
@@ -155,12 +154,10 @@ pub(super) fn interior_finish(
                 None => (Real::INFINITY, g),
             }
         };
-        let Ok(lb) = Lbfgs::default()
-            .with_value_tolerance(cfg.lbfgs_value_tolerance)
-            .and_then(|l| l.with_max_evaluations((budget / FINISH_WEIGHTS.len()).max(2)))
-        else {
-            break;
-        };
+        let lb = super::round::lbfgs_for(
+            cfg.lbfgs_value_tolerance,
+            (budget / FINISH_WEIGHTS.len()).max(2),
+        );
         let out = lb.minimize(&mut fg, &x);
         if !out.value.is_finite() || !proven(&out.x) {
             break;

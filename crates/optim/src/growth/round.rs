@@ -311,12 +311,7 @@ impl Objective<'_> {
         current: Real,
         count: &mut usize,
     ) -> (Vec<Real>, Real) {
-        let Ok(lb) = Lbfgs::default()
-            .with_value_tolerance(self.cfg.lbfgs_value_tolerance)
-            .and_then(|l| l.with_max_evaluations(budget.max(4) / 4))
-        else {
-            return (x0.to_vec(), Real::INFINITY);
-        };
+        let lb = lbfgs_for(self.cfg.lbfgs_value_tolerance, budget.max(4) / 4);
         let mut fg = |x: &[Real]| -> (Real, Vec<Real>) {
             *count += 1;
             self.value_and_gradient(x, current)
@@ -348,4 +343,20 @@ impl Objective<'_> {
             guarded_gradient(&sp, self.model, self.cfg, self.guard, current)
         })
     }
+}
+
+/// L-BFGS with `tolerance` as its value tolerance and a budget of `evaluations` (at least
+/// one). [`PlanConfig::check`](crate::PlanConfig::check) refuses a negative or non-finite
+/// tolerance before any plan; a caller of [`crate::grow`] that gives one gets what the
+/// solver did before it checked its settings: no stop on the value (tolerance 0).
+pub(super) fn lbfgs_for(tolerance: Real, evaluations: usize) -> Lbfgs {
+    let tolerance = if tolerance.is_finite() && tolerance >= 0.0 {
+        tolerance
+    } else {
+        0.0
+    };
+    Lbfgs::default()
+        .with_value_tolerance(tolerance)
+        .and_then(|l| l.with_max_evaluations(evaluations.max(1)))
+        .unwrap_or_default()
 }

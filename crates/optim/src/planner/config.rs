@@ -83,7 +83,7 @@ pub struct PlanConfig {
     /// curve first climbs to `dm` (or, in a passage narrower than `2 dm`, to
     /// [`DM_RULE_SHARE`] of its graph path's clearance), then lowers its cost while keeping
     /// it. Without it `dm` acts only through the penalty `D`, which at the paper's weights
-    /// trades clearance for roughness and length (chosen paths at 0.8 to 1.0 dm). On
+    /// trades clearance for roughness and length (chosen paths short of dm). On
     /// (default) for scenes; off on maps, whose one-cell doors and corners sit far below
     /// any `dm` (see `homospline_optim::PlanConfig::maps`).
     pub dm_rule: bool,

@@ -88,8 +88,8 @@ impl PlanConfig {
 
     /// The map profile: the planner's configuration for occupancy maps: [`PlanConfig::scenes`] with
     /// [`MAX_VIA_POINTS`] and L-BFGS. A map path needs up to 64 dimensions, where Nelder-Mead
-    /// (the paper's optimiser, the default on scenes) spends twice the time for the same success
-    /// on the fixture maps (README, performance).
+    /// (the paper's optimiser, the default on scenes) is slower for the same success on the
+    /// fixture maps (docs/performance.md).
     pub fn maps() -> Self {
         let mut cfg = Self::scenes();
         cfg.growth.max_via_points = MAX_VIA_POINTS;
@@ -107,7 +107,7 @@ impl PlanConfig {
         // optimised while the search goes on.
         cfg.finish_within = None;
         // No detour for nothing: the safety term along the path weighs every stretch, and a
-        // loop three times as long kept 0.002 cells more than the straight way (decision 0022).
+        // loop far longer kept barely more clearance than the straight way (decision 0022).
         cfg.detour = Some(Detour::default());
         cfg.map_dm = Some(MAP_DM_CELLS);
         cfg.growth.lbfgs_value_tolerance = LBFGS_VALUE_TOLERANCE;

@@ -232,25 +232,44 @@ fn lbfgs_says_why_it_stopped() {
 }
 
 #[test]
-fn both_solvers_run_through_one_driver_and_the_observer_sees_each_iteration() {
-    use homospline_optim::solver::{Solver, run};
-    fn trace<S: Solver>(solver: &S, f: &mut S::Objective<'_>, x0: &[f64]) -> (Vec<f64>, usize) {
+fn both_solvers_run_through_one_driver_and_the_observer_sees_each_step() {
+    use homospline_optim::solver::{Solver, Termination, run};
+    /// The best value after `init` and after each step, and how the run ended.
+    fn trace<S: Solver>(
+        solver: &S,
+        f: &mut S::Objective<'_>,
+        x0: &[f64],
+    ) -> (Vec<f64>, S::State, Termination) {
         let mut values = Vec::new();
-        let (state, _) = run(solver, f, x0, &mut |s: &S::State| values.push(s.best().1));
-        assert_eq!(values.len(), state.iterations() + 1);
-        (values, state.evaluations())
+        let (state, why) = run(solver, f, x0, &mut |s: &S::State| values.push(s.best().1));
+        (values, state, why)
     }
-    let nm = NelderMead::new(3).with_max_evaluations(2000).unwrap();
-    let (values, evaluations) = trace(&nm, &mut |x: &[f64], _: f64| rosenbrock(x), &[0.0; 3]);
-    assert!(values.windows(2).all(|w| w[1] <= w[0]) && evaluations <= 2000 + 3);
+    // Nelder-Mead counts every step, and its budget binds: a step spends at most n + 2
+    // evaluations, so the run ends within n + 1 of the budget.
+    let nm = NelderMead::new(3).with_max_evaluations(60).unwrap();
+    let (values, state, why) = trace(&nm, &mut |x: &[f64], _: f64| rosenbrock(x), &[0.0; 3]);
+    assert_eq!(why, Termination::MaxEvaluations);
+    assert_eq!(values.len(), state.iterations() + 1);
+    assert!(
+        (60..=60 + 4).contains(&state.evaluations()),
+        "{}",
+        state.evaluations()
+    );
+    assert!(values.windows(2).all(|w| w[1] <= w[0]));
+    // L-BFGS: Armijo steps only go down, and a step whose line search finds nothing better
+    // ends the run without counting as an iteration.
     let lb = Lbfgs::default().with_max_evaluations(400).unwrap();
     let mut fg = |x: &[f64]| (rosenbrock(x), rosenbrock_grad(x));
-    let (values, evaluations) = trace(&lb, &mut fg, &[0.0; 3]);
-    // Armijo steps only go down; the driver and `minimize` take the same path.
-    assert!(values.windows(2).all(|w| w[1] < w[0]), "{values:?}");
-    let out = lb.minimize(&mut fg, &[0.0; 3]);
-    assert_eq!(
-        (out.value, out.evaluations),
-        (*values.last().unwrap(), evaluations)
+    let (values, state, why) = trace(&lb, &mut fg, &[0.0; 3]);
+    let moved = values.len() - 1 - usize::from(why == Termination::LineSearchFailed);
+    assert_eq!(moved, state.iterations(), "{why:?}");
+    assert!(
+        values[..=moved].windows(2).all(|w| w[1] < w[0]),
+        "{values:?}"
     );
+    assert!(state.best().1 < 1e-10, "{why:?}: {}", state.best().1);
+    // A budget that runs out inside a line search ends with the budget's reason.
+    let small = Lbfgs::default().with_max_evaluations(7).unwrap();
+    let (_, state, why) = trace(&small, &mut fg, &[0.0; 3]);
+    assert_eq!((why, state.evaluations()), (Termination::MaxEvaluations, 7));
 }
