@@ -67,7 +67,7 @@ impl MissionConfig {
     pub fn replan_config(&self, heading: Vector) -> PlanConfig {
         let mut cfg = PlanConfig {
             start_heading: Some(heading),
-            classes: self.replan_classes.clamp(1, self.plan.classes),
+            classes: self.replan_classes.min(self.plan.classes).max(1),
             ..self.plan.clone()
         };
         cfg.growth.lbfgs_value_tolerance = self.replan_value_tolerance;
