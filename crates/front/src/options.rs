@@ -248,24 +248,39 @@ pub struct PlanOptions {
 }
 
 impl From<ConfigError> for OptionError {
-    /// The planner's setting in the front ends' spelling: the one map from
-    /// [`Setting`] to [`Opt`].
+    /// The planner's setting in the front ends' spelling ([`plan_option`]).
     fn from(e: ConfigError) -> Self {
-        if e.setting == Setting::LbfgsValueTolerance {
-            // Set by the profiles only: named by its field.
-            return Self::given(Opt::Optimizer, e.to_string());
-        }
-        Self {
-            option: plan_option(e.setting),
-            value: e.value,
-            problem: e.problem,
-            others: Vec::new(),
-        }
+        let text = e.to_string();
+        Self::at(plan_option(e.setting), e.value, e.problem, text)
     }
 }
 
-fn plan_option(setting: Setting) -> Opt {
-    match setting {
+impl From<MissionConfigError> for OptionError {
+    /// A mission's setting in the front ends' spelling: the one map from
+    /// [`MissionSetting`] to [`Opt`] (a plan's settings by [`plan_option`]).
+    fn from(e: MissionConfigError) -> Self {
+        let option = match e.setting {
+            MissionSetting::Plan(s) => plan_option(s),
+            MissionSetting::Dt => (Opt::Dt, true),
+            MissionSetting::Scouts => (Opt::Scouts, true),
+            MissionSetting::SwitchMargin => (Opt::SwitchMargin, true),
+            MissionSetting::MinSwitchInterval => (Opt::MinSwitchInterval, true),
+            MissionSetting::BlockagePrior => (Opt::BlockagePrior, true),
+            MissionSetting::ReplanClasses => (Opt::Classes, false),
+            MissionSetting::ReplanValueTolerance => (Opt::Optimizer, false),
+            MissionSetting::ReplanCoarsening => (Opt::Resolution, false),
+            MissionSetting::MaxTime => (Opt::Dt, false),
+        };
+        let text = e.to_string();
+        Self::at(option, e.value, e.problem, text)
+    }
+}
+
+/// The option a planner's setting is given by, and whether a front end offers it: a setting
+/// none offers (the L-BFGS tolerance) comes only from a profile, and is named under the
+/// option closest to it.
+fn plan_option(setting: Setting) -> (Opt, bool) {
+    let option = match setting {
         Setting::Classes => Opt::Classes,
         Setting::Avoid => Opt::Avoid,
         Setting::Seed => Opt::Seed,
@@ -278,41 +293,29 @@ fn plan_option(setting: Setting) -> Opt {
         Setting::MaxRounds => Opt::Rounds,
         Setting::MaxViaPoints => Opt::MaxVia,
         Setting::Polish => Opt::Polish,
-        Setting::LbfgsValueTolerance => Opt::Optimizer,
+        Setting::LbfgsValueTolerance => return (Opt::Optimizer, false),
         Setting::Graph => Opt::Graph,
-    }
+    };
+    (option, true)
 }
 
-impl From<MissionConfigError> for OptionError {
-    /// A mission's setting in the front ends' spelling: the one map from
-    /// [`MissionSetting`] to [`Opt`]. A setting no front end offers (the re-plan settings,
-    /// the time limit) comes only from a profile, never from the user: it is named by its
-    /// field under the option closest to it, so the message says which value is at fault.
-    fn from(e: MissionConfigError) -> Self {
-        let option = match e.setting {
-            MissionSetting::Plan(s) => plan_option(s),
-            MissionSetting::Dt => Opt::Dt,
-            MissionSetting::Scouts => Opt::Scouts,
-            MissionSetting::SwitchMargin => Opt::SwitchMargin,
-            MissionSetting::MinSwitchInterval => Opt::MinSwitchInterval,
-            MissionSetting::BlockagePrior => Opt::BlockagePrior,
-            s @ (MissionSetting::ReplanClasses
-            | MissionSetting::ReplanValueTolerance
-            | MissionSetting::ReplanCoarsening
-            | MissionSetting::MaxTime) => {
-                let near = match s {
-                    MissionSetting::ReplanClasses => Opt::Classes,
-                    MissionSetting::ReplanValueTolerance => Opt::Optimizer,
-                    MissionSetting::ReplanCoarsening => Opt::Resolution,
-                    _ => Opt::Dt,
-                };
-                return Self::given(near, e.to_string());
-            }
-        };
+impl OptionError {
+    /// A library setting's error at `option`: with its value and problem when a front end
+    /// offers the option, else under it with the library's whole message `text` (which
+    /// names the setting's field, so the message says which value is at fault).
+    fn at(
+        (option, offered): (Opt, bool),
+        value: Option<String>,
+        problem: String,
+        text: String,
+    ) -> Self {
+        if !offered {
+            return Self::given(option, text);
+        }
         Self {
             option,
-            value: e.value,
-            problem: e.problem,
+            value,
+            problem,
             others: Vec::new(),
         }
     }
