@@ -8,10 +8,10 @@ use super::config::{MissionConfig, MissionError, check_steps, time_step};
 use super::coverage::Coverage;
 use super::planner::Planner;
 use super::record::{EventKind, MissionResult, Record};
-use super::replan::replan;
+use super::replan::{consider_detour, replan, settle_hold};
 use super::route::{Drive, Route};
 use super::scouts::{Scout, assign, assign_idle, launch};
-use super::sense::{discover, look};
+use super::sense::{Found, discover, look};
 use crate::known::Known;
 use crate::world::types::{Team, Ugv};
 
@@ -34,8 +34,11 @@ fn coverage_cell(ugv: &Ugv, scouts: &[Scout]) -> Real {
 /// A mission in progress, on any known world.
 pub(super) struct Mission<'a, K: Known> {
     cfg: &'a MissionConfig,
-    /// The known world and the planner on it.
+    /// The known world and the planner on it: what the UGV plans on.
     planner: Planner<'a, K>,
+    /// For a policy that [`verifies`](super::policy::ScoutPolicy::verifies): everything the
+    /// team has found, of which the UGV's own map takes in only what blocks its route.
+    team: Option<Planner<'a, K>>,
     /// The ground robot.
     ugv: Ugv,
     /// The UGV's route and its progress.
@@ -60,6 +63,7 @@ impl<'a, K: Known> Mission<'a, K> {
     /// `rays`; `truth_plan_length` is the best plan's on the true world.
     pub(super) fn new(
         known: K,
+        team_known: Option<K>,
         rays: Rays,
         team: &Team,
         truth_plan_length: Option<Real>,
@@ -72,14 +76,24 @@ impl<'a, K: Known> Mission<'a, K> {
             .unwrap_or_else(|| 20.0 * (goal - start).norm() / team.ugv.speed + 60.0);
         let dt = time_step(cfg.dt, &team.ugv, scouts.iter().map(|sc| &sc.uav));
         check_steps(cfg, max_time, dt)?;
+        let cell = coverage_cell(&team.ugv, &scouts);
+        let team_known = team_known.filter(|_| cfg.policy.get().verifies());
         let mut mission = Self {
             cfg,
+            team: team_known.map(|known| Planner {
+                cfg,
+                known,
+                rays: rays.clone(),
+                pending_ms: 0.0,
+                // What the robots have seen is the UGV planner's `seen`.
+                seen: Coverage::new(cell),
+            }),
             planner: Planner {
                 cfg,
                 known,
                 rays,
                 pending_ms: 0.0,
-                seen: Coverage::new(coverage_cell(&team.ugv, &scouts)),
+                seen: Coverage::new(cell),
             },
             ugv: team.ugv.clone(),
             drive: Drive::new(Route::standing(start), Vec::new()),
@@ -160,48 +174,126 @@ impl<'a, K: Known> Mission<'a, K> {
     /// of the start is known before the UGV drives into it.
     pub(super) fn step(&mut self) {
         let at = self.drive.position();
-        let found = look(
-            &mut self.planner.known,
-            (at, self.ugv.sensor_range),
-            &self.scouts,
-            &mut self.record,
-            self.t,
-        );
+        let found = self.sense(at);
         self.look_around();
         let due = self.drive.replan_at.is_some_and(|s| self.drive.s >= s);
         if due {
             self.drive.replan_at = None;
         }
+        let range = self.ugv.sensor_range;
         if found.any() || due {
             let (planner, drive, record) = (&mut self.planner, &mut self.drive, &mut self.record);
             if found.any() {
                 discover(planner, drive, record, &found, (self.t, at));
             }
-            if !replan(planner, drive, record, self.t, self.ugv.sensor_range) {
+            if !replan(planner, drive, record, self.t, range) {
                 self.done = true;
                 return;
             }
-            assign(
-                &mut self.scouts,
-                self.cfg.policy,
-                &self.drive,
-                self.ugv.sensor_range,
-                &self.planner.seen,
-            );
+            self.assign_all();
+        } else if let Some(team) = self.team.as_mut()
+            && (self.drive.hold.is_some()
+                || consider_detour(
+                    &mut self.planner,
+                    team,
+                    &mut self.drive,
+                    &mut self.record,
+                    self.t,
+                    (range, self.ugv.speed),
+                ))
+        {
+            if settle_hold(
+                &mut self.planner,
+                team,
+                &mut self.drive,
+                &mut self.record,
+                self.t,
+            ) {
+                self.assign_all();
+            } else {
+                self.assign_idle();
+            }
         } else if self.scouts.iter().any(|sc| sc.route.is_empty()) {
-            assign_idle(
-                &mut self.scouts,
-                self.cfg.policy,
-                &self.drive,
-                self.ugv.sensor_range,
-                &self.planner.seen,
-            );
+            self.assign_idle();
         }
         if self.t >= self.max_time {
             self.time_out();
         } else {
             self.move_robots();
         }
+    }
+
+    /// Every scout gives up its job and the policy assigns them afresh.
+    fn assign_all(&mut self) {
+        assign(
+            &mut self.scouts,
+            self.cfg.policy,
+            &self.drive,
+            self.ugv.sensor_range,
+            &self.planner.seen,
+        );
+    }
+
+    /// The idle scouts take jobs.
+    fn assign_idle(&mut self) {
+        assign_idle(
+            &mut self.scouts,
+            self.cfg.policy,
+            &self.drive,
+            self.ugv.sensor_range,
+            &self.planner.seen,
+        );
+    }
+
+    /// The robots look around, the UGV at `at`: what they find goes on the known world.
+    /// With a team map (a policy that verifies), the UGV's own finds go on both maps, the
+    /// scouts' on the team's only, and the UGV's map takes in what of theirs blocks its
+    /// route ([`admit`]).
+    fn sense(&mut self, at: Point) -> Found {
+        let range = self.ugv.sensor_range;
+        let Some(team) = &mut self.team else {
+            return look(
+                &mut self.planner.known,
+                (at, Some(range)),
+                &self.scouts,
+                &mut self.record,
+                self.t,
+            );
+        };
+        let own = look(
+            &mut self.planner.known,
+            (at, Some(range)),
+            &[],
+            &mut self.record,
+            self.t,
+        );
+        // The UGV's finds are recorded once, above.
+        let mut unrecorded = Record::new(at);
+        let mine = look(
+            &mut team.known,
+            (at, Some(range)),
+            &[],
+            &mut unrecorded,
+            self.t,
+        );
+        let theirs = look(
+            &mut team.known,
+            (at, None),
+            &self.scouts,
+            &mut self.record,
+            self.t,
+        );
+        let changed = mine.or(theirs);
+        if changed.any() {
+            // The team map's upkeep counts in the next re-plan's time.
+            self.planner.pending_ms += team.known.update();
+            if changed.cleared()
+                && let Some(rays) = team.known.renamed()
+            {
+                team.rays = rays;
+            }
+        }
+        own
     }
 
     /// What every robot sees now is marked seen.
@@ -230,9 +322,15 @@ impl<'a, K: Known> Mission<'a, K> {
     fn move_robots(&mut self) {
         self.t += self.dt;
         let step = self.ugv.speed * self.dt;
-        let arrived = self
-            .drive
-            .advance(step, self.dt, self.t, &mut self.record.ugv);
+        let arrived = if self.drive.hold.is_some() {
+            // Holding: the UGV stays where it is.
+            let at = self.drive.position();
+            self.record.ugv.samples.push((self.t, at));
+            false
+        } else {
+            self.drive
+                .advance(step, self.dt, self.t, &mut self.record.ugv)
+        };
         for sc in &mut self.scouts {
             sc.step(self.dt, self.t);
         }
@@ -283,13 +381,14 @@ impl<'a, K: Known> Mission<'a, K> {
 /// updates, re-checks, re-plans, driving and flying until the mission is done.
 pub(super) fn run_mission<K: Known>(
     known: K,
+    team_known: Option<K>,
     rays: Rays,
     name: &str,
     team: &Team,
     truth_plan_length: Option<Real>,
     cfg: &MissionConfig,
 ) -> Result<(MissionResult, K), MissionError> {
-    let mut mission = Mission::new(known, rays, team, truth_plan_length, cfg)?;
+    let mut mission = Mission::new(known, team_known, rays, team, truth_plan_length, cfg)?;
     while !mission.done() {
         mission.step();
     }

@@ -65,6 +65,9 @@ pub struct Situation<'a> {
     pub scouts: &'a [ScoutView<'a>],
     /// What any robot has seen so far.
     pub seen: &'a Coverage,
+    /// The UGV holds where it is until the scouts have verified one of `alternatives`
+    /// (policies that [`ScoutPolicy::verifies`]): its route is known blocked ahead.
+    pub holding: bool,
 }
 
 /// A way of using the scouts.
@@ -91,6 +94,14 @@ pub trait ScoutPolicy: Sync {
     fn weighs_driving_on(&self) -> bool {
         false
     }
+    /// Whether the UGV acts on the scouts' finds only where they block its own route, and
+    /// then leaves it early only for a class the robots have seen clear all along (`false`:
+    /// every find goes on the UGV's map and any re-plan may switch). Such a UGV drives as a
+    /// UGV without scouts would, except for the verified detours: what the scouts see beside
+    /// its route (a pebble that blocks nothing) does not move it.
+    fn verifies(&self) -> bool {
+        false
+    }
 }
 
 /// A registered scout policy: a cheap handle, compared by name.
@@ -102,7 +113,7 @@ pub trait ScoutPolicy: Sync {
 ///
 /// assert_eq!(Policy::default(), Policy::GUARD);
 /// let names: Vec<&str> = Policy::all().iter().map(|p| p.name()).collect();
-/// assert_eq!(names, ["none", "ahead", "alternatives", "guard"]);
+/// assert_eq!(names, ["none", "ahead", "alternatives", "guard", "verified"]);
 /// assert_eq!(Policy::named("ahead"), Some(Policy::AHEAD));
 /// ```
 #[derive(Clone, Copy)]
@@ -122,6 +133,7 @@ registry! {
     ahead::Ahead,
     alternatives::Alternatives,
     guard::Guard,
+    verified::Verified,
 }
 
 impl Policy {
@@ -134,6 +146,9 @@ impl Policy {
     /// Scouts sweep the UGV's route ahead, then verify alternatives; the UGV re-plans early
     /// only when that is shorter (the default).
     pub const GUARD: Policy = Policy(&guard::Guard);
+    /// Scouts sweep the UGV's route ahead; a blockage they find there makes the UGV hold and
+    /// wait for a class they have seen clear all along, if that is shorter.
+    pub const VERIFIED: Policy = Policy(&verified::Verified);
 
     /// Every registered policy, in registry order.
     pub fn all() -> &'static [Policy] {

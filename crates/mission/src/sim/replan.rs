@@ -7,8 +7,10 @@ use homospline_geom::{Point, Real, Vector};
 use super::config::{MissionConfig, TURN_ANGLE_DEG};
 use super::planner::Planner;
 use super::record::{EventKind, Record};
-use super::route::{Drive, Polyline, Route};
+use super::route::{Drive, Hold, Polyline, Route};
+use super::sense::admit;
 use crate::known::Known;
+use homospline_spline::ClearanceModel;
 
 /// The hysteresis: whether a plan of cost `current` that is still valid is given up for
 /// another class of cost `candidate`, `since_last_switch` seconds after the last switch. Only
@@ -201,31 +203,10 @@ impl<K: Known> Replan<'_, '_, K> {
     /// the first point the known map blocks; a re-plan from there is planned now, on the
     /// same known map.
     fn drives_on(&mut self, next: &Route) -> bool {
-        let line = &self.drive.route.line;
-        let model = self.planner.known.model();
-        let end = line.length();
-        // A quarter of the sensor range, and at most 4,000 probes along the route.
-        let step = (0.25 * self.range).max(end / 4000.0).max(1e-9);
-        let mut s = self.drive.s;
-        let blocked_at = loop {
-            if s >= end {
-                return false;
-            }
-            if model.clearance(&line.at(s).0).0 <= 0.0 {
-                break s;
-            }
-            s += step;
-        };
-        // Where the UGV would see it: the first point of its route within its sensor range of
-        // the first blocked point (the obstacle reaches at least that close).
-        let b = line.at(blocked_at).0;
-        let mut sight = self.drive.s;
-        while sight < blocked_at && (line.at(sight).0 - b).norm() > self.range {
-            sight += step;
-        }
-        if sight <= self.drive.s + step {
+        let Some(sight) = self.sight() else {
             return false;
-        }
+        };
+        let line = &self.drive.route.line;
         let (p, _) = line.at(sight);
         let heading = line.heading(sight);
         let class = self.drive.route.class.clone();
@@ -245,6 +226,15 @@ impl<K: Known> Replan<'_, '_, K> {
             self.drive.replan_at = Some(sight);
         }
         on
+    }
+
+    /// Where along its route the UGV would see the first point the known map blocks, when
+    /// that is ahead of where it is (a blockage the scouts found): the first point of the
+    /// route within its sensor range (in a straight line) of that point (the obstacle
+    /// reaches at least that close). `None` when the UGV sees it already, or the route is
+    /// clear.
+    fn sight(&self) -> Option<Real> {
+        sight(self.drive, self.planner.known.model(), self.range).map(|(_, s)| s)
     }
 
     /// The map changed but the path is still clear: a better class may have opened (a
@@ -303,4 +293,154 @@ impl<K: Known> Replan<'_, '_, K> {
             self.drive.alternatives = routes.into_iter().filter(|r| &r.class != class).collect();
         }
     }
+}
+
+/// The UGV holding at time `t` ([`Drive::hold`]): the candidates the team's map now blocks
+/// are dropped; the best left is taken once the robots have seen it whole (`planner.seen`);
+/// when none is left, or the hold's time is up, the UGV takes the first candidate seen whole
+/// if any, else drives on to where it would see the blockage itself. Whether it stopped
+/// holding.
+pub(super) fn settle_hold<K: Known>(
+    planner: &mut Planner<'_, K>,
+    team: &Planner<'_, K>,
+    drive: &mut Drive,
+    record: &mut Record,
+    t: Real,
+) -> bool {
+    let Some(mut hold) = drive.hold.take() else {
+        return false;
+    };
+    hold.candidates.retain(|r| team.clear(&r.line.pts));
+    let whole = |r: &Route| planner.seen.unseen(&r.line, 0.0).is_empty();
+    let pick = match hold.candidates.first() {
+        Some(best) if whole(best) => Some(0),
+        Some(_) if t < hold.until => {
+            drive.alternatives = hold.candidates.clone();
+            drive.hold = Some(hold);
+            return false;
+        }
+        _ => hold.candidates.iter().position(whole),
+    };
+    let at = drive.position();
+    let Some(k) = pick else {
+        drive.alternatives = hold.candidates;
+        return true;
+    };
+    // Leaving its route for the blockage, the UGV's map takes it in.
+    admit(planner, &hold.blocked);
+    let next = hold.candidates.remove(k);
+    if next.class != drive.route.class {
+        record.event(
+            t,
+            at,
+            EventKind::Switched {
+                from: drive.route.class.clone(),
+                to: next.class.clone(),
+            },
+        );
+        record.switches += 1;
+        drive.last_switch = t;
+    }
+    let heading = drive.route.line.heading(drive.s);
+    if turns_on_the_spot(&next.line, heading) {
+        record.event(t, at, EventKind::TurnedAround);
+    }
+    record.abandoned += drive.on_route();
+    drive.take(next, hold.candidates, t, &mut record.adopted);
+    true
+}
+
+/// Where along its route `drive`'s UGV, seeing `range`, would see the first point of the
+/// route that `model` blocks: that point, and the first point of the route within its sensor
+/// range (in a straight line) of it, as arc lengths. `None` when the route is clear ahead or
+/// the UGV sees that point already.
+fn sight(drive: &Drive, model: &dyn ClearanceModel, range: Real) -> Option<(Real, Real)> {
+    let line = &drive.route.line;
+    let end = line.length();
+    // A quarter of the sensor range, and at most 4,000 probes along the route.
+    let step = (0.25 * range).max(end / 4000.0).max(1e-9);
+    let mut s = drive.s;
+    let blocked_at = loop {
+        if s >= end {
+            return None;
+        }
+        if model.clearance(&line.at(s).0).0 <= 0.0 {
+            break s;
+        }
+        s += step;
+    };
+    let b = line.at(blocked_at).0;
+    let mut sight = drive.s;
+    while sight < blocked_at && (line.at(sight).0 - b).norm() > range {
+        sight += step;
+    }
+    (sight > drive.s + step).then_some((blocked_at, sight))
+}
+
+/// For a policy that verifies: when the team's map blocks the UGV's route ahead and the
+/// UGV's own map does not (the scouts found the blockage), the classes from here on the
+/// team's map that are shorter than driving on until the UGV would see the blockage itself
+/// and taking the shortest class from there are candidates; with any, the UGV holds while
+/// the scouts verify them ([`settle_hold`]). Otherwise it drives on as a UGV without scouts
+/// would, and this route is not weighed again. Whether it holds.
+pub(super) fn consider_detour<K: Known>(
+    planner: &mut Planner<'_, K>,
+    team: &mut Planner<'_, K>,
+    drive: &mut Drive,
+    record: &mut Record,
+    t: Real,
+    (range, speed): (Real, Real),
+) -> bool {
+    if drive.weighed || drive.hold.is_some() {
+        return false;
+    }
+    let line = &drive.route.line;
+    let rest = line.slice(drive.s, line.length());
+    if rest.len() < 2 || !planner.clear(&rest) || team.clear(&rest) {
+        return false;
+    }
+    drive.weighed = true;
+    let Some((blocked_at, sight)) = sight(drive, team.known.model(), range) else {
+        return false;
+    };
+    let at = drive.position();
+    let (p, heading) = (line.at(sight).0, line.heading(sight));
+    let d1 = sight - drive.s;
+    let timed = record.replan_ms.len();
+    let now = team.routes_from(at, Some(line.heading(drive.s)), true, record);
+    let mut later = team.routes_from(p, Some(heading), true, record);
+    if later.is_empty() {
+        later = team.routes_from(p, None, true, record);
+    }
+    // One weighing, one time, counted as a re-plan.
+    let ms: Real = record.replan_ms.drain(timed..).sum();
+    record.replan_ms.push(ms);
+    record.replans += 1;
+    let then = later
+        .iter()
+        .map(|r| r.line.length())
+        .fold(Real::INFINITY, Real::min);
+    let candidates: Vec<Route> = now
+        .into_iter()
+        .filter(|r| r.line.length() < d1 + then)
+        .collect();
+    record.event(
+        t,
+        at,
+        EventKind::Replanned {
+            forced: true,
+            classes: candidates.len(),
+            class: drive.route.class.clone(),
+        },
+    );
+    if candidates.is_empty() {
+        return false;
+    }
+    drive.alternatives = candidates.clone();
+    drive.hold = Some(Hold {
+        candidates,
+        blocked: line.at(blocked_at).0,
+        until: t + d1 / speed,
+    });
+    true
 }

@@ -132,6 +132,26 @@ pub(super) struct Drive {
     /// Where along `route` the UGV re-plans, having driven on toward a blockage found
     /// ahead until it would see it itself (policies that weigh driving on).
     pub(super) replan_at: Option<Real>,
+    /// Holding where it is while the scouts verify shorter classes (policies that
+    /// [`verify`](super::policy::ScoutPolicy::verifies)).
+    pub(super) hold: Option<Hold>,
+    /// Whether a blockage the scouts found on this route has been weighed (a policy that
+    /// verifies weighs it once per route).
+    pub(super) weighed: bool,
+}
+
+/// The UGV holding where it is, its route known blocked ahead by the scouts, while they
+/// verify the classes that are shorter than driving on until it would see the blockage
+/// itself.
+#[derive(Clone, Debug)]
+pub(super) struct Hold {
+    /// Those classes from here, best first; a class the known world blocks is dropped.
+    pub(super) candidates: Vec<Route>,
+    /// The first point of the route the blockage blocks.
+    pub(super) blocked: Point,
+    /// When it gives up holding and drives on: when a UGV driving on at its speed would
+    /// have reached `sight`.
+    pub(super) until: Real,
 }
 
 impl Drive {
@@ -145,6 +165,8 @@ impl Drive {
             adopted_at: 0.0,
             last_switch: Real::NEG_INFINITY,
             replan_at: None,
+            hold: None,
+            weighed: false,
         }
     }
 
@@ -171,6 +193,8 @@ impl Drive {
         self.route = route;
         self.s = 0.0;
         self.replan_at = None;
+        self.hold = None;
+        self.weighed = false;
         self.adopted_at = self.driven;
         adopted.push(Adopted {
             t,

@@ -130,6 +130,7 @@ pub(super) fn assign_idle(
         alternatives: &lanes,
         scouts: &views,
         seen,
+        holding: drive.hold.is_some(),
     };
     let jobs = policy.get().assign(&situation);
     for (i, job) in jobs {

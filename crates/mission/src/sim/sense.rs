@@ -17,27 +17,47 @@ pub(super) struct Found {
 }
 
 impl Found {
+    /// Nothing found.
+    pub(super) fn nothing() -> Self {
+        Self {
+            hidden: false,
+            cleared: false,
+        }
+    }
+
+    /// What either found.
+    pub(super) fn or(self, other: Found) -> Found {
+        Found {
+            hidden: self.hidden || other.hidden,
+            cleared: self.cleared || other.cleared,
+        }
+    }
+
+    /// Whether a mapped obstacle was found gone.
+    pub(super) fn cleared(&self) -> bool {
+        self.cleared
+    }
+
     /// Whether anything was found.
     pub(super) fn any(&self) -> bool {
         self.hidden || self.cleared
     }
 }
 
-/// Every robot looks around at time `t`: the UGV at `at` seeing `range`, then each scout
-/// where it is. Each difference between the known world and the truth that comes within
-/// range is an event `Discovered` at the UGV's position.
+/// The robots look around at time `t`: the UGV at `at` seeing `range` (when given), then
+/// each of `scouts` where it is. Each difference between the known world and the truth that
+/// comes within range is an event `Discovered` at the UGV's position.
 pub(super) fn look<K: Known>(
     known: &mut K,
-    (at, range): (Point, Real),
+    (at, range): (Point, Option<Real>),
     scouts: &[Scout],
     record: &mut Record,
     t: Real,
 ) -> Found {
-    let mut found = Found {
-        hidden: false,
-        cleared: false,
-    };
-    let observers: Vec<(Robot, Point, Real)> = std::iter::once((Robot::Ugv, at, range))
+    let mut found = Found::nothing();
+    let observers: Vec<(Robot, Point, Real)> = range
+        .map(|r| (Robot::Ugv, at, r))
+        .into_iter()
         .chain(
             scouts
                 .iter()
@@ -100,4 +120,18 @@ pub(super) fn discover<K: Known>(
         }
         ok
     });
+}
+
+/// Takes onto the UGV's map what covers the point `b` of the team's map (a blockage the
+/// scouts found on the UGV's route, when the UGV leaves its route for it): the least range
+/// about `b` that finds something (the clearance is the robot body's, so the obstacle may be
+/// up to its radius away, and a map's cells are whole). Its events were recorded when the
+/// scouts found it.
+pub(super) fn admit<K: Known>(own: &mut Planner<'_, K>, b: &Point) {
+    for range in [1e-6, 0.25, 0.5, 1.0, 2.0, 4.0] {
+        if !own.known.sense(b, range).is_empty() {
+            own.pending_ms += own.known.update();
+            return;
+        }
+    }
 }

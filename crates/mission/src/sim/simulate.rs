@@ -56,9 +56,15 @@ pub fn simulate(world: &MissionWorld, cfg: &MissionConfig) -> Result<MissionResu
         .ok()
         .and_then(|p| p.chosen().map(|c| c.length));
     let known = SceneKnown::new(world, cfg);
+    let team = cfg
+        .policy
+        .get()
+        .verifies()
+        .then(|| SceneKnown::new(world, cfg));
     let rays = Rays::for_scene(&world.prior);
     let (result, _) = run_mission(
         known,
+        team,
         rays,
         &world.name,
         &world.team,
@@ -84,9 +90,18 @@ pub fn simulate_map(world: &MapWorld, cfg: &MissionConfig) -> Result<MissionResu
             .and_then(|p| p.chosen().map(|c| c.length));
     let known =
         MapKnown::new(world).map_err(|e| MissionError::Config(format!("{}: {e}", world.name)))?;
+    let team = if cfg.policy.get().verifies() {
+        Some(
+            MapKnown::new(world)
+                .map_err(|e| MissionError::Config(format!("{}: {e}", world.name)))?,
+        )
+    } else {
+        None
+    };
     let rays = known.naming_rays();
     let (mut result, known) = run_mission(
         known,
+        team,
         rays,
         &world.name,
         &world.team,

@@ -91,16 +91,16 @@ impl ScoutPolicy for Guard {
 }
 
 /// Something to look at: the job's label, the line and its unseen stretches (arc lengths).
-type Look<'a> = (String, &'a Polyline, Vec<(Real, Real)>);
+pub(super) type Look<'a> = (String, &'a Polyline, Vec<(Real, Real)>);
 
 /// Arc length along `line` where it first leaves the UGV's `rest` of route by more than
 /// `range` (its length when it never does: nothing of it is away from the route).
-fn away_from(line: &Polyline, rest: &[Point], range: Real) -> Real {
+pub(super) fn away_from(line: &Polyline, rest: &[Point], range: Real) -> Real {
     leaves_at(line, rest, range).map_or(line.length(), |k| line.cum[k])
 }
 
 /// The idle scout nearest to `p`.
-fn nearest(s: &Situation<'_>, idle: &[usize], p: Point) -> Option<usize> {
+pub(super) fn nearest(s: &Situation<'_>, idle: &[usize], p: Point) -> Option<usize> {
     idle.iter()
         .copied()
         .min_by(|&a, &b| {
@@ -112,7 +112,7 @@ fn nearest(s: &Situation<'_>, idle: &[usize], p: Point) -> Option<usize> {
 }
 
 /// Waypoints from `from` along `line`'s `stretches`, in order.
-fn sweep(from: Point, line: &Polyline, stretches: &[(Real, Real)]) -> Vec<Point> {
+pub(super) fn sweep(from: Point, line: &Polyline, stretches: &[(Real, Real)]) -> Vec<Point> {
     let mut out = vec![from];
     for &(a, b) in stretches {
         out.extend(line.slice(a, b));
