@@ -715,19 +715,24 @@ fn print_policy_row(policy: homospline_mission::Policy, f: &PolicyFigures, none:
     } else {
         format!("{}/{}", worse_than(f, none).len(), f.per_world.len())
     };
-    let (worst, worst_world) = f
+    // The three worst worlds, worst first (ties by name).
+    let mut ranked: Vec<(f64, &str)> = f
         .per_world
         .iter()
         .zip(&f.names)
         .filter(|(r, _)| !r.is_nan())
-        .fold(
-            (0.0, ""),
-            |acc, (&r, n)| {
-                if r > acc.0 { (r, n.as_str()) } else { acc }
-            },
-        );
+        .map(|(&r, n)| (r, n.as_str()))
+        .collect();
+    ranked.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(b.1)));
+    let worst = ranked.first().map_or(0.0, |w| w.0);
+    let worst_worlds: Vec<String> = ranked
+        .iter()
+        .take(3)
+        .map(|(r, n)| format!("{n} {r:.3}"))
+        .collect();
+    let worst_worlds = worst_worlds.join(", ");
     println!(
-        "{:<13} {:>8} {:>9.3} {:>9.3} {:>9.3} {:>8.2} {:>9.2} {:>9.1} {:>16}  worst: {worst_world}",
+        "{:<13} {:>8} {:>9.3} {:>9.3} {:>9.3} {:>8.2} {:>9.2} {:>9.1} {:>16}  worst: {worst_worlds}",
         policy.name(),
         format!("{}/{}", f.reached, f.solvable),
         mean(&f.dist),

@@ -87,6 +87,7 @@ impl<'a, K: Known> Mission<'a, K> {
                 pending_ms: 0.0,
                 // What the robots have seen is the UGV planner's `seen`.
                 seen: Coverage::new(cell),
+                version: 0,
             }),
             planner: Planner {
                 cfg,
@@ -94,6 +95,7 @@ impl<'a, K: Known> Mission<'a, K> {
                 rays,
                 pending_ms: 0.0,
                 seen: Coverage::new(cell),
+                version: 0,
             },
             ugv: team.ugv.clone(),
             drive: Drive::new(Route::standing(start), Vec::new()),
@@ -181,6 +183,11 @@ impl<'a, K: Known> Mission<'a, K> {
             self.drive.replan_at = None;
         }
         let range = self.ugv.sensor_range;
+        let sweep_speed = self
+            .scouts
+            .iter()
+            .map(|sc| sc.uav.speed)
+            .fold(Real::INFINITY, Real::min);
         if found.any() || due {
             let (planner, drive, record) = (&mut self.planner, &mut self.drive, &mut self.record);
             if found.any() {
@@ -199,7 +206,7 @@ impl<'a, K: Known> Mission<'a, K> {
                     &mut self.drive,
                     &mut self.record,
                     self.t,
-                    (range, self.ugv.speed),
+                    (range, self.ugv.speed, sweep_speed),
                 ))
         {
             if settle_hold(
@@ -287,6 +294,7 @@ impl<'a, K: Known> Mission<'a, K> {
         if changed.any() {
             // The team map's upkeep counts in the next re-plan's time.
             self.planner.pending_ms += team.known.update();
+            team.version += 1;
             if changed.cleared()
                 && let Some(rays) = team.known.renamed()
             {

@@ -25,6 +25,8 @@ pub(super) struct Planner<'a, K: Known> {
     pub(super) pending_ms: Real,
     /// What the robots have seen so far.
     pub(super) seen: Coverage,
+    /// How many times the known world has changed.
+    pub(super) version: u64,
 }
 
 impl<K: Known> Planner<'_, K> {

@@ -265,7 +265,9 @@ impl<K: Known> Replan<'_, '_, K> {
             .iter()
             .find(|r| r.class == route.class)
             .map_or(driving, |r| r.cost.min(driving));
+        // A verified detour is kept: the classes a re-plan offers were not seen clear.
         let better = best.class != route.class
+            && !self.drive.verified
             && should_switch(
                 current,
                 best.cost,
@@ -347,6 +349,7 @@ pub(super) fn settle_hold<K: Known>(
     }
     record.abandoned += drive.on_route();
     drive.take(next, hold.candidates, t, &mut record.adopted);
+    drive.verified = true;
     true
 }
 
@@ -381,17 +384,18 @@ fn sight(drive: &Drive, model: &dyn ClearanceModel, range: Real) -> Option<(Real
 /// UGV's own map does not (the scouts found the blockage), the classes from here on the
 /// team's map that are shorter than driving on until the UGV would see the blockage itself
 /// and taking the shortest class from there are candidates; with any, the UGV holds while
-/// the scouts verify them ([`settle_hold`]). Otherwise it drives on as a UGV without scouts
-/// would, and this route is not weighed again. Whether it holds.
+/// the scouts verify them ([`settle_hold`]), for as long as driving on would take plus the
+/// time a scout flying at `sweep_speed` takes to sweep what is unseen of the best. Otherwise it drives on as a UGV without scouts
+/// would, and weighs this route again only when the team's map changes. Whether it holds.
 pub(super) fn consider_detour<K: Known>(
     planner: &mut Planner<'_, K>,
     team: &mut Planner<'_, K>,
     drive: &mut Drive,
     record: &mut Record,
     t: Real,
-    (range, speed): (Real, Real),
+    (range, speed, sweep_speed): (Real, Real, Real),
 ) -> bool {
-    if drive.weighed || drive.hold.is_some() {
+    if drive.weighed == Some(team.version) || drive.hold.is_some() {
         return false;
     }
     let line = &drive.route.line;
@@ -399,7 +403,7 @@ pub(super) fn consider_detour<K: Known>(
     if rest.len() < 2 || !planner.clear(&rest) || team.clear(&rest) {
         return false;
     }
-    drive.weighed = true;
+    drive.weighed = Some(team.version);
     let Some((blocked_at, sight)) = sight(drive, team.known.model(), range) else {
         return false;
     };
@@ -436,11 +440,14 @@ pub(super) fn consider_detour<K: Known>(
     if candidates.is_empty() {
         return false;
     }
+    // Long enough for the UGV to have driven on to where it would see the blockage, and for
+    // one scout to sweep what is unseen of the best candidate.
+    let sweep = planner.seen.unseen_length(&candidates[0].line, 0.0) / sweep_speed;
     drive.alternatives = candidates.clone();
     drive.hold = Some(Hold {
         candidates,
         blocked: line.at(blocked_at).0,
-        until: t + d1 / speed,
+        until: t + d1 / speed + sweep,
     });
     true
 }

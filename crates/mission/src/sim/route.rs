@@ -135,9 +135,13 @@ pub(super) struct Drive {
     /// Holding where it is while the scouts verify shorter classes (policies that
     /// [`verify`](super::policy::ScoutPolicy::verifies)).
     pub(super) hold: Option<Hold>,
-    /// Whether a blockage the scouts found on this route has been weighed (a policy that
-    /// verifies weighs it once per route).
-    pub(super) weighed: bool,
+    /// The version of the team's map on which a blockage the scouts found on this route was
+    /// last weighed (a policy that verifies weighs it again only when the team's map has
+    /// changed).
+    pub(super) weighed: Option<u64>,
+    /// The route is a verified detour: the robots saw it clear all along when the UGV took
+    /// it, and the UGV keeps it unless it is found blocked.
+    pub(super) verified: bool,
 }
 
 /// The UGV holding where it is, its route known blocked ahead by the scouts, while they
@@ -149,8 +153,7 @@ pub(super) struct Hold {
     pub(super) candidates: Vec<Route>,
     /// The first point of the route the blockage blocks.
     pub(super) blocked: Point,
-    /// When it gives up holding and drives on: when a UGV driving on at its speed would
-    /// have reached `sight`.
+    /// When it gives up holding and drives on.
     pub(super) until: Real,
 }
 
@@ -166,7 +169,8 @@ impl Drive {
             last_switch: Real::NEG_INFINITY,
             replan_at: None,
             hold: None,
-            weighed: false,
+            weighed: None,
+            verified: false,
         }
     }
 
@@ -194,7 +198,8 @@ impl Drive {
         self.s = 0.0;
         self.replan_at = None;
         self.hold = None;
-        self.weighed = false;
+        self.weighed = None;
+        self.verified = false;
         self.adopted_at = self.driven;
         adopted.push(Adopted {
             t,

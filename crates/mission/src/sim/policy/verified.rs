@@ -5,7 +5,9 @@
 //! drives on as a UGV without scouts would.
 
 use super::guard::{Guard, nearest, sweep};
-use super::{Job, ScoutPolicy, Situation};
+use homospline_geom::Real;
+
+use super::{Job, Polyline, ScoutPolicy, Situation};
 
 /// The UGV's route first; verified detours only.
 pub struct Verified;
@@ -29,30 +31,57 @@ impl ScoutPolicy for Verified {
         if !s.holding {
             return Guard.assign(s);
         }
-        // Holding: every idle scout verifies a candidate not yet seen whole and not being
-        // verified, best first.
+        // Holding: each idle scout verifies a candidate not yet seen whole and not being
+        // verified, best first; when there are more idle scouts than such candidates, the
+        // best one's unseen stretches are split between two of them, near half and far half.
         let mut idle: Vec<usize> = (0..s.scouts.len())
             .filter(|&i| !s.scouts[i].busy)
             .collect();
-        let mut out = Vec::new();
+        let mut todo: Vec<(&str, &Polyline, Vec<(Real, Real)>)> = Vec::new();
         for alt in s.alternatives {
             let taken = s
                 .scouts
                 .iter()
                 .any(|sc| sc.busy && sc.jobs.last().is_some_and(|j| j == alt.class));
             let unseen = s.seen.unseen(alt.line, 0.0);
-            if taken || unseen.is_empty() {
+            if !taken && !unseen.is_empty() {
+                todo.push((alt.class, alt.line, unseen));
+            }
+        }
+        if idle.len() > todo.len()
+            && let Some((class, line, unseen)) = todo.first().cloned()
+        {
+            let (first, last) = (unseen[0].0, unseen[unseen.len() - 1].1);
+            let mid = 0.5 * (first + last);
+            let near: Vec<(Real, Real)> = unseen
+                .iter()
+                .filter(|&&(a, _)| a < mid)
+                .map(|&(a, b)| (a, b.min(mid)))
+                .collect();
+            let far: Vec<(Real, Real)> = unseen
+                .iter()
+                .filter(|&&(_, b)| b >= mid)
+                .map(|&(a, b)| (a.max(mid), b))
+                .collect();
+            todo[0] = (class, line, near);
+            if !far.is_empty() {
+                todo.insert(1, (class, line, far));
+            }
+        }
+        let mut out = Vec::new();
+        for (class, line, stretches) in todo {
+            if stretches.is_empty() {
                 continue;
             }
-            let Some(k) = nearest(s, &idle, alt.line.at(unseen[0].0).0) else {
+            let Some(k) = nearest(s, &idle, line.at(stretches[0].0).0) else {
                 break;
             };
             idle.retain(|&i| i != k);
             out.push((
                 k,
                 Job {
-                    waypoints: sweep(s.scouts[k].at, alt.line, &unseen),
-                    label: alt.class.to_owned(),
+                    waypoints: sweep(s.scouts[k].at, line, &stretches),
+                    label: class.to_owned(),
                 },
             ));
         }
