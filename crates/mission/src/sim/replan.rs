@@ -234,7 +234,7 @@ impl<K: Known> Replan<'_, '_, K> {
     /// reaches at least that close). `None` when the UGV sees it already, or the route is
     /// clear.
     fn sight(&self) -> Option<Real> {
-        sight(self.drive, self.planner.known.model(), self.range).map(|(_, s)| s)
+        sight(self.drive, self.planner.known.model(), self.range, false).map(|(_, s)| s)
     }
 
     /// The map changed but the path is still clear: a better class may have opened (a
@@ -357,11 +357,18 @@ pub(super) fn settle_hold<K: Known>(
 /// route that `model` blocks: that point, and the first point of the route within its sensor
 /// range (in a straight line) of it, as arc lengths. `None` when the route is clear ahead or
 /// the UGV sees that point already.
-fn sight(drive: &Drive, model: &dyn ClearanceModel, range: Real) -> Option<(Real, Real)> {
+fn sight(
+    drive: &Drive,
+    model: &dyn ClearanceModel,
+    range: Real,
+    fine: bool,
+) -> Option<(Real, Real)> {
     let line = &drive.route.line;
     let end = line.length();
-    // A quarter of the sensor range, and at most 4,000 probes along the route.
-    let step = (0.25 * range).max(end / 4000.0).max(1e-9);
+    // Probes every quarter of the sensor range (`fine`: 4,000 probes, for a blockage the
+    // polyline check found, which may be thinner), and at most 4,000 along the route.
+    let coarse = if fine { 0.0 } else { 0.25 * range };
+    let step = coarse.max(end / 4000.0).max(1e-9);
     let mut s = drive.s;
     let blocked_at = loop {
         if s >= end {
@@ -404,7 +411,7 @@ pub(super) fn consider_detour<K: Known>(
         return false;
     }
     drive.weighed = Some(team.version);
-    let Some((blocked_at, sight)) = sight(drive, team.known.model(), range) else {
+    let Some((blocked_at, sight)) = sight(drive, team.known.model(), range, true) else {
         return false;
     };
     let at = drive.position();
