@@ -9,7 +9,7 @@ use super::coverage::Coverage;
 use super::planner::Planner;
 use super::record::{EventKind, MissionResult, Record};
 use super::replan::{consider_detour, replan, settle_hold};
-use super::route::{Drive, Route};
+use super::route::{Drive, Hold, Route};
 use super::scouts::{Scout, assign, assign_idle, launch};
 use super::sense::{Found, discover, look};
 use crate::known::Known;
@@ -148,6 +148,7 @@ impl<'a, K: Known> Mission<'a, K> {
         self.drive
             .take(first, offline[1..].to_vec(), 0.0, &mut self.record.adopted);
         self.look_around();
+        self.hold_at_start();
         assign(
             &mut self.scouts,
             self.cfg.policy,
@@ -161,6 +162,28 @@ impl<'a, K: Known> Mission<'a, K> {
             self.reached = true;
             self.done = true;
         }
+    }
+
+    /// A policy that verifies holds the UGV at the start while the scouts sweep its route:
+    /// until they have seen it whole (it is taken, a verified route) or found it blocked
+    /// (the UGV weighs the blockage as on the move, with all the way to it ahead), for at
+    /// most the time one scout takes to sweep it.
+    fn hold_at_start(&mut self) {
+        let sweep_speed = self
+            .scouts
+            .iter()
+            .map(|sc| sc.uav.speed)
+            .fold(Real::INFINITY, Real::min);
+        if self.team.is_none() || !sweep_speed.is_finite() || sweep_speed <= 0.0 {
+            return;
+        }
+        let route = self.drive.route.clone();
+        let unseen = self.planner.seen.unseen_length(&route.line, 0.0);
+        self.drive.hold = Some(Hold {
+            candidates: vec![route],
+            blocked: None,
+            until: unseen / sweep_speed,
+        });
     }
 
     /// Whether the mission is over.

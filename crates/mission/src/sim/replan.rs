@@ -297,7 +297,8 @@ impl<K: Known> Replan<'_, '_, K> {
     }
 }
 
-/// The UGV holding at time `t` ([`Drive::hold`]): the candidates the team's map now blocks
+/// The UGV holding at time `t` ([`Drive::hold`]; at the start, its one candidate is its own
+/// route): the candidates the team's map now blocks
 /// are dropped; the best left is taken once the robots have seen it whole (`planner.seen`);
 /// when none is left, or the hold's time is up, the UGV takes the first candidate seen whole
 /// if any, else drives on to where it would see the blockage itself. Whether it stopped
@@ -317,7 +318,9 @@ pub(super) fn settle_hold<K: Known>(
     let pick = match hold.candidates.first() {
         Some(best) if whole(best) => Some(0),
         Some(_) if t < hold.until => {
-            drive.alternatives = hold.candidates.clone();
+            if hold.blocked.is_some() {
+                drive.alternatives = hold.candidates.clone();
+            }
             drive.hold = Some(hold);
             return false;
         }
@@ -325,11 +328,18 @@ pub(super) fn settle_hold<K: Known>(
     };
     let at = drive.position();
     let Some(k) = pick else {
-        drive.alternatives = hold.candidates;
+        if hold.blocked.is_some() {
+            drive.alternatives = hold.candidates;
+        }
+        return true;
+    };
+    let Some(b) = &hold.blocked else {
+        // Holding at the start: its own route, seen clear all along, driven as a UGV
+        // without scouts would.
         return true;
     };
     // Leaving its route for the blockage, the UGV's map takes it in.
-    admit(planner, &hold.blocked);
+    admit(planner, b);
     let next = hold.candidates.remove(k);
     if next.class != drive.route.class {
         record.event(
@@ -352,6 +362,12 @@ pub(super) fn settle_hold<K: Known>(
     drive.verified = true;
     true
 }
+
+/// How much shorter than driving on a detour must be to be held for: the estimate of
+/// driving on (to where the UGV would see the blockage, then the shortest class from there
+/// on the team's map) is a lower bound only roughly, as the UGV without scouts re-plans on
+/// less and by cost.
+const DETOUR_MARGIN: Real = 0.02;
 
 /// Where along its route `drive`'s UGV, seeing `range`, would see the first point of the
 /// route that `model` blocks: that point, and the first point of the route within its sensor
@@ -411,9 +427,24 @@ pub(super) fn consider_detour<K: Known>(
         return false;
     }
     drive.weighed = Some(team.version);
-    let Some((blocked_at, sight)) = sight(drive, team.known.model(), range, true) else {
+    let Some((blocked_at, _)) = sight(drive, team.known.model(), range, true) else {
         return false;
     };
+    // Where the UGV would see what the scouts found itself, which may be before the point
+    // it blocks: the first point ahead with a find of theirs nearer than the UGV's own map's
+    // nearest obstacle, and within its sensor range.
+    let (own, theirs) = (planner.known.model(), team.known.model());
+    let step = (line.length() / 4000.0).max(1e-3);
+    let mut sight = drive.s;
+    while sight < blocked_at {
+        let q = line.at(sight).0;
+        let d = theirs.clearance_value(&q);
+        if d < own.clearance_value(&q) && d <= range {
+            break;
+        }
+        sight += step;
+    }
+    let sight = sight.min(blocked_at);
     let at = drive.position();
     let (p, heading) = (line.at(sight).0, line.heading(sight));
     let d1 = sight - drive.s;
@@ -433,7 +464,7 @@ pub(super) fn consider_detour<K: Known>(
         .fold(Real::INFINITY, Real::min);
     let candidates: Vec<Route> = now
         .into_iter()
-        .filter(|r| r.line.length() < d1 + then)
+        .filter(|r| r.line.length() < (1.0 - DETOUR_MARGIN) * (d1 + then))
         .collect();
     record.event(
         t,
@@ -453,7 +484,7 @@ pub(super) fn consider_detour<K: Known>(
     drive.alternatives = candidates.clone();
     drive.hold = Some(Hold {
         candidates,
-        blocked: line.at(blocked_at).0,
+        blocked: Some(line.at(blocked_at).0),
         until: t + d1 / speed + sweep,
     });
     true

@@ -151,8 +151,9 @@ pub(super) struct Drive {
 pub(super) struct Hold {
     /// Those classes from here, best first; a class the known world blocks is dropped.
     pub(super) candidates: Vec<Route>,
-    /// The first point of the route the blockage blocks.
-    pub(super) blocked: Point,
+    /// The first point of the route the blockage blocks (`None`: holding at the start
+    /// while the scouts sweep the offline plan's route).
+    pub(super) blocked: Option<Point>,
     /// When it gives up holding and drives on.
     pub(super) until: Real,
 }

@@ -130,7 +130,7 @@ pub(super) fn assign_idle(
         alternatives: &lanes,
         scouts: &views,
         seen,
-        holding: drive.hold.is_some(),
+        holding: drive.hold.as_ref().is_some_and(|h| h.blocked.is_some()),
     };
     let jobs = policy.get().assign(&situation);
     for (i, job) in jobs {
