@@ -164,7 +164,8 @@ impl<'a, K: Known> Mission<'a, K> {
         }
     }
 
-    /// A policy that verifies holds the UGV at the start while the scouts sweep its route:
+    /// A policy that [holds at the start](super::policy::ScoutPolicy::holds_at_start) holds
+    /// the UGV there while the scouts sweep its route:
     /// until they have seen it whole (it is taken, a verified route) or found it blocked
     /// (the UGV weighs the blockage as on the move, with all the way to it ahead), for at
     /// most the time one scout takes to sweep it.
@@ -174,7 +175,11 @@ impl<'a, K: Known> Mission<'a, K> {
             .iter()
             .map(|sc| sc.uav.speed)
             .fold(Real::INFINITY, Real::min);
-        if self.team.is_none() || !sweep_speed.is_finite() || sweep_speed <= 0.0 {
+        if self.team.is_none()
+            || !self.cfg.policy.get().holds_at_start()
+            || !sweep_speed.is_finite()
+            || sweep_speed <= 0.0
+        {
             return;
         }
         let route = self.drive.route.clone();

@@ -102,6 +102,13 @@ pub trait ScoutPolicy: Sync {
     fn verifies(&self) -> bool {
         false
     }
+    /// Whether, for a policy that [`verifies`](ScoutPolicy::verifies), the UGV holds at the
+    /// start until the scouts have swept its route whole or found it blocked (for at most the
+    /// time one scout takes to sweep it): a blockage found then costs no distance, at the
+    /// price of the wait.
+    fn holds_at_start(&self) -> bool {
+        false
+    }
 }
 
 /// A registered scout policy: a cheap handle, compared by name.
@@ -113,7 +120,10 @@ pub trait ScoutPolicy: Sync {
 ///
 /// assert_eq!(Policy::default(), Policy::GUARD);
 /// let names: Vec<&str> = Policy::all().iter().map(|p| p.name()).collect();
-/// assert_eq!(names, ["none", "ahead", "alternatives", "guard", "verified"]);
+/// assert_eq!(
+///     names,
+///     ["none", "ahead", "alternatives", "guard", "verified", "survey"]
+/// );
 /// assert_eq!(Policy::named("ahead"), Some(Policy::AHEAD));
 /// ```
 #[derive(Clone, Copy)]
@@ -134,6 +144,7 @@ registry! {
     alternatives::Alternatives,
     guard::Guard,
     verified::Verified,
+    survey::Survey,
 }
 
 impl Policy {
@@ -149,6 +160,9 @@ impl Policy {
     /// Scouts sweep the UGV's route ahead; a blockage they find there makes the UGV hold and
     /// wait for a class they have seen clear all along, if that is shorter.
     pub const VERIFIED: Policy = Policy(&verified::Verified);
+    /// As [`Policy::VERIFIED`], and the UGV holds at the start while the scouts sweep its
+    /// route.
+    pub const SURVEY: Policy = Policy(&survey::Survey);
 
     /// Every registered policy, in registry order.
     pub fn all() -> &'static [Policy] {

@@ -324,7 +324,19 @@ pub(super) fn settle_hold<K: Known>(
             drive.hold = Some(hold);
             return false;
         }
-        _ => hold.candidates.iter().position(whole),
+        // Time is up: a candidate seen whole is taken only if no candidate still unseen
+        // is shorter (those are the classes a UGV driving on may yet find open).
+        _ => {
+            let unverified = hold
+                .candidates
+                .iter()
+                .filter(|r| !whole(r))
+                .map(|r| r.line.length())
+                .fold(Real::INFINITY, Real::min);
+            hold.candidates
+                .iter()
+                .position(|r| whole(r) && r.line.length() <= unverified)
+        }
     };
     let at = drive.position();
     let Some(k) = pick else {

@@ -1,0 +1,31 @@
+//! Policy `survey`: `verified`, and before it sets off the UGV holds at the start while the
+//! scouts sweep its route, so that a blockage on it is found before it has driven anywhere.
+
+use super::verified::Verified;
+use super::{Job, ScoutPolicy, Situation};
+
+/// `verified` with a sweep of the route before the UGV sets off.
+pub struct Survey;
+
+impl ScoutPolicy for Survey {
+    fn name(&self) -> &'static str {
+        "survey"
+    }
+
+    fn summary(&self) -> &'static str {
+        "as verified, and the UGV waits at the start while the scouts sweep its route: the \
+         least distance, at the price of the wait"
+    }
+
+    fn verifies(&self) -> bool {
+        true
+    }
+
+    fn holds_at_start(&self) -> bool {
+        true
+    }
+
+    fn assign(&self, s: &Situation<'_>) -> Vec<(usize, Job)> {
+        Verified.assign(s)
+    }
+}
