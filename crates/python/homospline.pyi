@@ -149,8 +149,8 @@ def build_graph(scene: Scene, resolution: Optional[float] = None) -> Graph:
 def simulate(world: _Path, policy: Optional[str] = None, scouts: Optional[int] = None) -> dict[str, Any]:
     """Runs the mission of a world file (a scene world or a map world with its truth map);
     returns the mission JSON of docs/formats.md. ``policy`` is a registered scout policy's
-    name (``none``, ``ahead``, ``alternatives``, ``guard``); None takes the library's default,
-    ``guard``."""
+    name (``none``, ``ahead``, ``alternatives``, ``guard``, ``verified``, ``survey``); None
+    takes the library's default, ``verified``."""
 
 def bench_scen(
     files: Sequence[_Path],

@@ -165,10 +165,9 @@ impl<'a, K: Known> Mission<'a, K> {
     }
 
     /// A policy that [holds at the start](super::policy::ScoutPolicy::holds_at_start) holds
-    /// the UGV there while the scouts sweep its route:
-    /// until they have seen it whole (it is taken, a verified route) or found it blocked
-    /// (the UGV weighs the blockage as on the move, with all the way to it ahead), for at
-    /// most the time one scout takes to sweep it.
+    /// the UGV there while the scouts sweep its route: until they have seen it whole or found
+    /// it blocked (the UGV then weighs the blockage as on the move, with all the way to it
+    /// ahead), for at most the time one scout takes to sweep it.
     fn hold_at_start(&mut self) {
         let sweep_speed = self
             .scouts

@@ -18,7 +18,7 @@ impl ScoutPolicy for Guard {
 
     fn summary(&self) -> &'static str {
         "scouts sweep the unseen rest of the UGV's route, then verify the alternatives; a \
-         blockage found ahead makes the UGV re-plan early only when that is shorter (the default)"
+         blockage found ahead makes the UGV re-plan early only when that is shorter"
     }
 
     fn weighs_driving_on(&self) -> bool {

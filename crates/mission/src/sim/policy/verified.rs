@@ -4,10 +4,10 @@
 //! the blockage itself, and takes the first of them seen clear all along; with none, it
 //! drives on as a UGV without scouts would.
 
-use super::guard::{Guard, nearest, sweep};
+use super::guard::{Guard, Look, nearest, sweep};
 use homospline_geom::Real;
 
-use super::{Job, Polyline, ScoutPolicy, Situation};
+use super::{Job, ScoutPolicy, Situation};
 
 /// The UGV's route first; verified detours only.
 pub struct Verified;
@@ -20,7 +20,7 @@ impl ScoutPolicy for Verified {
     fn summary(&self) -> &'static str {
         "scouts sweep the unseen rest of the UGV's route; a blockage found there makes the UGV \
          hold until they have seen a shorter class clear all along, and only what blocks its \
-         route changes its plan"
+         route changes its plan (the default)"
     }
 
     fn verifies(&self) -> bool {
@@ -37,7 +37,7 @@ impl ScoutPolicy for Verified {
         let mut idle: Vec<usize> = (0..s.scouts.len())
             .filter(|&i| !s.scouts[i].busy)
             .collect();
-        let mut todo: Vec<(&str, &Polyline, Vec<(Real, Real)>)> = Vec::new();
+        let mut todo: Vec<Look<'_>> = Vec::new();
         for alt in s.alternatives {
             let taken = s
                 .scouts
@@ -45,7 +45,7 @@ impl ScoutPolicy for Verified {
                 .any(|sc| sc.busy && sc.jobs.last().is_some_and(|j| j == alt.class));
             let unseen = s.seen.unseen(alt.line, 0.0);
             if !taken && !unseen.is_empty() {
-                todo.push((alt.class, alt.line, unseen));
+                todo.push((alt.class.to_owned(), alt.line, unseen));
             }
         }
         if idle.len() > todo.len()
@@ -63,7 +63,7 @@ impl ScoutPolicy for Verified {
                 .filter(|&&(_, b)| b >= mid)
                 .map(|&(a, b)| (a.max(mid), b))
                 .collect();
-            todo[0] = (class, line, near);
+            todo[0] = (class.clone(), line, near);
             if !far.is_empty() {
                 todo.insert(1, (class, line, far));
             }
@@ -81,7 +81,7 @@ impl ScoutPolicy for Verified {
                 k,
                 Job {
                     waypoints: sweep(s.scouts[k].at, line, &stretches),
-                    label: class.to_owned(),
+                    label: class,
                 },
             ));
         }
