@@ -493,6 +493,8 @@ pub(super) fn consider_detour<K: Known>(
     // Long enough for the UGV to have driven on to where it would see the blockage, and for
     // one scout to sweep what is unseen of the best candidate.
     let sweep = planner.seen.unseen_length(&candidates[0].line, 0.0) / sweep_speed;
+    // No scout, or one that does not move (a team built in code): no time to wait for it.
+    let sweep = if sweep.is_finite() { sweep } else { 0.0 };
     drive.alternatives = candidates.clone();
     drive.hold = Some(Hold {
         candidates,
