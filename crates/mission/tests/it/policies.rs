@@ -131,6 +131,26 @@ fn verified_holds_for_a_blockage_the_scouts_find_and_detours_through_a_class_see
 }
 
 #[test]
+fn survey_sets_off_once_its_scouts_have_swept_the_route_and_verified_at_once() {
+    let w = suite_world(0, 2).expect("a world");
+    let set_off = |policy: Policy| {
+        let r = run(&w, policy);
+        assert!(r.reached, "{policy}");
+        let start = r.ugv.samples[0].1;
+        r.ugv
+            .samples
+            .iter()
+            .find(|(_, p)| (p - start).norm() > 1e-9)
+            .map(|&(t, _)| t)
+            .expect("the UGV moves")
+    };
+    let (verified, survey) = (set_off(Policy::VERIFIED), set_off(Policy::SURVEY));
+    // One time step for `verified`; several seconds of sweeping for `survey`.
+    assert!(verified <= 0.5, "{verified}");
+    assert!(survey >= 2.0, "{survey}");
+}
+
+#[test]
 fn guard_drives_on_toward_a_blockage_when_replanning_there_is_shorter() {
     // Somewhere among the generated worlds a scout finds the route blocked far ahead and
     // the UGV keeps its class (a forced re-plan that keeps the class, with no switch),
