@@ -149,13 +149,7 @@ impl<'a, K: Known> Mission<'a, K> {
             .take(first, offline[1..].to_vec(), 0.0, &mut self.record.adopted);
         self.look_around();
         self.hold_at_start();
-        assign(
-            &mut self.scouts,
-            self.cfg.policy,
-            &self.drive,
-            self.ugv.sensor_range,
-            &self.planner.seen,
-        );
+        self.assign_all();
         if start == goal {
             // Already there: reached before anything moves.
             self.record.event(0.0, start, EventKind::Reached);

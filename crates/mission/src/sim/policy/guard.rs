@@ -53,19 +53,7 @@ impl ScoutPolicy for Guard {
                 lanes.push((alt.class.to_owned(), alt.line, unseen));
             }
         }
-        for (label, line, stretches) in lanes {
-            let Some(k) = nearest(s, &idle, line.at(stretches[0].0).0) else {
-                break;
-            };
-            idle.retain(|&i| i != k);
-            out.push((
-                k,
-                Job {
-                    waypoints: sweep(s.scouts[k].at, line, &stretches),
-                    label,
-                },
-            ));
-        }
+        out.extend(to_nearest(s, &mut idle, lanes));
         // Scouts left over help on the route: the far half of what is unseen of it.
         if let (Some(&first), Some(&last)) = (route_unseen.first(), route_unseen.last()) {
             let mid = 0.5 * (first.0 + last.1);
@@ -97,6 +85,33 @@ pub(super) type Look<'a> = (String, &'a Polyline, Vec<(Real, Real)>);
 /// `range` (its length when it never does: nothing of it is away from the route).
 pub(super) fn away_from(line: &Polyline, rest: &[Point], range: Real) -> Real {
     leaves_at(line, rest, range).map_or(line.length(), |k| line.cum[k])
+}
+
+/// Each look, in order, as a sweep of its unseen stretches by the idle scout nearest to
+/// where they begin (taken off `idle`), while any is idle.
+pub(super) fn to_nearest(
+    s: &Situation<'_>,
+    idle: &mut Vec<usize>,
+    looks: Vec<Look<'_>>,
+) -> Vec<(usize, Job)> {
+    let mut out = Vec::new();
+    for (label, line, stretches) in looks {
+        let Some(&(a, _)) = stretches.first() else {
+            continue;
+        };
+        let Some(k) = nearest(s, idle, line.at(a).0) else {
+            break;
+        };
+        idle.retain(|&i| i != k);
+        out.push((
+            k,
+            Job {
+                waypoints: sweep(s.scouts[k].at, line, &stretches),
+                label,
+            },
+        ));
+    }
+    out
 }
 
 /// The idle scout nearest to `p`.

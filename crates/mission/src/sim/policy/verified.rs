@@ -4,7 +4,7 @@
 //! the blockage itself, and takes the first of them seen clear all along; with none, it
 //! drives on as a UGV without scouts would.
 
-use super::guard::{Guard, Look, nearest, sweep};
+use super::guard::{Guard, Look, to_nearest};
 use homospline_geom::Real;
 
 use super::{Job, ScoutPolicy, Situation};
@@ -68,23 +68,6 @@ impl ScoutPolicy for Verified {
                 todo.insert(1, (class, line, far));
             }
         }
-        let mut out = Vec::new();
-        for (class, line, stretches) in todo {
-            if stretches.is_empty() {
-                continue;
-            }
-            let Some(k) = nearest(s, &idle, line.at(stretches[0].0).0) else {
-                break;
-            };
-            idle.retain(|&i| i != k);
-            out.push((
-                k,
-                Job {
-                    waypoints: sweep(s.scouts[k].at, line, &stretches),
-                    label: class,
-                },
-            ));
-        }
-        out
+        to_nearest(s, &mut idle, todo)
     }
 }
