@@ -298,11 +298,10 @@ impl<K: Known> Replan<'_, '_, K> {
 }
 
 /// The UGV holding at time `t` ([`Drive::hold`]; at the start, its one candidate is its own
-/// route): the candidates the team's map now blocks
-/// are dropped; the best left is taken once the robots have seen it whole (`planner.seen`);
-/// when none is left, or the hold's time is up, the UGV takes the first candidate seen whole
-/// if any, else drives on to where it would see the blockage itself. Whether it stopped
-/// holding.
+/// route): the candidates the team's map now blocks are dropped; the best left is taken once
+/// the robots have seen it whole (`planner.seen`); when none is left, or the hold's time is
+/// up, the UGV takes the first candidate seen whole than which no unseen one is shorter, else
+/// drives on as a UGV without scouts would. Whether it stopped holding.
 pub(super) fn settle_hold<K: Known>(
     planner: &mut Planner<'_, K>,
     team: &Planner<'_, K>,
@@ -420,8 +419,9 @@ fn sight(
 /// team's map that are shorter than driving on until the UGV would see the blockage itself
 /// and taking the shortest class from there are candidates; with any, the UGV holds while
 /// the scouts verify them ([`settle_hold`]), for as long as driving on would take plus the
-/// time a scout flying at `sweep_speed` takes to sweep what is unseen of the best. Otherwise it drives on as a UGV without scouts
-/// would, and weighs this route again only when the team's map changes. Whether it holds.
+/// time a scout flying at `sweep_speed` takes to sweep what is unseen of the best.
+/// Otherwise it drives on as a UGV without scouts would, and weighs this route again only
+/// when the team's map changes. Whether it holds.
 pub(super) fn consider_detour<K: Known>(
     planner: &mut Planner<'_, K>,
     team: &mut Planner<'_, K>,
