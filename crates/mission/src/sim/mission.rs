@@ -158,16 +158,20 @@ impl<'a, K: Known> Mission<'a, K> {
         }
     }
 
+    /// The speed at which the slowest scout sweeps (infinite with no scout).
+    fn sweep_speed(&self) -> Real {
+        self.scouts
+            .iter()
+            .map(|sc| sc.uav.speed)
+            .fold(Real::INFINITY, Real::min)
+    }
+
     /// A policy that [holds at the start](super::policy::ScoutPolicy::holds_at_start) holds
     /// the UGV there while the scouts sweep its route: until they have seen it whole or found
     /// it blocked (the UGV then weighs the blockage as on the move, with all the way to it
     /// ahead), for at most the time one scout takes to sweep it.
     fn hold_at_start(&mut self) {
-        let sweep_speed = self
-            .scouts
-            .iter()
-            .map(|sc| sc.uav.speed)
-            .fold(Real::INFINITY, Real::min);
+        let sweep_speed = self.sweep_speed();
         if self.team.is_none()
             || !self.cfg.policy.get().holds_at_start()
             || !sweep_speed.is_finite()
@@ -204,11 +208,7 @@ impl<'a, K: Known> Mission<'a, K> {
             self.drive.replan_at = None;
         }
         let range = self.ugv.sensor_range;
-        let sweep_speed = self
-            .scouts
-            .iter()
-            .map(|sc| sc.uav.speed)
-            .fold(Real::INFINITY, Real::min);
+        let sweep_speed = self.sweep_speed();
         if found.any() || due {
             let (planner, drive, record) = (&mut self.planner, &mut self.drive, &mut self.record);
             if found.any() {
