@@ -287,7 +287,11 @@ fn plan_map(
             .map_err(|e| bad(format!("{}: {e}", p.display())))?,
         None => PreparedMap::for_robot(map, radius).map_err(map_error)?,
     };
-    let result = prepared.plan(s, g, cfg).map_err(map_error)?;
+    let mut result = prepared.plan(s, g, cfg).map_err(map_error)?;
+    // A map's plan does not copy the query's graph out of the map's; the picture draws it.
+    if wants_picture {
+        result.graph = prepared.query_graph(s, g).ok();
+    }
     let pic = wants_picture
         .then(|| picture::plan_svg(&picture::Background::Map(map), &result, a.class_names));
     Ok((result, pic))

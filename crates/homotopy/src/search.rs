@@ -12,7 +12,7 @@ use std::cmp::{Ordering, Reverse};
 use std::collections::{BinaryHeap, HashMap, HashSet};
 
 use homospline_geom::{Point, Real};
-use homospline_voronoi::{Adjacency, Edge, VoronoiGraph};
+use homospline_voronoi::{Adjacency, Edge, QueryGraph, VoronoiGraph};
 use rustc_hash::FxHashMap;
 use thiserror::Error;
 
@@ -220,8 +220,75 @@ impl Words {
 /// The id of the empty word in [`Words`].
 const EMPTY_WORD: WordId = 0;
 
-fn edge_polyline(g: &VoronoiGraph, e: usize, forward: bool) -> Vec<Point> {
-    let mut pts: Vec<Point> = g.edges[e]
+/// What the search walks: a graph's nodes and edges, the links it may take and their costs.
+trait Walk {
+    /// How many nodes.
+    fn node_count(&self) -> usize;
+    /// Edge `e`.
+    fn edge(&self, e: usize) -> &Edge;
+    /// Edge `e`'s cost.
+    fn cost(&self, e: usize) -> Real;
+    /// Hands node `k`'s allowed links to `f`, `(other end, edge, walked from -> to)`, in
+    /// edge order.
+    fn for_each_link(&self, k: usize, f: impl FnMut(usize, usize, bool));
+}
+
+/// A graph of its own, with the adjacency of its allowed edges and their costs.
+struct Whole<'a> {
+    graph: &'a VoronoiGraph,
+    adjacency: Adjacency,
+    cost: Vec<Real>,
+}
+
+impl Walk for Whole<'_> {
+    fn node_count(&self) -> usize {
+        self.graph.nodes.len()
+    }
+    fn edge(&self, e: usize) -> &Edge {
+        &self.graph.edges[e]
+    }
+    fn cost(&self, e: usize) -> Real {
+        self.cost[e]
+    }
+    fn for_each_link(&self, k: usize, mut f: impl FnMut(usize, usize, bool)) {
+        for (m, e, fwd) in self.adjacency.of(k) {
+            f(m, e, fwd);
+        }
+    }
+}
+
+/// A query on a prepared map ([`QueryGraph`]), with each edge's cost: infinite where the
+/// edge is not the query's or the search's settings close it. One pass over the edges in
+/// order, where the search's Dijkstra would otherwise read each edge it walks (scattered
+/// over the whole graph) to cost and filter it.
+struct Query<'a> {
+    graph: &'a QueryGraph<'a>,
+    cost: Vec<Real>,
+}
+
+impl Walk for Query<'_> {
+    fn node_count(&self) -> usize {
+        self.graph.node_count()
+    }
+    fn edge(&self, e: usize) -> &Edge {
+        self.graph.edge(e)
+    }
+    fn cost(&self, e: usize) -> Real {
+        self.cost[e]
+    }
+    #[inline]
+    fn for_each_link(&self, k: usize, mut f: impl FnMut(usize, usize, bool)) {
+        self.graph.for_each_link(k, |m, e, fwd| {
+            if self.cost[e] < Real::INFINITY {
+                f(m, e, fwd);
+            }
+        });
+    }
+}
+
+fn edge_polyline<W: Walk + ?Sized>(g: &W, e: usize, forward: bool) -> Vec<Point> {
+    let mut pts: Vec<Point> = g
+        .edge(e)
         .polyline
         .iter()
         .map(|p| Point::new(p[0], p[1]))
@@ -277,12 +344,63 @@ pub fn k_best_classes_each(
     let start = graph.start.ok_or(SearchError::NotAttached("start"))?;
     let goal = graph.goal.ok_or(SearchError::NotAttached("goal"))?;
     check_config(cfg)?;
-    let allowed = allowed_edges(graph, cfg, start, goal);
-    let cost = edge_costs(graph, cfg);
-    let adjacency = graph.adjacency(|i| allowed[i]);
-    let h = distances_to(goal, graph.nodes.len(), &adjacency, &cost);
-    let frontier = Frontier::new(graph, rays, &adjacency, &cost, &h, start);
-    Ok(frontier.search(cfg, goal, found))
+    let allowed = allowed_edges(graph.edges.iter(), cfg, start, goal);
+    let walk = Whole {
+        graph,
+        adjacency: graph.adjacency(|i| allowed[i]),
+        cost: graph.edges.iter().map(|e| edge_cost(e, cfg.cost)).collect(),
+    };
+    Ok(search_walk(&walk, rays, cfg, start, goal, found))
+}
+
+/// [`k_best_classes`] on one query of a prepared map ([`QueryGraph`]): the same classes as
+/// on the graph [`homospline_voronoi::MapGraph::with_endpoints`] builds, without a copy of
+/// the map's graph.
+pub fn k_best_classes_on(
+    graph: &QueryGraph<'_>,
+    rays: &Rays,
+    cfg: &SearchConfig,
+) -> Result<SearchResult, SearchError> {
+    k_best_classes_each_on(graph, rays, cfg, |_| {})
+}
+
+/// [`k_best_classes_on`], handing each class to `found` as soon as the search has it.
+pub fn k_best_classes_each_on(
+    graph: &QueryGraph<'_>,
+    rays: &Rays,
+    cfg: &SearchConfig,
+    found: impl FnMut(&ClassPath),
+) -> Result<SearchResult, SearchError> {
+    check_config(cfg)?;
+    let (start, goal) = (graph.start(), graph.goal());
+    let allowed = allowed_edges(
+        (0..graph.edge_count()).map(|e| graph.edge(e)),
+        cfg,
+        start,
+        goal,
+    );
+    let cost = (0..graph.edge_count())
+        .map(|e| match allowed[e] && graph.in_query(e) {
+            true => edge_cost(graph.edge(e), cfg.cost),
+            false => Real::INFINITY,
+        })
+        .collect();
+    let walk = Query { graph, cost };
+    Ok(search_walk(&walk, rays, cfg, start, goal, found))
+}
+
+/// The search on `walk` from `start` to `goal`.
+fn search_walk<W: Walk>(
+    walk: &W,
+    rays: &Rays,
+    cfg: &SearchConfig,
+    start: usize,
+    goal: usize,
+    found: impl FnMut(&ClassPath),
+) -> SearchResult {
+    let h = distances_to(goal, walk);
+    let frontier = Frontier::new(walk, rays, &h, start);
+    frontier.search(cfg, goal, found)
 }
 
 /// Refuses a negative or non-finite minimum clearance or clearance penalty weight.
@@ -305,11 +423,14 @@ fn check_config(cfg: &SearchConfig) -> Result<(), SearchError> {
 
 /// Whether the search may use each edge: not blocked, wide enough (start and goal
 /// connectors excepted) and entering no blocked region.
-fn allowed_edges(graph: &VoronoiGraph, cfg: &SearchConfig, start: usize, goal: usize) -> Vec<bool> {
+fn allowed_edges<'e>(
+    edges: impl Iterator<Item = &'e Edge>,
+    cfg: &SearchConfig,
+    start: usize,
+    goal: usize,
+) -> Vec<bool> {
     let blocked: HashSet<usize> = cfg.blocked_edges.iter().copied().collect();
-    graph
-        .edges
-        .iter()
+    edges
         .enumerate()
         .map(|(i, e)| {
             let connector = [e.from, e.to].iter().any(|&x| x == start || x == goal);
@@ -344,24 +465,20 @@ fn enters_blocked_region(e: &Edge, regions: &[(Point, Real)]) -> bool {
     })
 }
 
-/// Each edge's cost in the search ([`EdgeCost`]).
-fn edge_costs(graph: &VoronoiGraph, cfg: &SearchConfig) -> Vec<Real> {
-    graph
-        .edges
-        .iter()
-        .map(|e| match cfg.cost {
-            EdgeCost::Length => e.length,
-            EdgeCost::ClearancePenalty { weight } => {
-                e.length * (1.0 + weight / e.mean_clearance.max(1e-6))
-            }
-        })
-        .collect()
+/// An edge's cost in the search ([`EdgeCost`]).
+fn edge_cost(e: &Edge, cost: EdgeCost) -> Real {
+    match cost {
+        EdgeCost::Length => e.length,
+        EdgeCost::ClearancePenalty { weight } => {
+            e.length * (1.0 + weight / e.mean_clearance.max(1e-6))
+        }
+    }
 }
 
-/// The exact distance from each of the `n` nodes to `goal` along the edges of `adjacency`
-/// (Dijkstra backwards; the graph is undirected); infinite where the goal is out of reach.
-fn distances_to(goal: usize, n: usize, adjacency: &Adjacency, cost: &[Real]) -> Vec<Real> {
-    let mut h = vec![Real::INFINITY; n];
+/// The exact distance from each node of `walk` to `goal` along its links (Dijkstra
+/// backwards; the graph is undirected); infinite where the goal is out of reach.
+fn distances_to<W: Walk>(goal: usize, walk: &W) -> Vec<Real> {
+    let mut h = vec![Real::INFINITY; walk.node_count()];
     h[goal] = 0.0;
     // Entries (distance's bits, node): non-negative floats order as their bits; ties go to
     // the lower node, as the search's entries would order them.
@@ -372,13 +489,13 @@ fn distances_to(goal: usize, n: usize, adjacency: &Adjacency, cost: &[Real]) -> 
         if f > h[id] {
             continue;
         }
-        for (m, e, _) in adjacency.of(id) {
-            let d = f + cost[e];
+        walk.for_each_link(id, |m, e, _| {
+            let d = f + walk.cost(e);
             if d < h[m] {
                 h[m] = d;
                 heap.push(Reverse((d.to_bits(), m)));
             }
-        }
+        });
     }
     h
 }
@@ -386,11 +503,9 @@ fn distances_to(goal: usize, n: usize, adjacency: &Adjacency, cost: &[Real]) -> 
 /// The best-first search over partial paths: every partial path made so far (each with its
 /// parent, in `arena`), the queue of those not yet expanded, and the edge words computed so
 /// far; `h` is the exact distance to the goal.
-struct Frontier<'a> {
-    graph: &'a VoronoiGraph,
+struct Frontier<'a, W> {
+    walk: &'a W,
     rays: &'a Rays,
-    adjacency: &'a Adjacency,
-    cost: &'a [Real],
     h: &'a [Real],
     /// Edge words, forward, computed when the search first walks the edge: a map's graph
     /// has tens of thousands of edges, whose words all together take long to compute, and a
@@ -408,16 +523,9 @@ struct Frontier<'a> {
     quantum: Real,
 }
 
-impl<'a> Frontier<'a> {
+impl<'a, W: Walk> Frontier<'a, W> {
     /// The search with the empty path at `start` queued, if the goal can be reached.
-    fn new(
-        graph: &'a VoronoiGraph,
-        rays: &'a Rays,
-        adjacency: &'a Adjacency,
-        cost: &'a [Real],
-        h: &'a [Real],
-        start: usize,
-    ) -> Self {
+    fn new(walk: &'a W, rays: &'a Rays, h: &'a [Real], start: usize) -> Self {
         let arena = vec![Partial {
             parent: usize::MAX,
             node: start,
@@ -433,10 +541,8 @@ impl<'a> Frontier<'a> {
         // h(start), and ties go to the deeper path.
         let quantum = 1e-9 * (1.0 + h[start].abs());
         let mut frontier = Self {
-            graph,
+            walk,
             rays,
-            adjacency,
-            cost,
             h,
             words: FxHashMap::default(),
             path_words: Words::new(),
@@ -476,7 +582,7 @@ impl<'a> Frontier<'a> {
         let mut expansions = 0;
         let mut complete = true;
         // The expansion that last stamped each node as on its partial path (0: none yet).
-        let mut on_path = vec![0usize; self.graph.nodes.len()];
+        let mut on_path = vec![0usize; self.walk.node_count()];
         while let Some(Entry { id, .. }) = self.queue.pop() {
             if classes.len() >= cfg.k {
                 break;
@@ -496,7 +602,7 @@ impl<'a> Frontier<'a> {
             if node == goal {
                 if seen.insert(self.arena[id].word) {
                     let signature = self.path_words.signature(self.arena[id].word);
-                    classes.push(assemble(self.graph, &self.arena, id, signature));
+                    classes.push(assemble(self.walk, &self.arena, id, signature));
                     found(&classes[classes.len() - 1]);
                 }
                 continue;
@@ -524,16 +630,16 @@ impl<'a> Frontier<'a> {
     /// Queues partial path `id` extended by each allowed edge to a node not stamped `stamp`
     /// (off the path) from which the goal can be reached.
     fn expand(&mut self, id: usize, on_path: &[usize], stamp: usize) {
-        let (graph, rays, adjacency) = (self.graph, self.rays, self.adjacency);
-        for (m, e, fwd) in adjacency.of(self.arena[id].node) {
+        let (walk, rays) = (self.walk, self.rays);
+        walk.for_each_link(self.arena[id].node, |m, e, fwd| {
             if on_path[m] == stamp || !self.h[m].is_finite() {
-                continue;
+                return;
             }
-            let g = self.arena[id].g + self.cost[e];
+            let g = self.arena[id].g + walk.cost(e);
             let edge_word = self
                 .words
                 .entry(e)
-                .or_insert_with(|| rays.signature(&edge_polyline(graph, e, true)));
+                .or_insert_with(|| rays.signature(&edge_polyline(walk, e, true)));
             let word = self.path_words.concat(self.arena[id].word, edge_word, fwd);
             self.arena.push(Partial {
                 parent: id,
@@ -550,12 +656,12 @@ impl<'a> Frontier<'a> {
                 order: self.order,
                 id: self.arena.len() - 1,
             });
-        }
+        });
     }
 }
 
 /// The class of partial path `id`, which reached the goal with word `signature`.
-fn assemble(graph: &VoronoiGraph, arena: &[Partial], id: usize, signature: Signature) -> ClassPath {
+fn assemble<W: Walk>(graph: &W, arena: &[Partial], id: usize, signature: Signature) -> ClassPath {
     let mut chain = Vec::new();
     let mut p = id;
     while p != usize::MAX {
@@ -574,10 +680,10 @@ fn assemble(graph: &VoronoiGraph, arena: &[Partial], id: usize, signature: Signa
         }
     }
     ClassPath {
-        length: edges.iter().map(|&(e, _)| graph.edges[e].length).sum(),
+        length: edges.iter().map(|&(e, _)| graph.edge(e).length).sum(),
         min_clearance: edges
             .iter()
-            .map(|&(e, _)| graph.edges[e].min_clearance)
+            .map(|&(e, _)| graph.edge(e).min_clearance)
             .fold(Real::INFINITY, Real::min),
         cost: arena[id].g,
         signature,

@@ -4,7 +4,7 @@
 use homospline_geom::math::Num;
 use homospline_geom::{Bounds, Point, Real};
 use homospline_homotopy::Rays;
-use homospline_optim::{Plan, PlanConfig, PlanError, World, plan_world};
+use homospline_optim::{Plan, PlanConfig, PlanError, PlanGraph, World, plan_world};
 use homospline_voronoi::{BuildError, DistanceField, GraphError, Grid, MapGraph, VoronoiGraph};
 
 use crate::config::*;
@@ -259,7 +259,8 @@ impl PreparedMap {
             &world,
             || {
                 self.graph
-                    .with_endpoints(&self.grid, &self.field, start, goal)
+                    .query(&self.grid, &self.field, start, goal)
+                    .map(PlanGraph::Query)
                     .map_err(BuildError::from)
             },
             &cfg,

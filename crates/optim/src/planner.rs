@@ -51,6 +51,7 @@ pub use config::{
     PlanError, Seed, Setting, check_classes, check_diverse,
 };
 pub use report::{ClassPlan, Plan, Timing};
+pub use seed::PlanGraph;
 pub use via::SEED_MAX_GAP;
 pub use world::{
     ExactCircles, KEEPS_DM_CIRCLES, KEEPS_DM_LENGTH, KEEPS_DM_STATES, World, keeps_dm,
@@ -167,18 +168,21 @@ pub fn plan_with_graph(
     plan_world(
         &world,
         || match graph {
-            Some(g) => Ok(g),
-            None => Ok(homospline_voronoi::build(scene, resolution)?.2),
+            Some(g) => Ok(PlanGraph::Whole(g)),
+            None => Ok(PlanGraph::Whole(
+                homospline_voronoi::build(scene, resolution)?.2,
+            )),
         },
         cfg,
     )
 }
 
 /// Plans in `world`; `graph` gives the Voronoi graph (with start and goal attached) when the
-/// Voronoi seed asks for it.
-pub fn plan_world(
+/// Voronoi seed asks for it: a graph of its own, which the plan keeps ([`Plan::graph`]), or a
+/// query on a prepared map ([`PlanGraph::Query`]), which it does not.
+pub fn plan_world<'g>(
     world: &World<'_>,
-    graph: impl FnOnce() -> Result<VoronoiGraph, BuildError>,
+    graph: impl FnOnce() -> Result<PlanGraph<'g>, BuildError>,
     cfg: &PlanConfig,
 ) -> Result<Plan, PlanError> {
     config::validate(cfg, world.rays.len())?;
@@ -189,7 +193,7 @@ pub fn plan_world(
     let mut timing = Timing::default();
     let pool = pool::build(cfg)?;
     let seeded = seed::seed_classes(world, graph, cfg, pool.as_ref(), &mut timing)?;
-    let graph_cell = seeded.graph.as_ref().map(|g| 1.0 / g.resolution);
+    let graph_cell = seeded.cell;
     let to = Instant::now();
     let seed_signatures = seeded.signatures();
     let (done, optimise_ms) = match seeded.streamed {

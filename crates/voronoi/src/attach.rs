@@ -18,7 +18,7 @@ use std::sync::atomic::{AtomicU32, Ordering};
 
 use crate::crack::CrackGraph;
 use crate::field::DistanceField;
-use crate::graph::{Edge, GraphError, Node, NodeKind, VoronoiGraph};
+use crate::graph::{Adjacency, Edge, GraphError, Node, NodeKind, VoronoiGraph};
 use crate::grid::Grid;
 use crate::simplify::{edge_along, simplify};
 use crate::skeleton::{skeleton_cells, trace};
@@ -30,7 +30,7 @@ pub const WALL_AVERSION: Real = 4.0;
 
 /// Where a cell of the ridge lies on the graph.
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Anchor {
+pub(crate) enum Anchor {
     /// At a node.
     Node(usize),
     /// On segment `seg` of an edge's polyline, at parameter `t`, point `at` (inside the cell).
@@ -48,15 +48,22 @@ enum Anchor {
 pub struct MapGraph {
     /// The complete graph, without start or goal.
     pub graph: VoronoiGraph,
+    /// The links of every node of the complete graph: a query ([`MapGraph::query`]) walks
+    /// them without building its own.
+    pub(crate) adjacency: Adjacency,
+    /// Per edge: on the graph's 2-core, what is left when every dead end is peeled off,
+    /// leaf first, to the last edge. A query's graph is the core and the ways from start
+    /// and goal to it ([`crate::query`]).
+    pub(crate) core: Vec<bool>,
     /// Per grid cell: [`NOT_ON_GRAPH`], a node (`ON_NODE | id`) or the first edge whose
     /// polyline, sampled every quarter cell, lands in the cell (its anchor is that edge's
     /// first sample there, found again when asked: [`MapGraph::anchor_at`]). Four bytes a
     /// cell, where a hash map of anchors took about sixty per indexed cell.
-    index: Vec<u32>,
+    pub(crate) index: Vec<u32>,
     /// Per node, a representative of its connected component: a query whose start and
     /// goal reach different components is refused before the graph is copied (the check
     /// ran over the whole query graph).
-    component: Vec<u32>,
+    pub(crate) component: Vec<u32>,
 }
 
 /// In [`MapGraph`]'s index: no polyline passes through the cell.
@@ -140,15 +147,19 @@ impl MapGraph {
         let component = (0..graph.nodes.len())
             .map(|k| crate::union_find::find_root(&mut parent, k) as u32)
             .collect();
+        let adjacency = graph.adjacency(|_| true);
+        let core = two_core(&graph, &adjacency);
         Self {
             graph,
+            adjacency,
+            core,
             index,
             component,
         }
     }
 
     /// Where cell `c` lies on the graph, if a polyline passes through it.
-    fn anchor_at(&self, grid: &Grid, c: usize) -> Option<Anchor> {
+    pub(crate) fn anchor_at(&self, grid: &Grid, c: usize) -> Option<Anchor> {
         match self.index[c] {
             NOT_ON_GRAPH => None,
             a if a & ON_NODE != 0 => Some(Anchor::Node((a & !ON_NODE) as usize)),
@@ -174,17 +185,7 @@ impl MapGraph {
         start: Point,
         goal: Point,
     ) -> Result<VoronoiGraph, GraphError> {
-        let rs = self.route(grid, field, start, "start")?;
-        let rg = self.route(grid, field, goal, "goal")?;
-        // Start and goal join the complete graph at their anchors, and pruning dead ends
-        // never parts them: they are connected exactly when the anchors are.
-        let node_of = |a: &Anchor| match *a {
-            Anchor::Node(n) => n,
-            Anchor::Edge { edge, .. } => self.graph.edges[edge].from,
-        };
-        if self.component[node_of(&rs.1)] != self.component[node_of(&rg.1)] {
-            return Err(GraphError::DifferentRegions);
-        }
+        let (rs, rg) = self.routes(grid, field, start, goal)?;
         // Room for what the two splits and the two endpoints add (a node and an edge each):
         // a plain clone has none, and its first push would double both arrays, a map-sized
         // allocation held through the whole query.
@@ -229,10 +230,34 @@ impl MapGraph {
         Ok(g)
     }
 
+    /// The routes from start and from goal to the graph ([`MapGraph::route`]); refused when
+    /// they reach different components. Start and goal join the complete graph at their
+    /// anchors, and pruning dead ends never parts them: they are connected exactly when the
+    /// anchors are.
+    #[allow(clippy::type_complexity)]
+    pub(crate) fn routes(
+        &self,
+        grid: &Grid,
+        field: &DistanceField,
+        start: Point,
+        goal: Point,
+    ) -> Result<((Vec<usize>, Anchor), (Vec<usize>, Anchor)), GraphError> {
+        let rs = self.route(grid, field, start, "start")?;
+        let rg = self.route(grid, field, goal, "goal")?;
+        let node_of = |a: &Anchor| match *a {
+            Anchor::Node(n) => n,
+            Anchor::Edge { edge, .. } => self.graph.edges[edge].from,
+        };
+        if self.component[node_of(&rs.1)] != self.component[node_of(&rg.1)] {
+            return Err(GraphError::DifferentRegions);
+        }
+        Ok((rs, rg))
+    }
+
     /// The cheapest route (Dijkstra, 8-connected without corner cutting, steps weighted by
     /// [`WALL_AVERSION`]) from the cell of `p` to a cell of the ridge: its cells and where it
     /// reaches the graph.
-    fn route(
+    pub(crate) fn route(
         &self,
         grid: &Grid,
         field: &DistanceField,
@@ -296,13 +321,27 @@ fn split(g: &mut VoronoiGraph, field: &DistanceField, grid: &Grid, a: Anchor) ->
         return n;
     };
     let n = g.nodes.len();
-    g.nodes.push(Node {
+    g.nodes.push(split_node(grid, field, at, n));
+    let (head, tail) = halves(&g.edges[edge], seg, at, n);
+    g.edges[edge] = head;
+    g.edges.push(tail);
+    n
+}
+
+/// The node `n` that splits an edge at `at`.
+pub(crate) fn split_node(grid: &Grid, field: &DistanceField, at: Point, n: usize) -> Node {
+    Node {
         id: n,
         at: [at.x, at.y],
         clearance: clearance_at(grid, field, &at),
         kind: NodeKind::Junction,
-    });
-    let old = g.edges[edge].clone();
+    }
+}
+
+/// Edge `old` split at `at` on its segment `seg` by node `n`: the head (from `old.from` to
+/// `n`, which takes `old`'s place) and the tail (from `n` to `old.to`, added last). Both keep
+/// `old`'s clearances, lower bounds of their own.
+pub(crate) fn halves(old: &Edge, seg: usize, at: Point, n: usize) -> (Edge, Edge) {
     let q = [at.x, at.y];
     let mut head: Vec<[Real; 2]> = old.polyline[..=seg].to_vec();
     head.push(q);
@@ -313,19 +352,20 @@ fn split(g: &mut VoronoiGraph, field: &DistanceField, grid: &Grid, a: Anchor) ->
             .map(|s| ((s[1][0] - s[0][0]).powi(2) + (s[1][1] - s[0][1]).powi(2)).sqrt())
             .sum()
     };
-    g.edges[edge] = Edge {
-        to: n,
-        length: len(&head),
-        polyline: head.into(),
-        ..old.clone()
-    };
-    g.edges.push(Edge {
-        from: n,
-        length: len(&tail),
-        polyline: tail.into(),
-        ..old
-    });
-    n
+    (
+        Edge {
+            to: n,
+            length: len(&head),
+            polyline: head.into(),
+            ..old.clone()
+        },
+        Edge {
+            from: n,
+            length: len(&tail),
+            polyline: tail.into(),
+            ..old.clone()
+        },
+    )
 }
 
 /// Adds the start or goal node and its connector along `cells` to node `to`; its id.
@@ -338,19 +378,36 @@ fn endpoint(
     to: usize,
     kind: NodeKind,
 ) -> usize {
-    let w = grid.width();
     let id = g.nodes.len();
+    let (node, edge) = endpoint_parts(grid, field, p, cells, (to, g.nodes[to].at), id, kind);
+    g.nodes.push(node);
+    g.edges.push(edge);
+    id
+}
+
+/// The start or goal node `id` (of `kind`, at `p`) and its connector along `cells` to node
+/// `to` (`(id, position)`).
+pub(crate) fn endpoint_parts(
+    grid: &Grid,
+    field: &DistanceField,
+    p: Point,
+    cells: &[usize],
+    to: (usize, [Real; 2]),
+    id: usize,
+    kind: NodeKind,
+) -> (Node, Edge) {
+    let w = grid.width();
     let cl = |c: usize| field.clearance_cells(c % w, c / w) * grid.cell();
-    g.nodes.push(Node {
+    let node = Node {
         id,
         at: [p.x, p.y],
         clearance: cl(cells[0]),
         kind,
-    });
+    };
     // Cell centres, then the anchor's point (inside the last cell); the start or goal itself
     // is outside the simplification, so the first segment stays inside its cell.
     let mut pts: Vec<Point> = cells.iter().map(|&c| grid.center(c % w, c / w)).collect();
-    let target = g.nodes[to].at;
+    let target = to.1;
     pts.push(Point::new(target[0], target[1]));
     let mut poly = vec![p];
     poly.extend(simplify(&pts, grid.cell()));
@@ -359,8 +416,34 @@ fn endpoint(
         poly.push(p);
     }
     let clears: Vec<Real> = cells.iter().map(|&c| cl(c)).collect();
-    g.edges.push(edge_along(id, to, &poly, &clears));
-    id
+    (node, edge_along(id, to.0, &poly, &clears))
+}
+
+/// Per edge of `g`, whether it is on the 2-core: every dead end peeled off, leaf first, to
+/// the last edge (a tree leaves nothing).
+fn two_core(g: &VoronoiGraph, adjacency: &Adjacency) -> Vec<bool> {
+    let mut degree = vec![0u32; g.nodes.len()];
+    for e in &g.edges {
+        degree[e.from] += 1;
+        degree[e.to] += 1;
+    }
+    let mut alive = vec![true; g.edges.len()];
+    let mut queue: Vec<usize> = (0..g.nodes.len()).filter(|&k| degree[k] == 1).collect();
+    while let Some(leaf) = queue.pop() {
+        if degree[leaf] != 1 {
+            continue;
+        }
+        let Some((other, e, _)) = adjacency.of(leaf).find(|l| alive[l.1]) else {
+            continue;
+        };
+        alive[e] = false;
+        degree[leaf] = 0;
+        degree[other] -= 1;
+        if degree[other] == 1 {
+            queue.push(other);
+        }
+    }
+    alive
 }
 
 /// The complete graph with start and goal attached, built from scratch (for one query; use
@@ -399,7 +482,7 @@ fn free_cell(grid: &Grid, p: Point, what: &'static str) -> Result<(usize, usize)
 }
 
 /// The clearance of the cell holding `p` in map units (0 outside the grid).
-fn clearance_at(grid: &Grid, field: &DistanceField, p: &Point) -> Real {
+pub(crate) fn clearance_at(grid: &Grid, field: &DistanceField, p: &Point) -> Real {
     grid.cell_of(p)
         .map_or(0.0, |(i, j)| field.clearance_cells(i, j) * grid.cell())
 }

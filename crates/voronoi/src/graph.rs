@@ -190,13 +190,34 @@ pub struct Adjacency {
     links: Vec<(u32, u32)>,
 }
 
+/// A node's links in an [`Adjacency`] ([`Adjacency::of`]): `(other end, edge, walked from
+/// -> to)`.
+#[derive(Clone, Debug)]
+pub struct AdjacencyLinks<'a>(std::slice::Iter<'a, (u32, u32)>);
+
+impl Iterator for AdjacencyLinks<'_> {
+    type Item = (usize, usize, bool);
+
+    #[inline]
+    fn next(&mut self) -> Option<Self::Item> {
+        self.0
+            .next()
+            .map(|&(m, e)| (m as usize, (e >> 1) as usize, e & 1 == 1))
+    }
+
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        self.0.size_hint()
+    }
+}
+
+impl ExactSizeIterator for AdjacencyLinks<'_> {}
+
 impl Adjacency {
     /// Node `k`'s links, `(other end, edge, walked from -> to)`.
-    pub fn of(&self, k: usize) -> impl ExactSizeIterator<Item = (usize, usize, bool)> + '_ {
+    #[inline]
+    pub fn of(&self, k: usize) -> AdjacencyLinks<'_> {
         let (a, b) = (self.first[k] as usize, self.first[k + 1] as usize);
-        self.links[a..b]
-            .iter()
-            .map(|&(m, e)| (m as usize, (e >> 1) as usize, e & 1 == 1))
+        AdjacencyLinks(self.links[a..b].iter())
     }
 }
 

@@ -22,6 +22,8 @@
 //! - [`attach`]: start and goal joined to a graph: [`MapGraph`], a complete graph prepared
 //!   once, joined along maximum-clearance routes for each query; and the crack graph's
 //!   breadth-first joins.
+//! - [`query`]: [`QueryGraph`], one query on a prepared map's complete graph without copying
+//!   it: the 2-core prepared once, and what the query adds.
 //! - `union_find` (private): the union-find root shared by the field, the regions and the
 //!   graph.
 //!
@@ -36,6 +38,7 @@ pub mod field;
 pub mod graph;
 pub mod grid;
 mod prune;
+pub mod query;
 mod regions;
 mod simplify;
 pub mod skeleton;
@@ -45,9 +48,11 @@ mod union_find;
 pub use attach::{MapGraph, build_complete, complete_graph};
 pub use field::{DistanceField, UpdateError};
 pub use graph::{
-    Adjacency, BuiltFor, Edge, GraphError, GridObstacle, Node, NodeKind, VoronoiGraph,
+    Adjacency, AdjacencyLinks, BuiltFor, Edge, GraphError, GridObstacle, Node, NodeKind,
+    VoronoiGraph,
 };
 pub use grid::{Grid, GridError};
+pub use query::QueryGraph;
 
 use homospline_geom::{Real, Scene};
 use thiserror::Error;

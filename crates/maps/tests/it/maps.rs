@@ -579,3 +579,61 @@ fn maps_beyond_4096_squared_are_refused_before_allocation() {
     assert!(homospline_maps::check_map_size("m", 4096, 4097).is_err());
     assert!(homospline_maps::check_map_size("m", usize::MAX, 2).is_err());
 }
+
+/// The class search on a query of a prepared map (no copy of its graph) finds the same
+/// classes, in the same order, as on the query's graph copied and pruned
+/// (`MapGraph::with_endpoints`): the same paths, costs and signatures. Scenario pairs from
+/// every bucket of each map's file, and a blocked region (a mission's closed passage).
+#[test]
+fn a_query_without_a_copy_searches_as_the_copied_graph() {
+    use homospline_homotopy::{k_best_classes, k_best_classes_on};
+    let cfg = PlanConfig::maps();
+    for (name, scen) in [
+        ("room-32-32-4", "room-32-32-4-random-1.scen"),
+        ("maze-32-32-2", "maze-32-32-2-random-1.scen"),
+        ("random-32-32-10", "random-32-32-10-random-1.scen"),
+        ("Boston_0_256", "Boston_0_256.map.scen"),
+    ] {
+        let map = movingai_map(name);
+        let prepared = homospline_maps::PreparedMap::new(&map).unwrap();
+        let path = fixture(&format!("movingai/{scen}"));
+        let all = movingai::read_scen(&std::fs::read_to_string(&path).unwrap(), &path).unwrap();
+        let step = (all.len() / 12).max(1);
+        let mut compared = 0;
+        for (i, s) in all.iter().step_by(step).enumerate() {
+            let (g, q) = (
+                prepared.query_graph(s.start, s.goal),
+                prepared
+                    .graph
+                    .query(&prepared.grid, &prepared.field, s.start, s.goal),
+            );
+            let (Ok(g), Ok(q)) = (g, q) else {
+                panic!("{name} #{i}: a query where the other way has none");
+            };
+            let mut search = cfg.search.clone();
+            search.k = 5;
+            if i % 3 == 2 {
+                // A disc on the first class's way, as a mission closes a blocked passage.
+                let first = k_best_classes(&g, &prepared.rays, &search).unwrap();
+                let poly = &first.classes[0].polyline;
+                search.blocked_regions = vec![(poly[poly.len() / 2], 1.5)];
+            }
+            let a = k_best_classes(&g, &prepared.rays, &search).unwrap();
+            let b = k_best_classes_on(&q, &prepared.rays, &search).unwrap();
+            let key = |r: &homospline_homotopy::SearchResult| {
+                r.classes
+                    .iter()
+                    .map(|c| (c.polyline.clone(), c.cost, c.signature.clone()))
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(key(&a), key(&b), "{name} #{i}");
+            assert_eq!(
+                (a.complete, a.expansions),
+                (b.complete, b.expansions),
+                "{name} #{i}"
+            );
+            compared += 1;
+        }
+        assert!(compared >= 10, "{name}: {compared} scenarios");
+    }
+}

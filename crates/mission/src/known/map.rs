@@ -6,7 +6,7 @@ use std::time::Instant;
 use homospline_geom::{Point, Real};
 use homospline_homotopy::Rays;
 use homospline_maps::{GridModel, MapError, OccupancyMap, rays_of};
-use homospline_optim::{Plan, PlanConfig, World, plan_world};
+use homospline_optim::{Plan, PlanConfig, PlanGraph, World, plan_world};
 use homospline_spline::ClearanceModel;
 use homospline_voronoi::{BuildError, DistanceField, Grid, MapGraph};
 
@@ -292,7 +292,8 @@ impl MapKnown<'_> {
                 &world,
                 || {
                     graph
-                        .with_endpoints(&self.grid, &self.field, from, self.world.goal)
+                        .query(&self.grid, &self.field, from, self.world.goal)
+                        .map(PlanGraph::Query)
                         .map_err(BuildError::from)
                 },
                 cfg,

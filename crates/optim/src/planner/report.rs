@@ -104,7 +104,10 @@ pub struct Plan {
     pub pareto: Vec<usize>,
     /// Stage timings.
     pub timing: Timing,
-    /// The graph (Voronoi seeds).
+    /// The graph the classes were searched on (Voronoi seeds on a graph of its own, a
+    /// scene's); `None` on a prepared map, whose query is not copied out of the map's graph
+    /// (its graph: `PreparedMap::graph`, or a query's as a graph of its own:
+    /// [`homospline_voronoi::QueryGraph::to_graph`]).
     pub graph: Option<VoronoiGraph>,
 }
 

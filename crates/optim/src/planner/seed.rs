@@ -9,10 +9,10 @@ use std::time::Instant;
 use homospline_geom::{Point, Real};
 use homospline_homotopy::{
     ClassPath, Rays, SearchConfig, SearchError, SearchResult, Signature, k_best_classes,
-    k_best_classes_each,
+    k_best_classes_each, k_best_classes_each_on, k_best_classes_on,
 };
 use homospline_spline::ClearanceModel;
-use homospline_voronoi::{BuildError, VoronoiGraph};
+use homospline_voronoi::{BuildError, QueryGraph, VoronoiGraph};
 
 use super::class::start_class;
 use super::clearance::{clear_at_least, clearances_of};
@@ -30,8 +30,10 @@ pub(super) type SeedPath = (Vec<Point>, Option<Signature>, Real);
 pub(super) struct Seeds {
     /// Seeds: (seed polyline, class signature, graph cost).
     pub seeds: Vec<SeedPath>,
-    /// The graph (Voronoi seeds).
+    /// The graph (Voronoi seeds on a graph of its own; not a prepared map's query).
     pub graph: Option<VoronoiGraph>,
+    /// The graph's cell (Voronoi seeds).
+    pub cell: Option<Real>,
     /// The seeds are class paths still to be made into seeds ([`class_seed`]), on the
     /// graph's cell.
     pub raw: Option<Real>,
@@ -52,11 +54,61 @@ impl Seeds {
     }
 }
 
+/// The graph a plan searches: a graph of its own (a scene's, or a saved one), or one query on
+/// a prepared map's complete graph (no copy of it).
+pub enum PlanGraph<'g> {
+    /// A graph of its own, start and goal attached; the plan keeps it ([`Plan::graph`]).
+    ///
+    /// [`Plan::graph`]: super::Plan::graph
+    Whole(VoronoiGraph),
+    /// A query on a prepared map ([`homospline_voronoi::MapGraph::query`]).
+    Query(QueryGraph<'g>),
+}
+
+impl PlanGraph<'_> {
+    /// Cells per map unit.
+    fn resolution(&self) -> Real {
+        match self {
+            PlanGraph::Whole(g) => g.resolution,
+            PlanGraph::Query(q) => q.resolution(),
+        }
+    }
+
+    /// Edge `e`'s length.
+    fn edge_length(&self, e: usize) -> Real {
+        match self {
+            PlanGraph::Whole(g) => g.edges[e].length,
+            PlanGraph::Query(q) => q.edge(e).length,
+        }
+    }
+
+    /// The k best classes ([`k_best_classes`]).
+    fn classes(&self, rays: &Rays, search: &SearchConfig) -> Result<SearchResult, SearchError> {
+        match self {
+            PlanGraph::Whole(g) => k_best_classes(g, rays, search),
+            PlanGraph::Query(q) => k_best_classes_on(q, rays, search),
+        }
+    }
+
+    /// The k best classes, each handed to `found` as soon as it is found.
+    fn classes_each(
+        &self,
+        rays: &Rays,
+        search: &SearchConfig,
+        found: impl FnMut(&ClassPath),
+    ) -> Result<SearchResult, SearchError> {
+        match self {
+            PlanGraph::Whole(g) => k_best_classes_each(g, rays, search, found),
+            PlanGraph::Query(q) => k_best_classes_each_on(q, rays, search, found),
+        }
+    }
+}
+
 /// The seeds `cfg.seed` asks for; `graph` gives the Voronoi graph. The Voronoi stage's and
 /// the class search's times go to `timing`.
-pub(super) fn seed_classes(
+pub(super) fn seed_classes<'g>(
     world: &World<'_>,
-    graph: impl FnOnce() -> Result<VoronoiGraph, BuildError>,
+    graph: impl FnOnce() -> Result<PlanGraph<'g>, BuildError>,
     cfg: &PlanConfig,
     pool: Option<&rayon::ThreadPool>,
     timing: &mut Timing,
@@ -68,6 +120,7 @@ pub(super) fn seed_classes(
             Ok(Seeds {
                 seeds: vec![(vec![world.start, mid, world.goal], None, 0.0)],
                 graph: None,
+                cell: None,
                 raw: None,
                 edges: Vec::new(),
                 streamed: None,
@@ -86,13 +139,13 @@ pub(super) fn seed_classes(
 /// ([`select`]), and made into seeds; on a map, optimised as the search finds them.
 fn voronoi_seeds(
     world: &World<'_>,
-    graph: VoronoiGraph,
+    graph: PlanGraph<'_>,
     cfg: &PlanConfig,
     pool: Option<&rayon::ThreadPool>,
     timing: &mut Timing,
 ) -> Result<Seeds, PlanError> {
     let tc = Instant::now();
-    let cell = 1.0 / graph.resolution;
+    let cell = 1.0 / graph.resolution();
     let (search, min_clearance) = search_config(world, cfg, cell);
     let (result, streamed) = match cfg.diverse {
         // On a map, without the limited-overlap selection, the classes to optimise are the
@@ -130,7 +183,11 @@ fn voronoi_seeds(
     };
     Ok(Seeds {
         seeds,
-        graph: Some(graph),
+        graph: match graph {
+            PlanGraph::Whole(g) => Some(g),
+            PlanGraph::Query(_) => None,
+        },
+        cell: Some(cell),
         raw,
         edges,
         streamed,
@@ -170,19 +227,19 @@ fn taken(cfg: &PlanConfig, c: &ClassPath) -> bool {
 /// has driven into a tight spot), those ways are offered after all: the certification of
 /// each curve decides whether it is clear.
 fn search_classes(
-    graph: &VoronoiGraph,
+    graph: &PlanGraph<'_>,
     rays: &Rays,
     search: &SearchConfig,
     min_clearance: Real,
     cfg: &PlanConfig,
 ) -> Result<SearchResult, SearchError> {
-    k_best_classes(graph, rays, search).and_then(|r| {
+    graph.classes(rays, search).and_then(|r| {
         if r.classes.is_empty() && min_clearance > cfg.search.min_clearance {
             let below = SearchConfig {
                 min_clearance: cfg.search.min_clearance,
                 ..search.clone()
             };
-            k_best_classes(graph, rays, &below)
+            graph.classes(rays, &below)
         } else {
             Ok(r)
         }
@@ -198,7 +255,7 @@ fn stream_classes(
     world: &World<'_>,
     cfg: &PlanConfig,
     pool: Option<&rayon::ThreadPool>,
-    graph: &VoronoiGraph,
+    graph: &PlanGraph<'_>,
     search: &SearchConfig,
     cell: Real,
 ) -> (
@@ -211,7 +268,7 @@ fn stream_classes(
     let (r, made, end) = in_pool(pool, || {
         rayon::scope(|s| {
             let mut made = Vec::new();
-            let r = k_best_classes_each(graph, &world.rays, search, |c| {
+            let r = graph.classes_each(&world.rays, search, |c| {
                 if made.len() >= cfg.classes || !taken(cfg, c) {
                     return;
                 }
@@ -255,7 +312,7 @@ fn made_seed(world: &World<'_>, cell: Real, c: &ClassPath) -> SeedPath {
 /// first `cfg.classes`.
 fn select<'f>(
     found: &'f [ClassPath],
-    graph: &VoronoiGraph,
+    graph: &PlanGraph<'_>,
     cfg: &PlanConfig,
 ) -> (Vec<&'f ClassPath>, Vec<EdgeLengths>) {
     let edge_lengths: Vec<EdgeLengths> = found
@@ -263,7 +320,7 @@ fn select<'f>(
         .map(|c| {
             c.edges
                 .iter()
-                .map(|&(e, _)| (e, graph.edges[e].length))
+                .map(|&(e, _)| (e, graph.edge_length(e)))
                 .collect()
         })
         .collect();

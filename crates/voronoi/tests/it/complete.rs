@@ -215,6 +215,16 @@ fn check(grid: &Grid, picks: &[(u64, u64)]) -> Result<(), TestCaseError> {
                 prop_assert!(g.connected(g.start.unwrap(), g.goal.unwrap()));
                 prop_assert_eq!(g.cycle_rank(), holes, "(b) on the query graph");
                 polylines_in_free_space(grid, &g).map_err(TestCaseError::fail)?;
+                // The query without a copy is the same graph where the search walks it (the
+                // start's component), numbered in the same order.
+                let q = prepared
+                    .query(grid, &field, ps, pt)
+                    .map_err(|e| TestCaseError::fail(e.to_string()))?;
+                prop_assert_eq!(
+                    start_component(&q.to_graph()),
+                    start_component(&g),
+                    "(c) the query graph"
+                );
             }
             Err(GraphError::DifferentRegions) => {
                 prop_assert_ne!(
@@ -227,6 +237,54 @@ fn check(grid: &Grid, picks: &[(u64, u64)]) -> Result<(), TestCaseError> {
         }
     }
     Ok(())
+}
+
+/// The part of `g` joined to its start, renumbered in order.
+fn start_component(g: &VoronoiGraph) -> VoronoiGraph {
+    let start = g.start.unwrap();
+    let mut parent: Vec<usize> = (0..g.nodes.len()).collect();
+    fn root(p: &mut [usize], mut k: usize) -> usize {
+        while p[k] != k {
+            p[k] = p[p[k]];
+            k = p[k];
+        }
+        k
+    }
+    for e in &g.edges {
+        let (a, b) = (root(&mut parent, e.from), root(&mut parent, e.to));
+        parent[a] = b;
+    }
+    let r = root(&mut parent, start);
+    let keep: Vec<bool> = (0..g.nodes.len())
+        .map(|k| root(&mut parent, k) == r)
+        .collect();
+    let mut map = vec![usize::MAX; g.nodes.len()];
+    let mut nodes = Vec::new();
+    for (k, n) in g.nodes.iter().enumerate() {
+        if keep[k] {
+            map[k] = nodes.len();
+            nodes.push(homospline_voronoi::Node {
+                id: nodes.len(),
+                ..n.clone()
+            });
+        }
+    }
+    VoronoiGraph {
+        nodes,
+        edges: g
+            .edges
+            .iter()
+            .filter(|e| keep[e.from])
+            .map(|e| homospline_voronoi::Edge {
+                from: map[e.from],
+                to: map[e.to],
+                ..e.clone()
+            })
+            .collect(),
+        start: Some(map[start]),
+        goal: g.goal.map(|k| map[k]),
+        ..g.clone()
+    }
 }
 
 proptest! {
