@@ -9,11 +9,12 @@
 //! expansions bounds pathological graphs, and the result says whether it was reached.
 
 use std::cmp::{Ordering, Reverse};
-use std::collections::{BinaryHeap, HashMap, HashSet};
+use std::collections::{BinaryHeap, HashSet};
 
 use homospline_geom::{Point, Real};
 use homospline_voronoi::{Adjacency, Edge, QueryGraph, VoronoiGraph};
-use rustc_hash::FxHashMap;
+use rayon::prelude::*;
+use rustc_hash::{FxHashMap, FxHashSet};
 use thiserror::Error;
 
 use crate::signature::{Rays, Signature};
@@ -145,6 +146,8 @@ impl Ord for Entry {
 
 struct Partial {
     parent: usize,
+    /// Edges from the start.
+    depth: usize,
     node: usize,
     edge: (usize, bool),
     g: Real,
@@ -164,7 +167,7 @@ struct Words {
     /// `(parent, letter)` of each word; word 0 is the empty word.
     nodes: Vec<(WordId, i32)>,
     /// The word `parent` followed by `letter`, for each `(parent, letter)` made so far.
-    children: HashMap<(WordId, i32), WordId>,
+    children: FxHashMap<(WordId, i32), WordId>,
 }
 
 impl Words {
@@ -172,7 +175,7 @@ impl Words {
     fn new() -> Self {
         Self {
             nodes: vec![(EMPTY_WORD, 0)],
-            children: HashMap::new(),
+            children: FxHashMap::default(),
         }
     }
 
@@ -350,7 +353,7 @@ pub fn k_best_classes_each(
         adjacency: graph.adjacency(|i| allowed[i]),
         cost: graph.edges.iter().map(|e| edge_cost(e, cfg.cost)).collect(),
     };
-    Ok(search_walk(&walk, rays, cfg, start, goal, found))
+    Ok(search_walk(&walk, rays, cfg, start, goal, found, false))
 }
 
 /// [`k_best_classes`] on one query of a prepared map ([`QueryGraph`]): the same classes as
@@ -373,33 +376,46 @@ pub fn k_best_classes_each_on(
 ) -> Result<SearchResult, SearchError> {
     check_config(cfg)?;
     let (start, goal) = (graph.start(), graph.goal());
-    let allowed = allowed_edges(
-        (0..graph.edge_count()).map(|e| graph.edge(e)),
-        cfg,
-        start,
-        goal,
-    );
+    let blocked: FxHashSet<usize> = cfg.blocked_edges.iter().copied().collect();
     let cost = (0..graph.edge_count())
-        .map(|e| match allowed[e] && graph.in_query(e) {
-            true => edge_cost(graph.edge(e), cfg.cost),
-            false => Real::INFINITY,
+        .into_par_iter()
+        .with_min_len(1 << 14)
+        .map(|e| {
+            let edge = graph.edge(e);
+            let connector = [edge.from, edge.to]
+                .iter()
+                .any(|&x| x == start || x == goal);
+            let open = graph.in_query(e)
+                && !blocked.contains(&e)
+                && (connector || edge.min_clearance >= cfg.min_clearance)
+                && !enters_blocked_region(edge, &cfg.blocked_regions);
+            if open {
+                edge_cost(edge, cfg.cost)
+            } else {
+                Real::INFINITY
+            }
         })
         .collect();
     let walk = Query { graph, cost };
-    Ok(search_walk(&walk, rays, cfg, start, goal, found))
+    Ok(search_walk(&walk, rays, cfg, start, goal, found, true))
 }
 
-/// The search on `walk` from `start` to `goal`.
-fn search_walk<W: Walk>(
+/// The search on `walk` from `start` to `goal`; `prefetch`: the words of the edges at the
+/// shortest path's nodes are computed first, in parallel ([`shortest_path_words`]).
+fn search_walk<W: Walk + Sync>(
     walk: &W,
     rays: &Rays,
     cfg: &SearchConfig,
     start: usize,
     goal: usize,
     found: impl FnMut(&ClassPath),
+    prefetch: bool,
 ) -> SearchResult {
     let h = distances_to(goal, walk);
-    let frontier = Frontier::new(walk, rays, &h, start);
+    let mut frontier = Frontier::new(walk, rays, &h, start);
+    if prefetch {
+        frontier.words = shortest_path_words(walk, rays, &h, start, goal);
+    }
     frontier.search(cfg, goal, found)
 }
 
@@ -480,11 +496,13 @@ fn edge_cost(e: &Edge, cost: EdgeCost) -> Real {
 fn distances_to<W: Walk>(goal: usize, walk: &W) -> Vec<Real> {
     let mut h = vec![Real::INFINITY; walk.node_count()];
     h[goal] = 0.0;
-    // Entries (distance's bits, node): non-negative floats order as their bits; ties go to
-    // the lower node, as the search's entries would order them.
-    let mut heap = BinaryHeap::new();
-    heap.push(Reverse((0u64, goal)));
-    while let Some(Reverse((bits, id))) = heap.pop() {
+    // A radix heap over the distances' bits (non-negative floats order as their bits, and
+    // Dijkstra's keys never fall below the last taken): about half the time of a binary heap
+    // over a map's millions of nodes. The order in which equal keys leave does not change
+    // any distance.
+    let mut heap = radix_heap::RadixHeapMap::new();
+    heap.push(Reverse(0u64), goal);
+    while let Some((Reverse(bits), id)) = heap.pop() {
         let f = Real::from_bits(bits);
         if f > h[id] {
             continue;
@@ -493,11 +511,48 @@ fn distances_to<W: Walk>(goal: usize, walk: &W) -> Vec<Real> {
             let d = f + walk.cost(e);
             if d < h[m] {
                 h[m] = d;
-                heap.push(Reverse((d.to_bits(), m)));
+                heap.push(Reverse(d.to_bits()), m);
             }
         });
     }
     h
+}
+
+/// The words of every edge at a node of the shortest path from `start` to `goal` (each
+/// step to the neighbour that `h` says is on it), computed in parallel: the search walks
+/// every one of them before it has the first class, one at a time, and on a map's graph an
+/// edge's word (tens to hundreds of crossings) is most of an expansion. The words are the
+/// same whoever computes them, so the search is too.
+fn shortest_path_words<W: Walk + Sync>(
+    walk: &W,
+    rays: &Rays,
+    h: &[Real],
+    start: usize,
+    goal: usize,
+) -> FxHashMap<usize, Signature> {
+    let mut edges = Vec::new();
+    let mut on_path = FxHashSet::default();
+    let mut k = start;
+    while h[k].is_finite() && on_path.insert(k) {
+        let mut next: Option<(Real, usize)> = None;
+        walk.for_each_link(k, |m, e, _| {
+            edges.push(e);
+            let f = walk.cost(e) + h[m];
+            if !on_path.contains(&m) && next.is_none_or(|(b, _)| f < b) {
+                next = Some((f, m));
+            }
+        });
+        match next {
+            Some((_, m)) if k != goal => k = m,
+            _ => break,
+        }
+    }
+    edges.sort_unstable();
+    edges.dedup();
+    edges
+        .into_par_iter()
+        .map(|e| (e, rays.signature(&edge_polyline(walk, e, true))))
+        .collect()
 }
 
 /// The best-first search over partial paths: every partial path made so far (each with its
@@ -528,6 +583,7 @@ impl<'a, W: Walk> Frontier<'a, W> {
     fn new(walk: &'a W, rays: &'a Rays, h: &'a [Real], start: usize) -> Self {
         let arena = vec![Partial {
             parent: usize::MAX,
+            depth: 0,
             node: start,
             edge: (usize::MAX, true),
             g: 0.0,
@@ -576,13 +632,14 @@ impl<'a, W: Walk> Frontier<'a, W> {
         goal: usize,
         mut found: impl FnMut(&ClassPath),
     ) -> SearchResult {
-        let mut seen: HashSet<WordId> = HashSet::new();
-        let mut expanded: HashSet<(usize, WordId)> = HashSet::new();
+        let mut seen: FxHashSet<WordId> = FxHashSet::default();
+        let mut expanded: FxHashSet<(usize, WordId)> = FxHashSet::default();
         let mut classes = Vec::new();
         let mut expansions = 0;
         let mut complete = true;
-        // The expansion that last stamped each node as on its partial path (0: none yet).
-        let mut on_path = vec![0usize; self.walk.node_count()];
+        // The nodes on the partial path last expanded, marked (`marked` is that path).
+        let mut on_path = vec![false; self.walk.node_count()];
+        let mut marked = usize::MAX;
         while let Some(Entry { id, .. }) = self.queue.pop() {
             if classes.len() >= cfg.k {
                 break;
@@ -607,8 +664,9 @@ impl<'a, W: Walk> Frontier<'a, W> {
                 }
                 continue;
             }
-            self.stamp_path(id, &mut on_path, expansions);
-            self.expand(id, &on_path, expansions);
+            self.mark_path(marked, id, &mut on_path);
+            marked = id;
+            self.expand(id, &on_path);
         }
         SearchResult {
             classes,
@@ -617,22 +675,42 @@ impl<'a, W: Walk> Frontier<'a, W> {
         }
     }
 
-    /// Stamps the nodes on partial path `id` with `stamp` in `on_path` (for simplicity: an
-    /// array write per node, where a hash set cost most of an expansion on deep paths).
-    fn stamp_path(&self, id: usize, on_path: &mut [usize], stamp: usize) {
-        let mut p = id;
-        while p != usize::MAX {
-            on_path[self.arena[p].node] = stamp;
-            p = self.arena[p].parent;
+    /// Moves the marks in `on_path` from the nodes of partial path `from` (none:
+    /// `usize::MAX`) to those of partial path `to`, through the two paths' common prefix:
+    /// unmarks `from`'s nodes below it, marks `to`'s. Best first, the next path to expand is
+    /// most often the last one's child, so this is a step or two, where marking the whole
+    /// path at every expansion walked thousands of nodes on a map's long paths. Each path
+    /// is simple, so a node is on it at most once.
+    fn mark_path(&self, from: usize, to: usize, on_path: &mut [bool]) {
+        let depth = |p: usize| {
+            if p == usize::MAX {
+                0
+            } else {
+                self.arena[p].depth + 1
+            }
+        };
+        let (mut a, mut b) = (from, to);
+        let mut marks = Vec::new();
+        while a != b {
+            if depth(a) >= depth(b) {
+                on_path[self.arena[a].node] = false;
+                a = self.arena[a].parent;
+            } else {
+                marks.push(self.arena[b].node);
+                b = self.arena[b].parent;
+            }
+        }
+        for k in marks {
+            on_path[k] = true;
         }
     }
 
-    /// Queues partial path `id` extended by each allowed edge to a node not stamped `stamp`
-    /// (off the path) from which the goal can be reached.
-    fn expand(&mut self, id: usize, on_path: &[usize], stamp: usize) {
+    /// Queues partial path `id` extended by each allowed edge to a node not marked in
+    /// `on_path` (off the path) from which the goal can be reached.
+    fn expand(&mut self, id: usize, on_path: &[bool]) {
         let (walk, rays) = (self.walk, self.rays);
         walk.for_each_link(self.arena[id].node, |m, e, fwd| {
-            if on_path[m] == stamp || !self.h[m].is_finite() {
+            if on_path[m] || !self.h[m].is_finite() {
                 return;
             }
             let g = self.arena[id].g + walk.cost(e);
@@ -643,6 +721,7 @@ impl<'a, W: Walk> Frontier<'a, W> {
             let word = self.path_words.concat(self.arena[id].word, edge_word, fwd);
             self.arena.push(Partial {
                 parent: id,
+                depth: self.arena[id].depth + 1,
                 node: m,
                 edge: (e, fwd),
                 g,

@@ -21,9 +21,11 @@ use multiversion::multiversion;
 pub struct Rays {
     origins: Vec<Point>,
     dir: Vector,
-    /// `(q, i)` sorted, `q = dir x origin_i`: a segment can only cross the rays whose `q`
-    /// lies between its ends' (see [`Rays::cross_segment`]).
-    by_q: Vec<(Real, usize)>,
+    /// `(q, i, origin_i)` sorted, `q = dir x origin_i`: a segment can only cross the rays
+    /// whose `q` lies between its ends' (see [`Rays::cross_segment`]). The origin is copied
+    /// in, so that a segment's candidates are read in one sweep of memory (on a map of
+    /// hundreds of thousands of obstacles, reading each from `origins` missed the cache).
+    by_q: Vec<(Real, usize, Point)>,
     /// Largest coordinate magnitude of the origins, for the candidate margin.
     scale: Real,
     /// The origins bucketed on a uniform grid, for box queries ([`Rays::sweep_is_clear`]).
@@ -210,10 +212,11 @@ impl Rays {
             });
             if !collinear || angle > 1.7 {
                 let buckets = Buckets::new(&origins);
+                let by_q = qs.iter().map(|&(q, i)| (q, i, origins[i])).collect();
                 return Self {
                     origins,
                     dir,
-                    by_q: qs,
+                    by_q,
                     scale,
                     buckets,
                 };
@@ -255,10 +258,11 @@ impl Rays {
         &self.origins
     }
 
-    /// Side of `p` with respect to ray `i`'s line: `true` on the left (or on the line).
+    /// Side of `p` with respect to the line along the rays' direction through `o` (ray `i`'s
+    /// line when `o` is its origin): `true` on the left (or on the line).
     #[inline]
-    fn left(&self, i: usize, p: &Point) -> bool {
-        let v = p - self.origins[i];
+    fn left_of(&self, o: &Point, p: &Point) -> bool {
+        let v = p - o;
         self.dir.x * v.y - self.dir.y * v.x >= 0.0
     }
 
@@ -268,7 +272,19 @@ impl Rays {
     /// is not on the ray.
     #[inline]
     fn crossing(&self, i: usize, a: &Point, b: &Point, lb: bool) -> Option<(Real, i32)> {
-        let o = self.origins[i];
+        self.crossing_of(i, self.origins[i], a, b, lb)
+    }
+
+    /// [`Rays::crossing`] with ray `i`'s origin `o` given.
+    #[inline]
+    fn crossing_of(
+        &self,
+        i: usize,
+        o: Point,
+        a: &Point,
+        b: &Point,
+        lb: bool,
+    ) -> Option<(Real, i32)> {
         let (da, db) = (self.dir.perp(&(a - o)), self.dir.perp(&(b - o)));
         let t = da / (da - db);
         let x = a + (b - a) * t;
@@ -324,22 +340,22 @@ impl Rays {
                 if settled {
                     c
                 } else {
-                    self.by_q.partition_point(|&(q, _)| q < lo)
+                    self.by_q.partition_point(|&(q, ..)| q < lo)
                 }
             }
-            None => self.by_q.partition_point(|&(q, _)| q < lo),
+            None => self.by_q.partition_point(|&(q, ..)| q < lo),
         };
         *cursor = Some(first);
         let mut hits: Vec<(Real, i32)> = Vec::new();
-        for &(q, i) in &self.by_q[first..] {
+        for &(q, i, o) in &self.by_q[first..] {
             if q > hi {
                 break;
             }
-            let (la, lb) = (self.left(i, a), self.left(i, b));
+            let (la, lb) = (self.left_of(&o, a), self.left_of(&o, b));
             if la == lb {
                 continue;
             }
-            hits.extend(self.crossing(i, a, b, lb));
+            hits.extend(self.crossing_of(i, o, a, b, lb));
         }
         hits.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
         for (_, l) in hits {
