@@ -340,6 +340,22 @@ impl GridModel {
         dx * dx + dy * dy
     }
 
+    /// The field at each of `pts`, one after the other ([`ClearanceModel::field_batch`]).
+    fn field_serial(&self, pts: &[Point], alpha: Real, out: &mut [FieldSample]) {
+        for (p, o) in pts.iter().zip(out.iter_mut()) {
+            let (d, g) = self.exact_with_gradient(p);
+            let d = d - self.offset;
+            // U = 1 + tanh(-alpha d) = 2 / (1 + exp(2 alpha d)); dU/dd = -alpha U (2 - U).
+            let u = 2.0 / (1.0 + exp_fast(2.0 * alpha * d));
+            *o = FieldSample {
+                potential: u,
+                potential_grad: g * (-alpha * u * (2.0 - u)),
+                clearance: d,
+                clearance_grad: g,
+            };
+        }
+    }
+
     /// [`GridModel::exact`] by Chebyshev rings around cell `(ci, cj)` from the nearest out,
     /// starting from the upper bound `best`: the reference the annulus search is tested on,
     /// and the answer on a grid without occupied cells.
@@ -375,6 +391,10 @@ impl GridModel {
     }
 }
 
+/// From this many samples on, [`GridModel`]'s field is evaluated in parallel (half as many
+/// to a job): a curve across a 4096 x 4096 map has tens of thousands.
+const PARALLEL_SAMPLES: usize = 4096;
+
 impl ClearanceModel for GridModel {
     fn clearance(&self, p: &Point) -> (Real, Vector) {
         let (d, g) = self.exact_with_gradient(p);
@@ -382,17 +402,15 @@ impl ClearanceModel for GridModel {
     }
 
     fn field_batch(&self, pts: &[Point], alpha: Real, _allowance: Real, out: &mut [FieldSample]) {
-        for (p, o) in pts.iter().zip(out.iter_mut()) {
-            let (d, g) = self.exact_with_gradient(p);
-            let d = d - self.offset;
-            // U = 1 + tanh(-alpha d) = 2 / (1 + exp(2 alpha d)); dU/dd = -alpha U (2 - U).
-            let u = 2.0 / (1.0 + exp_fast(2.0 * alpha * d));
-            *o = FieldSample {
-                potential: u,
-                potential_grad: g * (-alpha * u * (2.0 - u)),
-                clearance: d,
-                clearance_grad: g,
-            };
+        // A long curve's samples (a route across a large map) in parallel: each sample's
+        // value is its own, so the result is the same on any number of threads.
+        if pts.len() >= PARALLEL_SAMPLES {
+            use rayon::prelude::*;
+            pts.par_chunks(PARALLEL_SAMPLES / 2)
+                .zip(out.par_chunks_mut(PARALLEL_SAMPLES / 2))
+                .for_each(|(p, o)| self.field_serial(p, alpha, o));
+        } else {
+            self.field_serial(pts, alpha, out);
         }
     }
 

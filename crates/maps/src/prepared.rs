@@ -250,7 +250,7 @@ impl PreparedMap {
             start,
             goal,
             model: &self.model,
-            rays: self.rays.clone(),
+            rays: std::borrow::Cow::Borrowed(&self.rays),
             grid_is_exact: true,
             circles: None,
         };

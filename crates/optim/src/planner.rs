@@ -160,7 +160,7 @@ pub fn plan_with_graph(
         start: scene.start,
         goal: scene.goal,
         model: &model,
-        rays: Rays::for_scene(scene),
+        rays: std::borrow::Cow::Owned(Rays::for_scene(scene)),
         grid_is_exact: false,
         circles: Some(&circles),
     };

@@ -284,7 +284,7 @@ impl MapKnown<'_> {
                 start: from,
                 goal: self.world.goal,
                 model: &self.model,
-                rays: rays.clone(),
+                rays: std::borrow::Cow::Borrowed(rays),
                 grid_is_exact: true,
                 circles: None,
             };

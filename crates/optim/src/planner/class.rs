@@ -57,7 +57,7 @@ fn class_setup<'w>(
         _ => Cow::Borrowed(&cfg.growth),
     };
     let guard = Guard {
-        class: signature.map(|s| (&world.rays, s)),
+        class: signature.map(|s| (&*world.rays, s)),
         bounds: world.bounds,
         collision_free: signature.is_some(),
         clearance_floor: if cfg.clearance_floor > 0.0 {

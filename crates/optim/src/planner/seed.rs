@@ -372,9 +372,7 @@ pub(super) fn class_seed(
     poly[0] = world.start;
     let last = poly.len() - 1;
     poly[last] = world.goal;
-    let poly = shortcut_ends(&poly, world.model, cell, |p| {
-        rays.signature(p) == *signature
-    });
+    let poly = shortcut_ends(&poly, world.model, cell, rays);
     if world.grid_is_exact {
         return poly;
     }
@@ -397,7 +395,7 @@ fn shortcut_ends(
     poly: &[Point],
     model: &dyn ClearanceModel,
     cell: Real,
-    same_class: impl Fn(&[Point]) -> bool,
+    rays: &Rays,
 ) -> Vec<Point> {
     // The indices `k > 1` (within the window) of the points `poly[k]` that `poly[0]` joins.
     let reachable = |poly: &[Point]| -> Vec<usize> {
@@ -422,19 +420,18 @@ fn shortcut_ends(
         return poly.to_vec();
     }
     let mut out = poly.to_vec();
-    for pass in 0..2 {
-        // The farthest point whose shortcut keeps the class (a few tries: each is a
-        // signature of the whole path). The second pass works on the reversed path.
+    for _ in 0..2 {
+        // The farthest point whose shortcut keeps the class (a few tries). The shortcut
+        // keeps it exactly when the loop of the stretch it replaces and the shortcut back has
+        // the empty word: the rest of the path's crossings are the same either way, so this
+        // is the whole path's signature compared, for the cost of the stretch's (a map's class
+        // path has thousands of points). The second pass works on the reversed path.
         for &k in reachable(&out).iter().rev().take(SHORTCUT_TRIES) {
-            let mut cut = vec![out[0]];
-            cut.extend_from_slice(&out[k..]);
-            if pass == 1 {
-                cut.reverse();
-            }
-            if same_class(&cut) {
-                if pass == 1 {
-                    cut.reverse();
-                }
+            let mut word = rays.signature(&out[..=k]);
+            rays.cross_segment(&out[k], &out[0], &mut word);
+            if word.is_identity() {
+                let mut cut = vec![out[0]];
+                cut.extend_from_slice(&out[k..]);
                 out = cut;
                 break;
             }

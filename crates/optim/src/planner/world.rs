@@ -21,8 +21,9 @@ pub struct World<'a> {
     pub goal: Point,
     /// Obstacles for the cost and the collision checks.
     pub model: &'a dyn ClearanceModel,
-    /// One ray per obstacle representative.
-    pub rays: Rays,
+    /// One ray per obstacle representative: a scene's own, or borrowed from a prepared map
+    /// (hundreds of thousands of rays on a large map, which a copy per query would double).
+    pub rays: std::borrow::Cow<'a, Rays>,
     /// Whether the Voronoi grid is the world itself (an occupancy map) rather than a
     /// rasterisation of it (circles). Passages narrower than one cell are offered only then.
     pub grid_is_exact: bool,
