@@ -4,7 +4,8 @@
 //! peak resident memory of the process (`VmHWM` of `/proc/self/status`, Linux) and both per
 //! cell. `--stages` first times the stages one by one. `--plan` then plans corner to corner
 //! on the prepared map (2 classes, the map defaults; as the `map_size` bench) and prints the
-//! plan's stage times and the peak memory after it. Run by `cargo xtask map-memory`.
+//! plan's stage times and the peak memory after it, then a short plan in the middle of the
+//! map (64 cells along the diagonal: a local re-plan). Run by `cargo xtask map-memory`.
 
 use std::time::Instant;
 
@@ -148,6 +149,34 @@ fn main() -> std::process::ExitCode {
             ),
             Err(e) => {
                 eprintln!("{}: plan: {e}", map.name);
+                return std::process::ExitCode::FAILURE;
+            }
+        }
+        // A short query in the middle of the map (a local re-plan): its work should follow
+        // the route, not the map.
+        let (s, t) = (
+            homospline_testkit::free_diagonal_centre(&map, n / 2, 1),
+            homospline_testkit::free_diagonal_centre(&map, n / 2 + 64, 1),
+        );
+        let clock = Instant::now();
+        match prepared.plan(s, t, &cfg) {
+            Ok(p) => println!(
+                "short plan ({:.1}, {:.1}) -> ({:.1}, {:.1}): {:.1} ms (class search {:.1}, \
+                 optimisation {:.1}); lengths {:?}",
+                s.x,
+                s.y,
+                t.x,
+                t.y,
+                clock.elapsed().as_secs_f64() * 1e3,
+                p.timing.classes,
+                p.timing.optimize,
+                p.classes
+                    .iter()
+                    .map(|c| (c.length * 10.0).round() / 10.0)
+                    .collect::<Vec<_>>(),
+            ),
+            Err(e) => {
+                eprintln!("{}: short plan: {e}", map.name);
                 return std::process::ExitCode::FAILURE;
             }
         }

@@ -10,6 +10,7 @@
 
 use std::cmp::{Ordering, Reverse};
 use std::collections::{BinaryHeap, HashSet};
+use std::sync::atomic::{AtomicU64, Ordering as AtomicOrdering};
 
 use homospline_geom::{Point, Real};
 use homospline_voronoi::{Adjacency, Edge, QueryGraph, VoronoiGraph};
@@ -261,12 +262,50 @@ impl Walk for Whole<'_> {
 }
 
 /// A query on a prepared map ([`QueryGraph`]), with each edge's cost: infinite where the
-/// edge is not the query's or the search's settings close it. One pass over the edges in
-/// order, where the search's Dijkstra would otherwise read each edge it walks (scattered
-/// over the whole graph) to cost and filter it.
+/// edge is not the query's or the search's settings close it. Worked out for an edge when
+/// the search first walks it, or for every edge at once, in one parallel pass in order, when
+/// the query spans a good part of the map ([`EAGER_REACH`]): then the search's Dijkstra
+/// walks nearly every edge, and reading each one where it lies (scattered over the whole
+/// graph) took longer than the pass.
 struct Query<'a> {
     graph: &'a QueryGraph<'a>,
-    cost: Vec<Real>,
+    /// Every edge's cost, when worked out at once.
+    eager: Option<Vec<Real>>,
+    /// Else per edge, its cost's bits with [`KNOWN`] set once worked out (0: not yet).
+    cost: Vec<AtomicU64>,
+    cfg: &'a SearchConfig,
+    blocked: FxHashSet<usize>,
+}
+
+/// In [`Query`]'s costs: the bit that marks a cost worked out (a cost is never negative,
+/// so its own sign bit is clear).
+const KNOWN: u64 = 1 << 63;
+
+/// Queries whose straight distance is at least this share of the map's diagonal have
+/// their edges' costs worked out all at once ([`Query`]).
+pub const EAGER_REACH: Real = 0.25;
+
+impl Query<'_> {
+    /// Edge `e`'s cost, worked out from the edge.
+    fn work_out(&self, e: usize) -> Real {
+        let (graph, cfg) = (self.graph, self.cfg);
+        if !graph.in_query(e) {
+            return Real::INFINITY;
+        }
+        let edge = graph.edge(e);
+        let (start, goal) = (graph.start(), graph.goal());
+        let connector = [edge.from, edge.to]
+            .iter()
+            .any(|&x| x == start || x == goal);
+        let open = !self.blocked.contains(&e)
+            && (connector || edge.min_clearance >= cfg.min_clearance)
+            && !enters_blocked_region(edge, &cfg.blocked_regions);
+        if open {
+            edge_cost(edge, cfg.cost)
+        } else {
+            Real::INFINITY
+        }
+    }
 }
 
 impl Walk for Query<'_> {
@@ -276,13 +315,23 @@ impl Walk for Query<'_> {
     fn edge(&self, e: usize) -> &Edge {
         self.graph.edge(e)
     }
+    #[inline]
     fn cost(&self, e: usize) -> Real {
-        self.cost[e]
+        if let Some(eager) = &self.eager {
+            return eager[e];
+        }
+        let bits = self.cost[e].load(AtomicOrdering::Relaxed);
+        if bits != 0 {
+            return Real::from_bits(bits & !KNOWN);
+        }
+        let c = self.work_out(e);
+        self.cost[e].store(c.to_bits() | KNOWN, AtomicOrdering::Relaxed);
+        c
     }
     #[inline]
     fn for_each_link(&self, k: usize, mut f: impl FnMut(usize, usize, bool)) {
         self.graph.for_each_link(k, |m, e, fwd| {
-            if self.cost[e] < Real::INFINITY {
+            if self.cost(e) < Real::INFINITY {
                 f(m, e, fwd);
             }
         });
@@ -353,7 +402,15 @@ pub fn k_best_classes_each(
         adjacency: graph.adjacency(|i| allowed[i]),
         cost: graph.edges.iter().map(|e| edge_cost(e, cfg.cost)).collect(),
     };
-    Ok(search_walk(&walk, rays, cfg, start, goal, found, false))
+    Ok(search_walk(
+        &walk,
+        rays,
+        cfg,
+        (start, goal),
+        found,
+        false,
+        true,
+    ))
 }
 
 /// [`k_best_classes`] on one query of a prepared map ([`QueryGraph`]): the same classes as
@@ -376,46 +433,59 @@ pub fn k_best_classes_each_on(
 ) -> Result<SearchResult, SearchError> {
     check_config(cfg)?;
     let (start, goal) = (graph.start(), graph.goal());
-    let blocked: FxHashSet<usize> = cfg.blocked_edges.iter().copied().collect();
-    let cost = (0..graph.edge_count())
-        .into_par_iter()
-        .with_min_len(1 << 14)
-        .map(|e| {
-            let edge = graph.edge(e);
-            let connector = [edge.from, edge.to]
-                .iter()
-                .any(|&x| x == start || x == goal);
-            let open = graph.in_query(e)
-                && !blocked.contains(&e)
-                && (connector || edge.min_clearance >= cfg.min_clearance)
-                && !enters_blocked_region(edge, &cfg.blocked_regions);
-            if open {
-                edge_cost(edge, cfg.cost)
-            } else {
-                Real::INFINITY
-            }
-        })
-        .collect();
-    let walk = Query { graph, cost };
-    Ok(search_walk(&walk, rays, cfg, start, goal, found, true))
+    let eager = graph.reach() >= EAGER_REACH;
+    let mut walk = Query {
+        graph,
+        eager: None,
+        cost: match eager {
+            true => Vec::new(),
+            false => (0..graph.edge_count()).map(|_| AtomicU64::new(0)).collect(),
+        },
+        cfg,
+        blocked: cfg.blocked_edges.iter().copied().collect(),
+    };
+    if eager {
+        let costs = (0..graph.edge_count())
+            .into_par_iter()
+            .with_min_len(1 << 14)
+            .map(|e| walk.work_out(e))
+            .collect();
+        walk.eager = Some(costs);
+    }
+    Ok(search_walk(
+        &walk,
+        rays,
+        cfg,
+        (start, goal),
+        found,
+        true,
+        eager,
+    ))
 }
 
 /// The search on `walk` from `start` to `goal`; `prefetch`: the words of the edges at the
-/// shortest path's nodes are computed first, in parallel ([`shortest_path_words`]).
+/// shortest path's nodes are computed first, in parallel ([`shortest_path_words`]);
+/// `settle_all`: every distance to the goal at once, else as the search asks
+/// ([`Distances`]).
 fn search_walk<W: Walk + Sync>(
     walk: &W,
     rays: &Rays,
     cfg: &SearchConfig,
-    start: usize,
-    goal: usize,
+    (start, goal): (usize, usize),
     found: impl FnMut(&ClassPath),
     prefetch: bool,
+    settle_all: bool,
 ) -> SearchResult {
-    let h = distances_to(goal, walk);
-    let mut frontier = Frontier::new(walk, rays, &h, start);
-    if prefetch {
-        frontier.words = shortest_path_words(walk, rays, &h, start, goal);
+    let mut h = Distances::new(walk, goal);
+    if settle_all {
+        h.settle_all(walk);
     }
+    let words = match prefetch {
+        true => shortest_path_words(walk, rays, &mut h, start, goal),
+        false => FxHashMap::default(),
+    };
+    let mut frontier = Frontier::new(walk, rays, h, start);
+    frontier.words = words;
     frontier.search(cfg, goal, found)
 }
 
@@ -491,31 +561,88 @@ fn edge_cost(e: &Edge, cost: EdgeCost) -> Real {
     }
 }
 
-/// The exact distance from each node of `walk` to `goal` along its links (Dijkstra
-/// backwards; the graph is undirected); infinite where the goal is out of reach.
-fn distances_to<W: Walk>(goal: usize, walk: &W) -> Vec<Real> {
-    let mut h = vec![Real::INFINITY; walk.node_count()];
-    h[goal] = 0.0;
-    // A radix heap over the distances' bits (non-negative floats order as their bits, and
-    // Dijkstra's keys never fall below the last taken): about half the time of a binary heap
-    // over a map's millions of nodes. The order in which equal keys leave does not change
-    // any distance.
-    let mut heap = radix_heap::RadixHeapMap::new();
-    heap.push(Reverse(0u64), goal);
-    while let Some((Reverse(bits), id)) = heap.pop() {
-        let f = Real::from_bits(bits);
-        if f > h[id] {
-            continue;
-        }
-        walk.for_each_link(id, |m, e, _| {
-            let d = f + walk.cost(e);
-            if d < h[m] {
-                h[m] = d;
-                heap.push(Reverse(d.to_bits()), m);
-            }
-        });
+/// The exact distance from each node of a walk to the goal along its links: Dijkstra
+/// backwards from the goal (the graph is undirected), run only as far as asked. A node's
+/// distance is settled when [`Distances::get`] first asks for it, by going on until it is
+/// taken from the queue; so the work grows with the distance of the farthest node the search
+/// looks at, not with the map (a short query on a large map settles a small disc round the
+/// goal). Infinite where the goal is out of reach.
+struct Distances {
+    h: Vec<Real>,
+    /// Every node settled ([`Distances::settle_all`]).
+    complete: bool,
+    settled: Vec<bool>,
+    /// A radix heap over the distances' bits (non-negative floats order as their bits, and
+    /// Dijkstra's keys never fall below the last taken): about half the time of a binary
+    /// heap over a map's millions of nodes. The order in which equal keys leave does not
+    /// change any distance.
+    heap: radix_heap::RadixHeapMap<Reverse<u64>, usize>,
+}
+
+impl Distances {
+    /// Nothing settled yet but the goal's queue entry.
+    fn new<W: Walk>(walk: &W, goal: usize) -> Self {
+        let n = walk.node_count();
+        let mut d = Self {
+            h: vec![Real::INFINITY; n],
+            complete: false,
+            settled: vec![false; n],
+            heap: radix_heap::RadixHeapMap::new(),
+        };
+        d.h[goal] = 0.0;
+        d.heap.push(Reverse(0u64), goal);
+        d
     }
-    h
+
+    /// Settles every node at once (a query across much of the map: its search asks for
+    /// nearly all of them, and one loop without the bookkeeping of [`Distances::get`] is
+    /// faster).
+    fn settle_all<W: Walk>(&mut self, walk: &W) {
+        let (h, heap) = (&mut self.h, &mut self.heap);
+        while let Some((Reverse(bits), id)) = heap.pop() {
+            let f = Real::from_bits(bits);
+            if f > h[id] {
+                continue;
+            }
+            walk.for_each_link(id, |m, e, _| {
+                let d = f + walk.cost(e);
+                if d < h[m] {
+                    h[m] = d;
+                    heap.push(Reverse(d.to_bits()), m);
+                }
+            });
+        }
+        self.complete = true;
+    }
+
+    /// Node `k`'s exact distance to the goal, settling nodes in order until it is.
+    #[inline]
+    fn get<W: Walk>(&mut self, walk: &W, k: usize) -> Real {
+        if self.complete {
+            return self.h[k];
+        }
+        while !self.settled[k] {
+            let Some((Reverse(bits), id)) = self.heap.pop() else {
+                // Everything the goal reaches is settled: `k` is out of reach.
+                self.settled[k] = true;
+                break;
+            };
+            if self.settled[id] {
+                continue;
+            }
+            self.settled[id] = true;
+            let f = Real::from_bits(bits);
+            let (h, heap) = (&mut self.h, &mut self.heap);
+            walk.for_each_link(id, |m, e, _| {
+                let d = f + walk.cost(e);
+                if d < h[m] {
+                    h[m] = d;
+                    heap.push(Reverse(d.to_bits()), m);
+                }
+            });
+        }
+        self.h[k]
+    }
 }
 
 /// The words of every edge at a node of the shortest path from `start` to `goal` (each
@@ -526,22 +653,24 @@ fn distances_to<W: Walk>(goal: usize, walk: &W) -> Vec<Real> {
 fn shortest_path_words<W: Walk + Sync>(
     walk: &W,
     rays: &Rays,
-    h: &[Real],
+    h: &mut Distances,
     start: usize,
     goal: usize,
 ) -> FxHashMap<usize, Signature> {
     let mut edges = Vec::new();
     let mut on_path = FxHashSet::default();
     let mut k = start;
-    while h[k].is_finite() && on_path.insert(k) {
+    while h.get(walk, k).is_finite() && on_path.insert(k) {
         let mut next: Option<(Real, usize)> = None;
-        walk.for_each_link(k, |m, e, _| {
+        let mut links = Vec::new();
+        walk.for_each_link(k, |m, e, _| links.push((m, e)));
+        for (m, e) in links {
             edges.push(e);
-            let f = walk.cost(e) + h[m];
+            let f = walk.cost(e) + h.get(walk, m);
             if !on_path.contains(&m) && next.is_none_or(|(b, _)| f < b) {
                 next = Some((f, m));
             }
-        });
+        }
         match next {
             Some((_, m)) if k != goal => k = m,
             _ => break,
@@ -561,7 +690,7 @@ fn shortest_path_words<W: Walk + Sync>(
 struct Frontier<'a, W> {
     walk: &'a W,
     rays: &'a Rays,
-    h: &'a [Real],
+    h: Distances,
     /// Edge words, forward, computed when the search first walks the edge: a map's graph
     /// has tens of thousands of edges, whose words all together take long to compute, and a
     /// search walks a few hundred of them (measured: docs/performance.md, "Measurements
@@ -580,7 +709,8 @@ struct Frontier<'a, W> {
 
 impl<'a, W: Walk> Frontier<'a, W> {
     /// The search with the empty path at `start` queued, if the goal can be reached.
-    fn new(walk: &'a W, rays: &'a Rays, h: &'a [Real], start: usize) -> Self {
+    fn new(walk: &'a W, rays: &'a Rays, mut h: Distances, start: usize) -> Self {
+        let h_start = h.get(walk, start);
         let arena = vec![Partial {
             parent: usize::MAX,
             depth: 0,
@@ -595,7 +725,7 @@ impl<'a, W: Walk> Frontier<'a, W> {
         // thousands of ties and send the search breadth first, past its budget before any
         // class is found (random512-20-0). f is therefore compared in units of 1e-9 of
         // h(start), and ties go to the deeper path.
-        let quantum = 1e-9 * (1.0 + h[start].abs());
+        let quantum = 1e-9 * (1.0 + h_start.abs());
         let mut frontier = Self {
             walk,
             rays,
@@ -607,8 +737,8 @@ impl<'a, W: Walk> Frontier<'a, W> {
             order: 0,
             quantum,
         };
-        if h[start].is_finite() {
-            let key = frontier.key(h[start]);
+        if h_start.is_finite() {
+            let key = frontier.key(h_start);
             frontier.queue.push(Entry {
                 key,
                 g: 0.0,
@@ -710,7 +840,8 @@ impl<'a, W: Walk> Frontier<'a, W> {
     fn expand(&mut self, id: usize, on_path: &[bool]) {
         let (walk, rays) = (self.walk, self.rays);
         walk.for_each_link(self.arena[id].node, |m, e, fwd| {
-            if on_path[m] || !self.h[m].is_finite() {
+            let hm = self.h.get(walk, m);
+            if on_path[m] || !hm.is_finite() {
                 return;
             }
             let g = self.arena[id].g + walk.cost(e);
@@ -728,7 +859,7 @@ impl<'a, W: Walk> Frontier<'a, W> {
                 word,
             });
             self.order += 1;
-            let key = self.key(g + self.h[m]);
+            let key = self.key(g + hm);
             self.queue.push(Entry {
                 key,
                 g,

@@ -59,6 +59,8 @@ pub struct QueryGraph<'a> {
     core_halves: Vec<usize>,
     start: usize,
     goal: usize,
+    /// The length of the grid's diagonal, map units.
+    diagonal: Real,
 }
 
 impl MapGraph {
@@ -85,6 +87,7 @@ impl MapGraph {
             core_halves: Vec::new(),
             start: usize::MAX,
             goal: usize::MAX,
+            diagonal: grid.cell() * ((grid.width().pow(2) + grid.height().pow(2)) as Real).sqrt(),
         };
         let ns = q.split(grid, field, rs.1);
         // The goal's anchor, moved onto the halves when it was on the start's edge.
@@ -159,6 +162,14 @@ impl QueryGraph<'_> {
             Some((_, head)) => head,
             None => &self.map.graph.edges[e],
         }
+    }
+
+    /// The straight distance from start to goal as a share of the map's diagonal: how much
+    /// of the map a search between them can be expected to cover.
+    pub fn reach(&self) -> Real {
+        let (a, b) = (self.node(self.start).at, self.node(self.goal).at);
+        ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt()
+            / self.diagonal.max(Real::MIN_POSITIVE)
     }
 
     /// The start's node.

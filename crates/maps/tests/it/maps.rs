@@ -583,11 +583,14 @@ fn maps_beyond_4096_squared_are_refused_before_allocation() {
 /// The class search on a query of a prepared map (no copy of its graph) finds the same
 /// classes, in the same order, as on the query's graph copied and pruned
 /// (`MapGraph::with_endpoints`): the same paths, costs and signatures. Scenario pairs from
-/// every bucket of each map's file, and a blocked region (a mission's closed passage).
+/// every bucket of each map's file (short ones cost edges and settle distances as the
+/// search asks, long ones all at once: both are compared), and a blocked region (a
+/// mission's closed passage).
 #[test]
 fn a_query_without_a_copy_searches_as_the_copied_graph() {
     use homospline_homotopy::{k_best_classes, k_best_classes_on};
     let cfg = PlanConfig::maps();
+    let mut modes = [0, 0];
     for (name, scen) in [
         ("room-32-32-4", "room-32-32-4-random-1.scen"),
         ("maze-32-32-2", "maze-32-32-2-random-1.scen"),
@@ -610,6 +613,8 @@ fn a_query_without_a_copy_searches_as_the_copied_graph() {
             let (Ok(g), Ok(q)) = (g, q) else {
                 panic!("{name} #{i}: a query where the other way has none");
             };
+            // Both ways of costing edges and settling distances are compared.
+            modes[usize::from(q.reach() >= homospline_homotopy::search::EAGER_REACH)] += 1;
             let mut search = cfg.search.clone();
             search.k = 5;
             if i % 3 == 2 {
@@ -636,4 +641,8 @@ fn a_query_without_a_copy_searches_as_the_copied_graph() {
         }
         assert!(compared >= 10, "{name}: {compared} scenarios");
     }
+    assert!(
+        modes.iter().all(|&m| m >= 5),
+        "short and long queries: {modes:?}"
+    );
 }
