@@ -5,7 +5,8 @@
 //! outside the timing). Peak memory per cell is
 //! `cargo xtask map-memory`'s. Then a plan on the prepared 4096 x 4096 map, corner to
 //! corner, 2 classes, the map defaults: the per-query graph, the class search over its
-//! 3.95 M edges and the optimisation.
+//! 3.95 M edges and the optimisation; and a short plan in its middle (64 cells along the
+//! diagonal), whose search settles only what the route needs.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use homospline_maps::PreparedMap;
@@ -38,6 +39,16 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("map_size");
     g.sample_size(10).measurement_time(Duration::from_secs(40));
     g.bench_function("plan_prepared_random20_2_classes/4096", |b| {
+        b.iter(|| prepared.plan(black_box(s), black_box(t), &cfg).unwrap())
+    });
+    // A short query in the middle of the same map (64 cells along the diagonal): a local
+    // re-plan, whose work should follow the route, not the map.
+    let (s, t) = (
+        homospline_testkit::free_diagonal_centre(&map, 2048, 1),
+        homospline_testkit::free_diagonal_centre(&map, 2112, 1),
+    );
+    g.measurement_time(Duration::from_secs(5));
+    g.bench_function("plan_prepared_random20_short/4096", |b| {
         b.iter(|| prepared.plan(black_box(s), black_box(t), &cfg).unwrap())
     });
     g.finish();
