@@ -191,32 +191,7 @@ impl MapGraph {
         // allocation held through the whole query.
         let mut g = self.graph.clone_with_room(4, 4);
         let ns = split(&mut g, field, grid, rs.1);
-        // The goal's anchor, moved onto the halves when it was on the start's edge.
-        let ag = match (rs.1, rg.1) {
-            (
-                Anchor::Edge {
-                    edge: es,
-                    seg: ss,
-                    t: ts,
-                    ..
-                },
-                Anchor::Edge { edge, seg, t, at },
-            ) if edge == es => {
-                if (seg, t) == (ss, ts) {
-                    Anchor::Node(ns)
-                } else if (seg, t) < (ss, ts) {
-                    Anchor::Edge { edge, seg, t, at }
-                } else {
-                    Anchor::Edge {
-                        edge: g.edges.len() - 1,
-                        seg: seg - ss,
-                        t,
-                        at,
-                    }
-                }
-            }
-            (_, a) => a,
-        };
+        let ag = goal_anchor(rs.1, rg.1, ns, g.edges.len() - 1);
         let ng = split(&mut g, field, grid, ag);
         let s = endpoint(&mut g, grid, field, start, &rs.0, ns, NodeKind::Start);
         let t = endpoint(&mut g, grid, field, goal, &rg.0, ng, NodeKind::Goal);
@@ -310,6 +285,36 @@ impl MapGraph {
             }
         }
         Err(GraphError::DifferentRegions)
+    }
+}
+
+/// The goal's anchor `goal` after the start's anchor `start` became node `ns`: moved onto
+/// the halves of the edge split there (its tail is edge `tail`) when it was on that edge.
+pub(crate) fn goal_anchor(start: Anchor, goal: Anchor, ns: usize, tail: usize) -> Anchor {
+    match (start, goal) {
+        (
+            Anchor::Edge {
+                edge: es,
+                seg: ss,
+                t: ts,
+                ..
+            },
+            Anchor::Edge { edge, seg, t, at },
+        ) if edge == es => {
+            if (seg, t) == (ss, ts) {
+                Anchor::Node(ns)
+            } else if (seg, t) < (ss, ts) {
+                Anchor::Edge { edge, seg, t, at }
+            } else {
+                Anchor::Edge {
+                    edge: tail,
+                    seg: seg - ss,
+                    t,
+                    at,
+                }
+            }
+        }
+        (_, a) => a,
     }
 }
 

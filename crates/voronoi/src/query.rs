@@ -11,7 +11,7 @@
 use homospline_geom::{Point, Real};
 use rustc_hash::FxHashSet;
 
-use crate::attach::{Anchor, MapGraph, endpoint_parts, halves, split_node};
+use crate::attach::{Anchor, MapGraph, endpoint_parts, goal_anchor, halves, split_node};
 use crate::field::DistanceField;
 use crate::graph::{Edge, GraphError, Node, NodeKind, VoronoiGraph};
 use crate::grid::Grid;
@@ -90,32 +90,7 @@ impl MapGraph {
             diagonal: grid.cell() * ((grid.width().pow(2) + grid.height().pow(2)) as Real).sqrt(),
         };
         let ns = q.split(grid, field, rs.1);
-        // The goal's anchor, moved onto the halves when it was on the start's edge.
-        let ag = match (rs.1, rg.1) {
-            (
-                Anchor::Edge {
-                    edge: es,
-                    seg: ss,
-                    t: ts,
-                    ..
-                },
-                Anchor::Edge { edge, seg, t, at },
-            ) if edge == es => {
-                if (seg, t) == (ss, ts) {
-                    Anchor::Node(ns)
-                } else if (seg, t) < (ss, ts) {
-                    Anchor::Edge { edge, seg, t, at }
-                } else {
-                    Anchor::Edge {
-                        edge: q.edge_count() - 1,
-                        seg: seg - ss,
-                        t,
-                        at,
-                    }
-                }
-            }
-            (_, a) => a,
-        };
+        let ag = goal_anchor(rs.1, rg.1, ns, q.edge_count() - 1);
         let ng = q.split(grid, field, ag);
         q.start = q.endpoint(grid, field, start, &rs.0, ns, NodeKind::Start);
         q.goal = q.endpoint(grid, field, goal, &rg.0, ng, NodeKind::Goal);
