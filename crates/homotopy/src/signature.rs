@@ -292,6 +292,19 @@ impl Rays {
         ((x - o).dot(&self.dir) >= 0.0).then_some((t, if lb { letter } else { -letter }))
     }
 
+    /// Whether the straight segment between the ends of `stretch` can replace it in any path
+    /// without changing the path's class: the loop along `stretch` and back along the
+    /// segment has the empty word. The rest of the path crosses the same rays either way, so
+    /// this is the whole path's signature compared, for the cost of the stretch's.
+    pub fn chord_keeps_class(&self, stretch: &[Point]) -> bool {
+        let (Some(first), Some(last)) = (stretch.first(), stretch.last()) else {
+            return true;
+        };
+        let mut word = self.signature(stretch);
+        self.cross_segment(last, first, &mut word);
+        word.is_identity()
+    }
+
     /// Appends the crossings of segment `a -> b` to `word`, in the order along the segment.
     pub fn cross_segment(&self, a: &Point, b: &Point, word: &mut Signature) {
         let mut cursor = None;

@@ -251,9 +251,7 @@ fn pull_pass(
         if rays.sweep_is_clear(&dense[i..=j], &chord) {
             return true;
         }
-        let mut w = rays.signature(&dense[i..=j]);
-        rays.cross_segment(&dense[j], &dense[i], &mut w);
-        w.is_identity()
+        rays.chord_keeps_class(&dense[i..=j])
     };
     let ok = |i: usize, j: usize| {
         j == i + 1 || {

@@ -421,15 +421,11 @@ fn shortcut_ends(
     }
     let mut out = poly.to_vec();
     for _ in 0..2 {
-        // The farthest point whose shortcut keeps the class (a few tries). The shortcut
-        // keeps it exactly when the loop of the stretch it replaces and the shortcut back has
-        // the empty word: the rest of the path's crossings are the same either way, so this
-        // is the whole path's signature compared, for the cost of the stretch's (a map's class
-        // path has thousands of points). The second pass works on the reversed path.
+        // The farthest point whose shortcut keeps the class (a few tries; each costs the
+        // stretch's word, not the whole path's: a map's class path has thousands of points).
+        // The second pass works on the reversed path.
         for &k in reachable(&out).iter().rev().take(SHORTCUT_TRIES) {
-            let mut word = rays.signature(&out[..=k]);
-            rays.cross_segment(&out[k], &out[0], &mut word);
-            if word.is_identity() {
+            if rays.chord_keeps_class(&out[..=k]) {
                 let mut cut = vec![out[0]];
                 cut.extend_from_slice(&out[k..]);
                 out = cut;
