@@ -9,7 +9,7 @@
 //! expansions bounds pathological graphs, and the result says whether it was reached.
 
 use std::cmp::{Ordering, Reverse};
-use std::collections::{BinaryHeap, HashSet};
+use std::collections::BinaryHeap;
 use std::sync::atomic::{AtomicU64, Ordering as AtomicOrdering};
 
 use homospline_geom::{Point, Real};
@@ -269,15 +269,20 @@ impl Walk for Whole<'_> {
 /// graph) took longer than the pass.
 struct Query<'a> {
     graph: &'a QueryGraph<'a>,
-    /// Every edge's cost, when worked out at once.
-    eager: Option<Vec<Real>>,
-    /// Else per edge, its cost's bits with [`KNOWN`] set once worked out (0: not yet).
-    cost: Vec<AtomicU64>,
+    cost: Costs,
     cfg: &'a SearchConfig,
     blocked: FxHashSet<usize>,
 }
 
-/// In [`Query`]'s costs: the bit that marks a cost worked out (a cost is never negative,
+/// A query's edge costs ([`Query`]).
+enum Costs {
+    /// Every edge's, worked out at once.
+    All(Vec<Real>),
+    /// Per edge, its cost's bits with [`KNOWN`] set once worked out (0: not yet).
+    AsWalked(Vec<AtomicU64>),
+}
+
+/// In [`Costs::AsWalked`]: the bit that marks a cost worked out (a cost is never negative,
 /// so its own sign bit is clear).
 const KNOWN: u64 = 1 << 63;
 
@@ -293,17 +298,9 @@ impl Query<'_> {
             return Real::INFINITY;
         }
         let edge = graph.edge(e);
-        let (start, goal) = (graph.start(), graph.goal());
-        let connector = [edge.from, edge.to]
-            .iter()
-            .any(|&x| x == start || x == goal);
-        let open = !self.blocked.contains(&e)
-            && (connector || edge.min_clearance >= cfg.min_clearance)
-            && !enters_blocked_region(edge, &cfg.blocked_regions);
-        if open {
-            edge_cost(edge, cfg.cost)
-        } else {
-            Real::INFINITY
+        match allowed(e, edge, cfg, &self.blocked, (graph.start(), graph.goal())) {
+            true => edge_cost(edge, cfg.cost),
+            false => Real::INFINITY,
         }
     }
 }
@@ -317,15 +314,16 @@ impl Walk for Query<'_> {
     }
     #[inline]
     fn cost(&self, e: usize) -> Real {
-        if let Some(eager) = &self.eager {
-            return eager[e];
-        }
-        let bits = self.cost[e].load(AtomicOrdering::Relaxed);
+        let known = match &self.cost {
+            Costs::All(all) => return all[e],
+            Costs::AsWalked(known) => &known[e],
+        };
+        let bits = known.load(AtomicOrdering::Relaxed);
         if bits != 0 {
             return Real::from_bits(bits & !KNOWN);
         }
         let c = self.work_out(e);
-        self.cost[e].store(c.to_bits() | KNOWN, AtomicOrdering::Relaxed);
+        known.store(c.to_bits() | KNOWN, AtomicOrdering::Relaxed);
         c
     }
     #[inline]
@@ -436,22 +434,20 @@ pub fn k_best_classes_each_on(
     let eager = graph.reach() >= EAGER_REACH;
     let mut walk = Query {
         graph,
-        eager: None,
-        cost: match eager {
-            true => Vec::new(),
-            false => (0..graph.edge_count()).map(|_| AtomicU64::new(0)).collect(),
-        },
+        cost: Costs::AsWalked(Vec::new()),
         cfg,
         blocked: cfg.blocked_edges.iter().copied().collect(),
     };
-    if eager {
-        let costs = (0..graph.edge_count())
-            .into_par_iter()
-            .with_min_len(1 << 14)
-            .map(|e| walk.work_out(e))
-            .collect();
-        walk.eager = Some(costs);
-    }
+    walk.cost = match eager {
+        true => Costs::All(
+            (0..graph.edge_count())
+                .into_par_iter()
+                .with_min_len(1 << 14)
+                .map(|e| walk.work_out(e))
+                .collect(),
+        ),
+        false => Costs::AsWalked((0..graph.edge_count()).map(|_| AtomicU64::new(0)).collect()),
+    };
     Ok(search_walk(
         &walk,
         rays,
@@ -515,16 +511,26 @@ fn allowed_edges<'e>(
     start: usize,
     goal: usize,
 ) -> Vec<bool> {
-    let blocked: HashSet<usize> = cfg.blocked_edges.iter().copied().collect();
+    let blocked: FxHashSet<usize> = cfg.blocked_edges.iter().copied().collect();
     edges
         .enumerate()
-        .map(|(i, e)| {
-            let connector = [e.from, e.to].iter().any(|&x| x == start || x == goal);
-            !blocked.contains(&i)
-                && (connector || e.min_clearance >= cfg.min_clearance)
-                && !enters_blocked_region(e, &cfg.blocked_regions)
-        })
+        .map(|(i, e)| allowed(i, e, cfg, &blocked, (start, goal)))
         .collect()
+}
+
+/// Whether the search may use edge `i`, `e`: not in `blocked`, wide enough (start and goal
+/// connectors excepted) and entering no blocked region.
+fn allowed(
+    i: usize,
+    e: &Edge,
+    cfg: &SearchConfig,
+    blocked: &FxHashSet<usize>,
+    (start, goal): (usize, usize),
+) -> bool {
+    let connector = [e.from, e.to].iter().any(|&x| x == start || x == goal);
+    !blocked.contains(&i)
+        && (connector || e.min_clearance >= cfg.min_clearance)
+        && !enters_blocked_region(e, &cfg.blocked_regions)
 }
 
 /// Whether edge `e` enters one of the discs `regions`; the polyline's box is tested first (a
@@ -598,21 +604,26 @@ impl Distances {
     /// nearly all of them, and one loop without the bookkeeping of [`Distances::get`] is
     /// faster).
     fn settle_all<W: Walk>(&mut self, walk: &W) {
-        let (h, heap) = (&mut self.h, &mut self.heap);
-        while let Some((Reverse(bits), id)) = heap.pop() {
+        while let Some((Reverse(bits), id)) = self.heap.pop() {
             let f = Real::from_bits(bits);
-            if f > h[id] {
-                continue;
+            if f <= self.h[id] {
+                self.relax(walk, id, f);
             }
-            walk.for_each_link(id, |m, e, _| {
-                let d = f + walk.cost(e);
-                if d < h[m] {
-                    h[m] = d;
-                    heap.push(Reverse(d.to_bits()), m);
-                }
-            });
         }
         self.complete = true;
+    }
+
+    /// Relaxes the links of node `id`, settled at distance `f`.
+    #[inline]
+    fn relax<W: Walk>(&mut self, walk: &W, id: usize, f: Real) {
+        let (h, heap) = (&mut self.h, &mut self.heap);
+        walk.for_each_link(id, |m, e, _| {
+            let d = f + walk.cost(e);
+            if d < h[m] {
+                h[m] = d;
+                heap.push(Reverse(d.to_bits()), m);
+            }
+        });
     }
 
     /// Node `k`'s exact distance to the goal, settling nodes in order until it is.
@@ -631,15 +642,7 @@ impl Distances {
                 continue;
             }
             self.settled[id] = true;
-            let f = Real::from_bits(bits);
-            let (h, heap) = (&mut self.h, &mut self.heap);
-            walk.for_each_link(id, |m, e, _| {
-                let d = f + walk.cost(e);
-                if d < h[m] {
-                    h[m] = d;
-                    heap.push(Reverse(d.to_bits()), m);
-                }
-            });
+            self.relax(walk, id, Real::from_bits(bits));
         }
         self.h[k]
     }
