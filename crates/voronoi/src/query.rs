@@ -159,11 +159,15 @@ impl QueryGraph<'_> {
 
     /// Whether edge `e` is one of the query's: on the 2-core or on a way to start or goal.
     pub fn in_query(&self, e: usize) -> bool {
-        let base = self.map.graph.edges.len();
-        if e < base && self.map.core[e] && !self.replaced.iter().any(|r| r.0 == e) {
-            return true;
-        }
-        self.kept.contains(&e)
+        self.prepared_core(e) || self.kept.contains(&e)
+    }
+
+    /// Whether edge `e` is a complete-graph edge on the 2-core as prepared, and the query
+    /// has not split it.
+    fn prepared_core(&self, e: usize) -> bool {
+        e < self.map.graph.edges.len()
+            && self.map.core[e]
+            && !self.replaced.iter().any(|r| r.0 == e)
     }
 
     /// Node `k`'s links among the query's edges, `(other end, edge, walked from -> to)`, in
@@ -173,27 +177,18 @@ impl QueryGraph<'_> {
     }
 
     /// Node `k`'s links among all edges, the complete graph's dead ends that are not the
-    /// query's too (a caller that knows which edges are the query's: [`QueryGraph::in_query`]).
-    pub fn all_links(&self, k: usize) -> impl Iterator<Item = (usize, usize, bool)> + '_ {
-        self.links_of(k)
-    }
-
-    /// [`QueryGraph::all_links`], each handed to `f` (no iterator to step through: the
-    /// search's Dijkstra calls this for every node of the map).
+    /// query's too (a caller that knows which edges are the query's, [`QueryGraph::in_query`],
+    /// filters them itself), each handed to `f`: no iterator to step through, as the
+    /// search's Dijkstra calls this for every node of the map.
     #[inline]
     pub fn for_each_link(&self, k: usize, mut f: impl FnMut(usize, usize, bool)) {
-        if k < self.map.graph.nodes.len() && !self.touched.contains(&k) {
-            for (m, e, fwd) in self.map.adjacency.of(k) {
-                f(m, e, fwd);
-            }
-        } else {
-            for (m, e, fwd) in self.links_of(k) {
-                f(m, e, fwd);
-            }
+        match self.links_of(k) {
+            Links::Base(links) => links.for_each(|(m, e, fwd)| f(m, e, fwd)),
+            Links::Listed(links) => links.for_each(|(m, e, fwd)| f(m, e, fwd)),
         }
     }
 
-    /// [`QueryGraph::all_links`].
+    /// Node `k`'s links among all edges ([`QueryGraph::for_each_link`]).
     fn links_of(&self, k: usize) -> Links<'_> {
         let base_nodes = self.map.graph.nodes.len();
         if k < base_nodes && !self.touched.contains(&k) {
@@ -284,9 +279,7 @@ impl QueryGraph<'_> {
 
     /// Whether edge `e` is on the 2-core as prepared (or half of such an edge).
     fn on_core_edge(&self, e: usize) -> bool {
-        let base = self.map.graph.edges.len();
-        (e < base && self.map.core[e] && !self.replaced.iter().any(|r| r.0 == e))
-            || self.core_halves.contains(&e)
+        self.prepared_core(e) || self.core_halves.contains(&e)
     }
 
     /// Keeps the way from `from` to the 2-core or, in a tree (no core), to `other`: breadth
