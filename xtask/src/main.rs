@@ -4,9 +4,10 @@
 //! - `cargo xtask gen-scenes` rewrites `fixtures/random/` from a seeded generator.
 //! - `cargo xtask gen-worlds` rewrites `fixtures/worlds/`: each paper-like scene with its best
 //!   class blocked, for `homospline simulate`.
-//! - `cargo xtask missions [--worlds N]` runs every scout policy on N generated worlds
-//!   (default 50) and prints the mission figures, and the share of single blockages that
-//!   leave another class open with and without `--diverse`.
+//! - `cargo xtask missions [--worlds N] [--show WORLD] [--policy NAME]...` runs every scout
+//!   policy (or the named ones beside `none`) on N generated worlds (default 50) and prints
+//!   the mission figures, and the share of single blockages that leave another class open
+//!   with and without `--diverse`.
 //! - `cargo xtask map-memory [N] [--plan]` prepares a seeded random N x N map (20 % occupied, default
 //!   4096) in a release build of the benches' `map-memory` binary and prints the time and
 //!   the peak resident memory (`VmHWM`), in all and per cell: issue 43's 1.5 GB and 5 s;
@@ -56,8 +57,9 @@ fn main() -> ExitCode {
         Some("gen-scenes") if args.len() == 1 => gen_scenes().map(|_| true),
         Some("gen-worlds") if args.len() == 1 => gen_worlds().map(|_| true),
         Some("missions") => {
-            let usage = "usage: cargo xtask missions [--worlds N] [--show WORLD]";
-            let (mut worlds, mut show) = (50, None);
+            let usage =
+                "usage: cargo xtask missions [--worlds N] [--show WORLD] [--policy NAME]...";
+            let (mut worlds, mut show, mut only) = (50, None, Vec::new());
             let mut rest = args[1..].iter();
             while let Some(flag) = rest.next() {
                 match (flag.as_str(), rest.next()) {
@@ -71,13 +73,27 @@ fn main() -> ExitCode {
                         }
                     },
                     ("--show", Some(name)) => show = Some(name.clone()),
+                    ("--policy", Some(name)) => match homospline_mission::Policy::named(name) {
+                        Some(p) => only.push(p),
+                        None => {
+                            let names: Vec<&str> = homospline_mission::Policy::all()
+                                .iter()
+                                .map(|p| p.name())
+                                .collect();
+                            eprintln!(
+                                "cargo xtask missions --policy: no policy named {name:?}; the policies are {}",
+                                names.join(", ")
+                            );
+                            return ExitCode::from(2);
+                        }
+                    },
                     _ => {
                         eprintln!("{usage}  (unexpected {flag:?})");
                         return ExitCode::from(2);
                     }
                 }
             }
-            missions(worlds, show.as_deref()).map(|_| true)
+            missions(worlds, show.as_deref(), &only).map(|_| true)
         }
         Some("bench-against") => {
             let usage = "usage: cargo xtask bench-against REV [--runs N] [FILTER]";
@@ -147,7 +163,7 @@ fn main() -> ExitCode {
         }
         _ => {
             eprintln!(
-                "usage: cargo xtask regress [--bless] | gen-scenes | gen-worlds | missions [--worlds N] | bench-against REV [--runs N] [FILTER] | map-memory [N] [--plan] | map-clearance [--sample N] [--robot-radius R] [--least-only] SCEN..."
+                "usage: cargo xtask regress [--bless] | gen-scenes | gen-worlds | missions [--worlds N] [--show WORLD] [--policy NAME]... | bench-against REV [--runs N] [FILTER] | map-memory [N] [--plan] | map-clearance [--sample N] [--robot-radius R] [--least-only] SCEN..."
             );
             return ExitCode::from(2);
         }
@@ -484,8 +500,9 @@ fn mean(v: &[f64]) -> f64 {
     }
 }
 
-/// Every scout policy on `count` generated worlds, and the limited-overlap measurement.
-fn missions(count: usize, show: Option<&str>) -> Result<()> {
+/// Every scout policy (or those of `only`, with `none` as the baseline) on `count` generated
+/// worlds, and the limited-overlap measurement.
+fn missions(count: usize, show: Option<&str>, only: &[homospline_mission::Policy]) -> Result<()> {
     let (worlds, seeds) = generated_worlds(count);
     let maps = homospline_testkit::map_worlds(count.div_ceil(4));
     println!(
@@ -511,6 +528,10 @@ fn missions(count: usize, show: Option<&str>) -> Result<()> {
     };
     let mut rows = Vec::new();
     for &policy in homospline_mission::Policy::all() {
+        if !only.is_empty() && policy != homospline_mission::Policy::NONE && !only.contains(&policy)
+        {
+            continue;
+        }
         let mut figures = policy_figures(&worlds, policy, &mut clearance, show)?;
         map_policy_figures(&maps, policy, &mut figures, &mut clearance, show)?;
         rows.push((policy, figures));
@@ -549,7 +570,11 @@ fn missions(count: usize, show: Option<&str>) -> Result<()> {
             "  TRACK ENTERS AN OBSTACLE"
         }
     );
-    // Limited overlap: single random blockages on the chosen path.
+    // Limited overlap: single random blockages on the chosen path (policy-independent, so
+    // left out of a run narrowed with --policy).
+    if !only.is_empty() {
+        return Ok(());
+    }
     for diverse in [None, Some(0.8), Some(0.5)] {
         print_single_blockages(&worlds, diverse);
     }
@@ -627,13 +652,16 @@ fn policy_figures(
 ) -> Result<PolicyFigures> {
     use homospline_mission::{MissionConfig, simulate};
     use homospline_spline::{CircleModel, ClearanceModel};
+    use rayon::prelude::*;
     let cfg = MissionConfig {
         policy,
         ..MissionConfig::default()
     };
     let mut f = PolicyFigures::default();
-    for w in worlds {
-        let r = simulate(w, &cfg)?;
+    // The missions in parallel (each is deterministic), read in the worlds' order.
+    let results: Vec<_> = worlds.par_iter().map(|w| simulate(w, &cfg)).collect();
+    for (w, r) in worlds.iter().zip(results) {
+        let r = r?;
         print_events(&r, show);
         let track: Vec<homospline_geom::Point> = r.ugv.samples.iter().map(|s| s.1).collect();
         let truth = CircleModel::new(w.truth.circles());
@@ -654,12 +682,14 @@ fn map_policy_figures(
     show: Option<&str>,
 ) -> Result<()> {
     use homospline_mission::{MissionConfig, simulate_map};
+    use rayon::prelude::*;
     let cfg = MissionConfig {
         policy,
         ..MissionConfig::for_maps()
     };
-    for w in worlds {
-        let r = simulate_map(w, &cfg)?;
+    let results: Vec<_> = worlds.par_iter().map(|w| simulate_map(w, &cfg)).collect();
+    for (w, r) in worlds.iter().zip(results) {
+        let r = r?;
         print_events(&r, show);
         let track: Vec<homospline_geom::Point> = r.ugv.samples.iter().map(|s| s.1).collect();
         clearance.least = clearance.least.min(

@@ -25,20 +25,20 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     });
     let world =
         homospline_mission::world::load_any(std::path::Path::new(&path), |p| std::fs::read(p))?;
-    // The default scout policy, `verified` (`simulate --policy verified`); `Policy::all()` lists
+    // The default scout policy, `survey` (`simulate --policy survey`); `Policy::all()` lists
     // the others. A map world takes the map profile, `MissionConfig::for_maps()`.
     let result = match &world {
         AnyWorld::Scene(w) => simulate(
             w,
             &MissionConfig {
-                policy: Policy::VERIFIED,
+                policy: Policy::SURVEY,
                 ..MissionConfig::default()
             },
         )?,
         AnyWorld::Map(w) => simulate_map(
             w,
             &MissionConfig {
-                policy: Policy::VERIFIED,
+                policy: Policy::SURVEY,
                 ..MissionConfig::for_maps()
             },
         )?,

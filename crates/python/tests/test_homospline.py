@@ -358,6 +358,6 @@ def test_a_mission_setting_out_of_range_names_the_keyword():
 
 def test_simulate_takes_every_registered_policy_and_names_them_when_one_is_unknown():
     r = homospline.simulate(ROOT / "fixtures/worlds/narrow-pass-blocked.yaml")
-    assert r["policy"] == "verified" and r["reached"]
+    assert r["policy"] == "survey" and r["reached"]
     with pytest.raises(ValueError, match="none, ahead, alternatives, guard"):
         homospline.simulate(ROOT / "fixtures/worlds/narrow-pass-blocked.yaml", policy="bogus")

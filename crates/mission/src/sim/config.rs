@@ -18,7 +18,7 @@ pub struct MissionConfig {
     /// The planner, offline and for every re-plan. Defaults to 5 classes and L-BFGS (re-plans
     /// are on the clock).
     pub plan: PlanConfig,
-    /// Scout policy (default [`Policy::VERIFIED`]).
+    /// Scout policy (default [`Policy::SURVEY`]).
     pub policy: Policy,
     /// Scouts to fly (`None`: every UAV of the world). More than the world lists are added
     /// at the UGV's start with speed 3 and sensor range 10.

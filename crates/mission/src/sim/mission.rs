@@ -235,7 +235,7 @@ impl<'a, K: Known> Mission<'a, K> {
                 team,
                 &mut self.drive,
                 &mut self.record,
-                self.t,
+                (self.t, range),
             ) {
                 self.assign_all();
             } else {

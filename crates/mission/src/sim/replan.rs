@@ -8,7 +8,7 @@ use super::config::{MissionConfig, TURN_ANGLE_DEG};
 use super::planner::Planner;
 use super::record::{EventKind, Record};
 use super::route::{Drive, Hold, Polyline, Route};
-use super::sense::admit;
+use super::sense::{admit, discover, take_in_along};
 use crate::known::Known;
 use homospline_spline::ClearanceModel;
 
@@ -301,13 +301,14 @@ impl<K: Known> Replan<'_, '_, K> {
 /// route): the candidates the team's map now blocks are dropped; the best left is taken once
 /// the robots have seen it whole (`planner.seen`); when none is left, or the hold's time is
 /// up, the UGV takes the first candidate seen whole than which no unseen one is shorter, else
-/// drives on as a UGV without scouts would. Whether it stopped holding.
+/// drives on as a UGV without scouts would. A hold at the start ends in
+/// [`start_on_team_view`] (the UGV sees `range`). Whether it stopped holding.
 pub(super) fn settle_hold<K: Known>(
     planner: &mut Planner<'_, K>,
-    team: &Planner<'_, K>,
+    team: &mut Planner<'_, K>,
     drive: &mut Drive,
     record: &mut Record,
-    t: Real,
+    (t, range): (Real, Real),
 ) -> bool {
     let Some(mut hold) = drive.hold.take() else {
         return false;
@@ -338,15 +339,13 @@ pub(super) fn settle_hold<K: Known>(
         }
     };
     let at = drive.position();
-    let Some(k) = pick else {
-        if hold.blocked.is_some() {
-            drive.alternatives = hold.candidates;
-        }
+    let Some(b) = &hold.blocked else {
+        // Holding at the start, the hold is over.
+        start_on_team_view(planner, team, drive, record, (t, range));
         return true;
     };
-    let Some(b) = &hold.blocked else {
-        // Holding at the start: its own route, seen clear all along, driven as a UGV
-        // without scouts would.
+    let Some(k) = pick else {
+        drive.alternatives = hold.candidates;
         return true;
     };
     // Leaving its route for the blockage, the UGV's map takes it in.
@@ -372,6 +371,76 @@ pub(super) fn settle_hold<K: Known>(
     drive.take(next, hold.candidates, t, &mut record.adopted);
     drive.verified = true;
     true
+}
+
+/// The end of a hold at the start ([`ScoutPolicy::holds_at_start`]) with the UGV's route
+/// clear on the team's map (one it blocks is left to [`consider_detour`], which weighs a
+/// detour against driving on). What the scouts saw beside the route may make another class
+/// better: a pebble that blocks nothing, close to the route. The UGV, having driven nothing
+/// yet, switches to the shortest of the classes of a plan on the team's map (the offline
+/// plan's settings) that are both cheaper than its route there by the hysteresis' margin
+/// ([`should_switch`]) and at least [`DETOUR_MARGIN`] shorter; its map then takes in what it would have seen driving its old route, where the
+/// scouts have seen it ([`take_in_along`]), so that no later re-plan takes it back there
+/// for want of it. Else it sets off as a UGV without scouts would, its map unchanged.
+///
+/// [`ScoutPolicy::holds_at_start`]: super::policy::ScoutPolicy::holds_at_start
+fn start_on_team_view<K: Known>(
+    planner: &mut Planner<'_, K>,
+    team: &mut Planner<'_, K>,
+    drive: &mut Drive,
+    record: &mut Record,
+    (t, range): (Real, Real),
+) {
+    let line = drive.route.line.clone();
+    if team.version == 0 || !team.clear(&line.slice(drive.s, line.length())) {
+        return;
+    }
+    let at = drive.position();
+    let heading = line.heading(drive.s);
+    let staying = team.remaining_cost(&drive.route, drive.s, heading);
+    let now = team.routes_from(at, None, false, record);
+    record.replans += 1;
+    let length = line.length() - drive.s;
+    let pick = now
+        .iter()
+        .filter(|r| {
+            r.class != drive.route.class
+                && should_switch(staying, r.cost, Real::INFINITY, team.cfg)
+                && r.line.length() < (1.0 - DETOUR_MARGIN) * length
+        })
+        .min_by(|a, b| a.line.length().total_cmp(&b.line.length()));
+    record.event(
+        t,
+        at,
+        EventKind::Replanned {
+            forced: false,
+            classes: now.len(),
+            class: pick.map_or(&drive.route.class, |r| &r.class).clone(),
+        },
+    );
+    let Some(best) = pick.cloned() else {
+        return;
+    };
+    let (found, _) = take_in_along(planner, &line, drive.s, range);
+    if found.any() {
+        discover(planner, drive, record, &found, (t, at));
+    }
+    record.event(
+        t,
+        at,
+        EventKind::Switched {
+            from: drive.route.class.clone(),
+            to: best.class.clone(),
+        },
+    );
+    record.switches += 1;
+    drive.last_switch = t;
+    if turns_on_the_spot(&best.line, heading) {
+        record.event(t, at, EventKind::TurnedAround);
+    }
+    record.abandoned += drive.on_route();
+    let rest = now.into_iter().filter(|r| r.class != best.class).collect();
+    drive.take(best, rest, t, &mut record.adopted);
 }
 
 /// How much shorter than driving on a detour must be to be held for: the estimate of
@@ -461,7 +530,17 @@ pub(super) fn consider_detour<K: Known>(
     let (p, heading) = (line.at(sight).0, line.heading(sight));
     let d1 = sight - drive.s;
     let timed = record.replan_ms.len();
-    let now = team.routes_from(at, Some(line.heading(drive.s)), true, record);
+    // From here: the offline plan's classes (every class, the fine graph, leaving in any
+    // direction: the UGV holds first), and the on-the-move re-plan's; of a class found by
+    // both, the shorter route.
+    let mut now = team.routes_from(at, None, false, record);
+    for r in team.routes_from(at, Some(line.heading(drive.s)), true, record) {
+        match now.iter_mut().find(|q| q.class == r.class) {
+            Some(q) if r.line.length() < q.line.length() => *q = r,
+            Some(_) => {}
+            None => now.push(r),
+        }
+    }
     let mut later = team.routes_from(p, Some(heading), true, record);
     if later.is_empty() {
         later = team.routes_from(p, None, true, record);

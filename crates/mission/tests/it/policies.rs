@@ -1,6 +1,6 @@
-//! The scout policies: one registry that names each once, `verified` as the default, what
-//! the robots have seen (`Coverage`), and `verified` and `guard` against flying no scouts on
-//! generated worlds.
+//! The scout policies: one registry that names each once, `survey` as the default, what
+//! the robots have seen (`Coverage`), and `survey`, `verified` and `guard` against flying no
+//! scouts on generated worlds.
 
 use homospline_geom::Point;
 use homospline_mission::sim::policy::{Coverage, Polyline};
@@ -25,9 +25,9 @@ fn the_registry_names_every_policy_once_and_finds_it_by_name() {
 }
 
 #[test]
-fn verified_is_the_default_of_the_library() {
-    assert_eq!(Policy::default(), Policy::VERIFIED);
-    assert_eq!(MissionConfig::default().policy, Policy::VERIFIED);
+fn survey_is_the_default_of_the_library() {
+    assert_eq!(Policy::default(), Policy::SURVEY);
+    assert_eq!(MissionConfig::default().policy, Policy::SURVEY);
     assert!(Policy::VERIFIED.get().verifies() && !Policy::VERIFIED.get().holds_at_start());
     assert!(Policy::SURVEY.get().verifies() && Policy::SURVEY.get().holds_at_start());
     assert!(!Policy::GUARD.get().verifies());
@@ -96,6 +96,56 @@ fn verified_drives_no_farther_than_no_scouts_on_any_generated_world_and_less_on_
         "verified {:.3} none {:.3}",
         mean(&verified),
         mean(&none)
+    );
+}
+
+#[test]
+fn survey_drives_no_farther_than_no_scouts_on_any_generated_world_and_less_on_average() {
+    let (none, survey) = (ratios(16, Policy::NONE), ratios(16, Policy::SURVEY));
+    for (k, (n, v)) in none.iter().zip(&survey).enumerate() {
+        assert!(*v <= 1.01 * n, "world {k}: survey {v:.3}, none {n:.3}");
+    }
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    assert!(
+        mean(&survey) < mean(&none),
+        "survey {:.3} none {:.3}",
+        mean(&survey),
+        mean(&none)
+    );
+}
+
+#[test]
+fn survey_sets_off_on_a_shorter_class_when_the_scouts_see_a_pebble_beside_its_route() {
+    // world-203-pebbles: a pebble that blocks nothing lies beside the prior's best class. A
+    // UGV without scouts (and `verified`, which takes in only what blocks its route) sees it
+    // 11 units in, switches and turns back; `survey` learns of it while it waits and sets off
+    // on the other class from the start, before it has driven anywhere.
+    let w = suite_world(203, 2).expect("world-203");
+    assert_eq!(w.name, "world-203-pebbles");
+    let none = run(&w, Policy::NONE);
+    let survey = run(&w, Policy::SURVEY);
+    let (n, s) = (
+        none.distance_ratio().expect("a truth plan"),
+        survey.distance_ratio().expect("a truth plan"),
+    );
+    assert!(n > 1.15, "none {n:.3}");
+    assert!(s < 1.02, "survey {s:.3}");
+    let start = survey.ugv.samples[0].1;
+    let switch = survey
+        .events
+        .iter()
+        .find(|e| matches!(e.kind, EventKind::Switched { .. }))
+        .expect("survey switches");
+    assert!(
+        switch.t > 0.0 && (switch.at - start).norm() < 1e-9,
+        "{switch:?}"
+    );
+    assert!(
+        !survey
+            .events
+            .iter()
+            .any(|e| e.t <= switch.t
+                && matches!(e.kind, EventKind::Discovered { by: Robot::Ugv, .. }))
     );
 }
 

@@ -1,5 +1,7 @@
-//! Policy `survey`: `verified`, and before it sets off the UGV holds at the start while the
-//! scouts sweep its route, so that a blockage on it is found before it has driven anywhere.
+//! Policy `survey` (the default): `verified`, and before it sets off the UGV holds at the
+//! start while the scouts sweep its route, so that a blockage on it is found before it has
+//! driven anywhere; what they saw beside it may make the UGV set off on a cheaper and
+//! shorter class instead (`replan::start_on_team_view`).
 
 use super::verified::Verified;
 use super::{Job, ScoutPolicy, Situation};
@@ -13,8 +15,9 @@ impl ScoutPolicy for Survey {
     }
 
     fn summary(&self) -> &'static str {
-        "as verified, and the UGV waits at the start while the scouts sweep its route: the \
-         least distance, at the price of the wait"
+        "as verified, and the UGV waits at the start while the scouts sweep its route, then \
+         sets off on a cheaper and shorter class if they found one: the least distance, at the \
+         price of the wait (the default)"
     }
 
     fn verifies(&self) -> bool {

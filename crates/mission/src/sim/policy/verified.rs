@@ -20,7 +20,7 @@ impl ScoutPolicy for Verified {
     fn summary(&self) -> &'static str {
         "scouts sweep the unseen rest of the UGV's route; a blockage found there makes the UGV \
          hold until they have seen a shorter class clear all along, and only what blocks its \
-         route changes its plan (the default)"
+         route changes its plan"
     }
 
     fn verifies(&self) -> bool {
