@@ -351,6 +351,21 @@ pub(super) fn settle_hold<K: Known>(
     // Leaving its route for the blockage, the UGV's map takes it in.
     admit(planner, b);
     let next = hold.candidates.remove(k);
+    take_standing(drive, record, next, hold.candidates, (t, at));
+    drive.verified = true;
+    true
+}
+
+/// The UGV, standing at `at` at time `t`, drives `next` from there with `alternatives`
+/// beside it: a `Switched` event when its class changes, `TurnedAround` when `next` leaves
+/// off its heading, and the route driven so far counted as abandoned.
+fn take_standing(
+    drive: &mut Drive,
+    record: &mut Record,
+    next: Route,
+    alternatives: Vec<Route>,
+    (t, at): (Real, Point),
+) {
     if next.class != drive.route.class {
         record.event(
             t,
@@ -368,9 +383,7 @@ pub(super) fn settle_hold<K: Known>(
         record.event(t, at, EventKind::TurnedAround);
     }
     record.abandoned += drive.on_route();
-    drive.take(next, hold.candidates, t, &mut record.adopted);
-    drive.verified = true;
-    true
+    drive.take(next, alternatives, t, &mut record.adopted);
 }
 
 /// The end of a hold at the start ([`ScoutPolicy::holds_at_start`]) with the UGV's route
@@ -379,9 +392,10 @@ pub(super) fn settle_hold<K: Known>(
 /// better: a pebble that blocks nothing, close to the route. The UGV, having driven nothing
 /// yet, switches to the shortest of the classes of a plan on the team's map (the offline
 /// plan's settings) that are both cheaper than its route there by the hysteresis' margin
-/// ([`should_switch`]) and at least [`DETOUR_MARGIN`] shorter; its map then takes in what it would have seen driving its old route, where the
-/// scouts have seen it ([`take_in_along`]), so that no later re-plan takes it back there
-/// for want of it. Else it sets off as a UGV without scouts would, its map unchanged.
+/// ([`should_switch`]) and at least [`DETOUR_MARGIN`] shorter. Its map then takes in what
+/// it would have seen driving its old route, where the scouts have seen it
+/// ([`take_in_along`]), so that no later re-plan takes it back there for want of it. Else
+/// it sets off as a UGV without scouts would, its map unchanged.
 ///
 /// [`ScoutPolicy::holds_at_start`]: super::policy::ScoutPolicy::holds_at_start
 fn start_on_team_view<K: Known>(
@@ -421,26 +435,12 @@ fn start_on_team_view<K: Known>(
     let Some(best) = pick.cloned() else {
         return;
     };
-    let (found, _) = take_in_along(planner, &line, drive.s, range);
+    let found = take_in_along(planner, &line, drive.s, range);
     if found.any() {
         discover(planner, drive, record, &found, (t, at));
     }
-    record.event(
-        t,
-        at,
-        EventKind::Switched {
-            from: drive.route.class.clone(),
-            to: best.class.clone(),
-        },
-    );
-    record.switches += 1;
-    drive.last_switch = t;
-    if turns_on_the_spot(&best.line, heading) {
-        record.event(t, at, EventKind::TurnedAround);
-    }
-    record.abandoned += drive.on_route();
     let rest = now.into_iter().filter(|r| r.class != best.class).collect();
-    drive.take(best, rest, t, &mut record.adopted);
+    take_standing(drive, record, best, rest, (t, at));
 }
 
 /// How much shorter than driving on a detour must be to be held for: the estimate of

@@ -140,23 +140,21 @@ pub(super) fn admit<K: Known>(own: &mut Planner<'_, K>, b: &Point) {
 /// `line` from arc length `from` on, where the robots have seen it already (`own.seen`):
 /// every find within `range` of the line's points a quarter of `range` apart (at most 4,000
 /// of them) in those stretches. Events are not recorded again: the scouts' were. What was
-/// found, and the first arc length it was found from (`None`: nothing); the caller applies
-/// it ([`discover`]).
+/// found; the caller applies it ([`discover`]).
 pub(super) fn take_in_along<K: Known>(
     own: &mut Planner<'_, K>,
     line: &Polyline,
     from: Real,
     range: Real,
-) -> (Found, Option<Real>) {
+) -> Found {
     let unseen = own.seen.unseen(line, from);
     let end = line.length();
     let step = (0.25 * range).max(end / 4000.0).max(1e-9);
-    let (mut found, mut first) = (Found::nothing(), None);
+    let mut found = Found::nothing();
     let mut s = from;
     while s <= end {
         if !unseen.iter().any(|&(a, b)| a <= s && s <= b) {
             for (_, hidden) in own.known.sense(&line.at(s).0, range) {
-                first.get_or_insert(s);
                 if hidden {
                     found.hidden = true;
                 } else {
@@ -166,5 +164,5 @@ pub(super) fn take_in_along<K: Known>(
         }
         s += step;
     }
-    (found, first)
+    found
 }
