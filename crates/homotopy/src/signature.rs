@@ -95,13 +95,14 @@ impl Buckets {
         }
     }
 
-    /// Whether some origin in the closed box `[lo, hi]` satisfies `hit`.
+    /// Whether some origin in the closed box `[lo, hi]` satisfies `hit` (given its index
+    /// and itself); the origins are tested each once, in a fixed order.
     fn any_in_box(
         &self,
         origins: &[Point],
         lo: &Point,
         hi: &Point,
-        hit: impl Fn(&Point) -> bool,
+        mut hit: impl FnMut(usize, &Point) -> bool,
     ) -> bool {
         if origins.is_empty() {
             return false;
@@ -124,7 +125,7 @@ impl Buckets {
             );
             self.items[a..b].iter().any(|&k| {
                 let o = &origins[k as usize];
-                o.x >= lo.x && o.x <= hi.x && o.y >= lo.y && o.y <= hi.y && hit(o)
+                o.x >= lo.x && o.x <= hi.x && o.y >= lo.y && o.y <= hi.y && hit(k as usize, o)
             })
         })
     }
@@ -387,27 +388,150 @@ impl Rays {
     /// buckets, about one origin per bucket; an optimiser's step moves a curve little, so this
     /// is far cheaper than the signature among thousands of origins.
     pub fn sweep_is_clear(&self, from: &[Point], to: &[Point]) -> bool {
-        if from.len() != to.len()
-            || from.len() < 2
-            || from[0] != to[0]
-            || from[from.len() - 1] != to[to.len() - 1]
-        {
+        if from.len() != to.len() || from.len() < 2 || !same_ends(from, to) {
             return false;
         }
-        let margin = 1e-9 * (1.0 + self.scale);
-        (0..from.len() - 1).all(|k| {
-            let mut lo = from[k].inf(&from[k + 1]).inf(&to[k]).inf(&to[k + 1]);
-            let mut hi = from[k].sup(&from[k + 1]).sup(&to[k]).sup(&to[k + 1]);
-            let box_margin = margin + 1e-12 * (lo.coords.amax() + hi.coords.amax());
-            lo -= Vector::repeat(box_margin);
-            hi += Vector::repeat(box_margin);
-            let (a, b, c, d) = (from[k], from[k + 1], to[k + 1], to[k]);
-            !self.buckets.any_in_box(&self.origins, &lo, &hi, |o| {
-                [(a, b, c), (a, c, d), (a, b, d), (b, c, d)]
-                    .iter()
-                    .any(|(p, q, r)| near_triangle(o, p, q, r, box_margin))
-            })
+        (0..from.len() - 1).all(|k| self.quad_is_clear([from[k], from[k + 1], to[k + 1], to[k]]))
+    }
+
+    /// Whether no origin lies in or near the convex hull of the quadrilateral `[a, b, c, d]`
+    /// ([`Rays::sweep_is_clear`]): the loop round it is then contractible.
+    fn quad_is_clear(&self, [a, b, c, d]: [Point; 4]) -> bool {
+        let (lo, hi, box_margin) = self.margin_box(&[a, b, c, d]);
+        !self.buckets.any_in_box(&self.origins, &lo, &hi, |_, o| {
+            [(a, b, c), (a, c, d), (a, b, d), (b, c, d)]
+                .iter()
+                .any(|(p, q, r)| near_triangle(o, p, q, r, box_margin))
         })
+    }
+
+    /// The bounding box of `pts`, widened far beyond rounding, and the width added.
+    fn margin_box(&self, pts: &[Point]) -> (Point, Point, Real) {
+        let (mut lo, mut hi) = (pts[0], pts[0]);
+        for p in &pts[1..] {
+            lo = lo.inf(p);
+            hi = hi.sup(p);
+        }
+        let box_margin = 1e-9 * (1.0 + self.scale) + 1e-12 * (lo.coords.amax() + hi.coords.amax());
+        lo -= Vector::repeat(box_margin);
+        hi += Vector::repeat(box_margin);
+        (lo, hi, box_margin)
+    }
+
+    /// Whether `to` has the class of `from` (two polylines with the same ends), decided from
+    /// the obstacles near where they differ: `Some(true)` proven the same, `Some(false)`
+    /// proven different, `None` when that would read more than [`LOCAL_ORIGINS`] origins or
+    /// the ends differ (compute the signatures).
+    ///
+    /// The two are cut into cells at matching points (point `k` of each when they have as
+    /// many; else every point of the one with fewer and the point of the other at about the
+    /// same share of its length): a cell is the loop along `from`'s stretch, across, back
+    /// along `to`'s and across again. The loop
+    /// along `from` and back along `to` is the product of the cells' loops, each conjugated.
+    /// A cell of one segment each with no origin in or near its convex hull (the test of
+    /// [`Rays::sweep_is_clear`]), or of more with none in or near its bounding box, is
+    /// contractible. A run of the others, consecutive, makes one closed loop, whose class in
+    /// the plane minus every origin is trivial exactly when it is in its bounding box minus
+    /// the origins inside (the box's group is a free factor of the plane's): its word is
+    /// read against the rays of those origins alone. Every run's word empty proves the same
+    /// class; a single run whose word is not empty proves another (the loop is then a
+    /// conjugate of it); several runs, some not empty, decide nothing.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use homospline_geom::Point;
+    /// use homospline_homotopy::Rays;
+    ///
+    /// let rays = Rays::new(vec![Point::new(0.0, 0.0), Point::new(10.0, 0.0)]);
+    /// let s = Point::new(-5.0, 1.0);
+    /// let t = Point::new(15.0, 1.0);
+    /// let above = [s, Point::new(0.0, 1.0), Point::new(10.0, 1.0), t];
+    /// let higher = [s, Point::new(0.0, 2.0), Point::new(5.0, 4.0), Point::new(10.0, 3.0), t];
+    /// let dips = [s, Point::new(0.0, -1.0), Point::new(10.0, 1.0), t];
+    /// assert_eq!(rays.same_class(&above, &higher), Some(true));
+    /// assert_eq!(rays.same_class(&above, &dips), Some(false));
+    /// assert_ne!(rays.signature(&above), rays.signature(&dips));
+    /// ```
+    ///
+    /// # See also
+    /// [`Rays::sweep_is_clear`], the proof without reading any word; [`Rays::signature`].
+    pub fn same_class(&self, from: &[Point], to: &[Point]) -> Option<bool> {
+        if from.len() < 2 || to.len() < 2 || !same_ends(from, to) {
+            return None;
+        }
+        let pairs = matching_points(from, to);
+        let cells = pairs.len() - 1;
+        let ends = |c: usize| pairs[c];
+        let mut runs: Vec<(usize, usize)> = Vec::new();
+        for c in 0..cells {
+            let ((i0, j0), (i1, j1)) = (ends(c), ends(c + 1));
+            let clear = if i1 == i0 + 1 && j1 == j0 + 1 {
+                self.quad_is_clear([from[i0], from[i1], to[j1], to[j0]])
+            } else {
+                let mut pts = from[i0..=i1].to_vec();
+                pts.extend_from_slice(&to[j0..=j1]);
+                let (lo, hi, _) = self.margin_box(&pts);
+                !self
+                    .buckets
+                    .any_in_box(&self.origins, &lo, &hi, |_, _| true)
+            };
+            if clear {
+                continue;
+            }
+            match runs.last_mut() {
+                Some((_, end)) if *end == c => *end = c + 1,
+                _ => runs.push((c, c + 1)),
+            }
+        }
+        let mut budget = LOCAL_ORIGINS;
+        let mut all_empty = true;
+        for &(c0, c1) in &runs {
+            let ((i0, j0), (i1, j1)) = (ends(c0), ends(c1));
+            let mut lp: Vec<Point> = from[i0..=i1].to_vec();
+            lp.extend(to[j0..=j1].iter().rev());
+            lp.push(from[i0]);
+            all_empty &= self.local_word_is_empty(&lp, &mut budget)?;
+            if !all_empty && runs.len() > 1 {
+                return None;
+            }
+        }
+        Some(all_empty)
+    }
+
+    /// Whether the closed polyline `lp` has the empty word against the rays of the origins
+    /// in its bounding box (widened as [`Rays::margin_box`]); `None` when they are more
+    /// than `budget` (which they are taken from).
+    fn local_word_is_empty(&self, lp: &[Point], budget: &mut usize) -> Option<bool> {
+        let (lo, hi, _) = self.margin_box(lp);
+        let mut near: Vec<usize> = Vec::new();
+        let over = self.buckets.any_in_box(&self.origins, &lo, &hi, |i, _| {
+            near.push(i);
+            near.len() > *budget
+        });
+        if over {
+            return None;
+        }
+        *budget -= near.len();
+        near.sort_unstable();
+        let mut word = Signature::identity();
+        let mut hits: Vec<(Real, i32)> = Vec::new();
+        for s in lp.windows(2) {
+            let (a, b) = (&s[0], &s[1]);
+            hits.clear();
+            for &i in &near {
+                let o = self.origins[i];
+                let (la, lb) = (self.left_of(&o, a), self.left_of(&o, b));
+                if la != lb {
+                    hits.extend(self.crossing_of(i, o, a, b, lb));
+                }
+            }
+            hits.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+            for &(_, l) in &hits {
+                word.push(l);
+            }
+        }
+        Some(word.is_identity())
     }
 
     /// The signature of a polyline.
@@ -435,6 +559,59 @@ impl Rays {
         w
     }
 }
+
+/// The points at which [`Rays::same_class`] cuts `a` and `b` into cells, as pairs of
+/// indices, both increasing, from `(0, 0)` to the last of each: point `k` of each when they
+/// have as many points; else every point of the one with fewer, each with the first point
+/// of the other at or past the same share of its length (at least one point on, leaving one
+/// for each pair still to come).
+fn matching_points(a: &[Point], b: &[Point]) -> Vec<(usize, usize)> {
+    if a.len() == b.len() {
+        return (0..a.len()).map(|k| (k, k)).collect();
+    }
+    let (short, long, swap) = if a.len() < b.len() {
+        (a, b, false)
+    } else {
+        (b, a, true)
+    };
+    let shares = |p: &[Point]| -> Vec<Real> {
+        let mut acc = vec![0.0; p.len()];
+        for k in 1..p.len() {
+            acc[k] = acc[k - 1] + (p[k] - p[k - 1]).norm();
+        }
+        let total = acc[p.len() - 1].max(Real::MIN_POSITIVE);
+        acc.iter_mut().for_each(|v| *v /= total);
+        acc
+    };
+    let (sa, sb) = (shares(short), shares(long));
+    let (n, m) = (short.len(), long.len());
+    let mut out = Vec::with_capacity(n);
+    let mut j = 0;
+    for (k, &share) in sa.iter().enumerate() {
+        j = if k == 0 {
+            0
+        } else if k == n - 1 {
+            m - 1
+        } else {
+            let mut at = j + 1;
+            while at < m - 1 && sb[at] < share {
+                at += 1;
+            }
+            at.min(m - n + k)
+        };
+        out.push(if swap { (j, k) } else { (k, j) });
+    }
+    out
+}
+
+/// Whether two polylines start at one point and end at one point.
+fn same_ends(a: &[Point], b: &[Point]) -> bool {
+    a.first() == b.first() && a.last() == b.last()
+}
+
+/// Most origins [`Rays::same_class`] reads near where two polylines differ before it leaves
+/// the answer to their signatures.
+pub const LOCAL_ORIGINS: usize = 4096;
 
 /// With at most this many rays, [`Rays::signature`] tests every point against every ray's
 /// line ([`Rays::signature_by_sides`]): a few vectorised operations per ray and point,

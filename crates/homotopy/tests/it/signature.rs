@@ -222,4 +222,82 @@ proptest! {
             prop_assert!(rays.sweep_is_clear(&from, &moved(tiny)));
         }
     }
+
+    /// Whenever the local proof decides, it says what the signatures say: for moves of every
+    /// size, for polylines of other point counts (the same path with points added, and
+    /// another path altogether), among few and many origins.
+    #[test]
+    fn same_class_agrees_with_the_signatures(
+        reps in prop::collection::vec((-30.0..30.0, -30.0..30.0), 0..200),
+        inner in prop::collection::vec((-30.0..30.0, -30.0..30.0), 1..12),
+        moves in prop::collection::vec((-8.0..8.0, -8.0..8.0), 12),
+        other in prop::collection::vec((-30.0..30.0, -30.0..30.0), 0..20),
+        split in 1usize..5,
+    ) {
+        let rays = Rays::new(reps.iter().map(|&(x, y)| Point::new(x, y)).collect());
+        let (s, t) = (Point::new(-35.0, 0.0), Point::new(35.0, 0.0));
+        let mut from = vec![s];
+        from.extend(inner.iter().map(|&(x, y)| Point::new(x, y)));
+        from.push(t);
+        let n = from.len();
+        let moved = |scale: f64| -> Vec<Point> {
+            from.iter()
+                .enumerate()
+                .map(|(k, p)| {
+                    if k == 0 || k == n - 1 {
+                        *p
+                    } else {
+                        p + Vector::new(moves[k].0, moves[k].1) * scale
+                    }
+                })
+                .collect()
+        };
+        // The same path with each segment cut in `split` pieces.
+        let mut finer = vec![s];
+        for w in from.windows(2) {
+            for j in 1..=split {
+                finer.push(w[0] + (w[1] - w[0]) * (j as f64 / split as f64));
+            }
+        }
+        let mut another = vec![s];
+        another.extend(other.iter().map(|&(x, y)| Point::new(x, y)));
+        another.push(t);
+        let sig = rays.signature(&from);
+        for to in [moved(1.0), moved(0.1), moved(0.01), finer, another] {
+            if let Some(same) = rays.same_class(&from, &to) {
+                prop_assert_eq!(same, sig == rays.signature(&to));
+            }
+            if let Some(same) = rays.same_class(&to, &from) {
+                prop_assert_eq!(same, sig == rays.signature(&to));
+            }
+        }
+    }
+}
+
+/// The local proof decides where it should: a path and the same path cut finer (the same
+/// class, with no sweep at all), and a move across one origin among many (another class),
+/// each without reading more than the origins near the move.
+#[test]
+fn same_class_decides_a_finer_cut_and_a_move_across_one_origin() {
+    // A 40 x 40 lattice of origins, one per unit square's centre.
+    let reps: Vec<Point> = (0..40)
+        .flat_map(|i| (0..40).map(move |j| Point::new(i as f64 + 0.5, j as f64 + 0.5)))
+        .collect();
+    let rays = Rays::new(reps);
+    let (s, t) = (Point::new(0.0, 20.0), Point::new(40.0, 20.0));
+    let path: Vec<Point> = (0..=40).map(|i| Point::new(i as f64, 20.0)).collect();
+    let finer: Vec<Point> = (0..=80).map(|i| Point::new(i as f64 * 0.5, 20.0)).collect();
+    assert_eq!((path[0], path[40]), (s, t));
+    assert_eq!(rays.same_class(&path, &finer), Some(true));
+    assert_eq!(rays.same_class(&finer, &path), Some(true));
+    // Point 10 moved up by one unit: the path now passes above the origin at (9.5, 20.5)
+    // and (10.5, 20.5), which it passed below.
+    let mut up = path.clone();
+    up[10] = Point::new(10.0, 21.2);
+    assert_eq!(rays.same_class(&path, &up), Some(false));
+    assert_ne!(rays.signature(&path), rays.signature(&up));
+    // Moved by a hundredth, inside its unit square: the same class.
+    let mut nudged = path.clone();
+    nudged[10] = Point::new(10.0, 20.01);
+    assert_eq!(rays.same_class(&path, &nudged), Some(true));
 }

@@ -34,10 +34,10 @@ pub struct Guard<'a> {
     /// only, so the ranking is all it needs; L-BFGS takes it as a ratchet like the floor.
     pub clearance_target: Real,
     /// The guard's own memory: the samples of the last candidate found in the class (start
-    /// with `Default::default()`). A candidate whose straight-line sweep from it meets no
-    /// obstacle's representative is in the class without its signature being computed
-    /// ([`Rays::sweep_is_clear`]): on a map with thousands of obstacles the signature of every
-    /// candidate was most of the optimisation's time.
+    /// with `Default::default()`). A candidate is compared with it from the obstacles near
+    /// where they differ, without its signature being computed ([`Rays::same_class`]): on a
+    /// map with thousands of obstacles the signature of every candidate was most of the
+    /// optimisation's time.
     pub proven: RefCell<Option<Vec<Point>>>,
 }
 
@@ -130,7 +130,8 @@ pub(super) fn proven_at(spline: &Spline, model: &dyn ClearanceModel, clearance: 
 pub const SHORT_OF_TARGET: Real = 1e9;
 
 /// Up to this many obstacles (rays), the class check computes the samples' signature
-/// directly; beyond, it first tries the sweep's proof ([`Rays::sweep_is_clear`]). The answer
+/// directly; beyond, it first tries the proof from the obstacles near where the candidate
+/// left the last one found in the class ([`Rays::same_class`]). The answer
 /// is the same either way. On the paper scenes (3 to 6 obstacles) the direct signature is
 /// cheaper; on a map's thousands of wall pieces the sweep is (measured: docs/performance.md,
 /// "Measurements behind the defaults").
@@ -138,8 +139,10 @@ pub const DIRECT_SIGNATURE_RAYS: usize = 64;
 
 /// Whether the spline stays in bounds and (when asked) in its class, on dense samples. The
 /// class holds when the samples' signature is the class's: with more than
-/// [`DIRECT_SIGNATURE_RAYS`] obstacles, first tried by proving the sweep from the guard's
-/// last in-class samples clear ([`Rays::sweep_is_clear`]); the samples in the class become
+/// [`DIRECT_SIGNATURE_RAYS`] obstacles, first decided against the guard's last in-class
+/// samples from the obstacles near where they differ ([`Rays::same_class`]: a clear sweep,
+/// or the word of the loop where it is not), the signature computed only when that would
+/// read too many; the samples in the class become
 /// the guard's new reference. The collision test of a guarded candidate
 /// is the cost's own `m(C)` (every quadrature node, refined near the worst one), checked
 /// after the evaluation; a round's result is certified.
@@ -157,8 +160,8 @@ pub fn admissible(spline: &Spline, guard: &Guard<'_>, samples_per_segment: usize
             } else {
                 proven
                     .as_ref()
-                    .is_some_and(|before| rays.sweep_is_clear(before, &pts))
-                    || &rays.signature(&pts) == sig
+                    .and_then(|before| rays.same_class(before, &pts))
+                    .unwrap_or_else(|| &rays.signature(&pts) == sig)
             };
             if same {
                 *proven = Some(pts);

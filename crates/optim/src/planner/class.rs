@@ -137,6 +137,11 @@ impl<'w> ClassTask<'w> {
         let t = Instant::now();
         let model = world.model;
         let (growth, guard) = class_setup(world, &seed_poly, signature, cfg);
+        // The seed's polyline is in the class (the class path, its chords proven), so the
+        // guard's first candidate is compared with it rather than given its signature.
+        if signature.is_some() {
+            *guard.proven.borrow_mut() = Some(seed_poly.clone());
+        }
         let mut growth = growth.into_owned();
         // On scenes the first via-point set that already keeps the floor is preferred.
         let seed_guard = without_floor(&guard);
@@ -297,6 +302,7 @@ impl<'w> ClassTask<'w> {
             seed_poly: &self.seed_poly,
             signature: self.signature,
             graph_cost: self.graph_cost,
+            in_class: self.guard.proven.borrow().clone(),
         }
     }
 

@@ -21,9 +21,11 @@ use super::clearance::{clear_at_least, clearances_of};
 /// go on, the points carrying their chord's margin, until the length falls by less than
 /// 0.1 % (at most [`PULL_PASSES`]): the corners move in towards the walls, to the margin.
 ///
-/// The passes run unchecked first and the class is tested once, on the result; if it left
-/// the class, they run again with every chord proven to keep it. Failing both, the ridge
-/// path is kept. The cost then decides how far from walls the curve ends up. On the
+/// Every chord and cut is proven to keep the class (its loop with the stretch it replaces
+/// encloses no obstacle), so the result needs no signature unless [`push_clear`] moved a
+/// point; if that left the class, the ridge path is kept. (Passes that ran unchecked, the
+/// class tested once on the result, cost as much on the MovingAI maps and left the class on
+/// every long path of a random 4096 x 4096 map, which then ran them again checked.) The cost then decides how far from walls the curve ends up. On the
 /// MovingAI maps this brought the median length down to about the octile optimum (measured:
 /// docs/performance.md, "Measurements behind the defaults").
 pub(super) fn pull_taut(
@@ -54,27 +56,26 @@ pub(super) fn pull_taut(
         .collect();
     let length =
         |p: &[(Point, Real)]| -> Real { p.windows(2).map(|w| (w[1].0 - w[0].0).norm()).sum() };
-    // Unchecked first (the class is tested once, at the end); if the result left the class,
-    // again with every chord and cut proven to keep it.
-    for checked in [false, true] {
-        let mut path = path.clone();
-        for pass in 0..PULL_PASSES {
-            let cut = if pass == 0 {
-                path.clone()
-            } else {
-                cut_corners(&path, model, rays, cell)
-            };
-            let next = pull_pass(&cut, model, rays, cell, checked);
-            let (before, after) = (length(&path), length(&next));
-            path = next;
-            if after > before * (1.0 - 1e-3) {
-                break;
-            }
+    let mut path = path;
+    for pass in 0..PULL_PASSES {
+        let cut = if pass == 0 {
+            path.clone()
+        } else {
+            cut_corners(&path, model, rays, cell)
+        };
+        let next = pull_pass(&cut, model, rays, cell);
+        let (before, after) = (length(&path), length(&next));
+        path = next;
+        if after > before * (1.0 - 1e-3) {
+            break;
         }
-        let pulled = push_clear(path.into_iter().map(|(p, _)| p).collect(), model, cell);
-        if rays.signature(&pulled) == *signature {
-            return pulled;
-        }
+    }
+    let taut: Vec<Point> = path.into_iter().map(|(p, _)| p).collect();
+    let pulled = push_clear(taut.clone(), model, cell);
+    // Every chord and cut was proven to keep the class; only a point that `push_clear`
+    // moved asks for the signature.
+    if pulled == taut || rays.signature(&pulled) == *signature {
+        return pulled;
     }
     poly.to_vec()
 }
@@ -202,14 +203,13 @@ fn cut_corners(
 const CUT_STEPS: usize = 6;
 
 /// One pass of [`pull_taut`] over `path`, whose points carry the margin of the segment that
-/// ends at them. `checked`: each chord must also enclose no obstacle with the stretch it
-/// replaces (their loop's word is empty), which proves that the pass keeps the class.
+/// ends at them. Each chord must also enclose no obstacle with the stretch it replaces
+/// (their loop's word is empty), which proves that the pass keeps the class.
 fn pull_pass(
     path: &[(Point, Real)],
     model: &dyn ClearanceModel,
     rays: &Rays,
     cell: Real,
-    checked: bool,
 ) -> Vec<(Point, Real)> {
     // A point every cell, each with the least margin of the segments it is on.
     let mut dense = vec![path[0].0];
@@ -232,9 +232,10 @@ fn pull_pass(
             .fold(Real::INFINITY, Real::min)
     };
     // The chord keeps the stretch's class when the straight-line homotopy from the stretch
-    // to the chord (point k to the chord's point k) meets no obstacle's representative
-    // ([`Rays::sweep_is_clear`], a few buckets); else the loop's word decides (the whole
-    // signature of the stretch: most of a 4096^2 map's string pulling went to it).
+    // to the chord (point k to the chord's point k) meets no obstacle's representative, or
+    // the loop where it does has the empty word ([`Rays::same_class`], the obstacles near
+    // it); else the whole signature of the stretch decides (most of a 4096^2 map's string
+    // pulling went to it).
     let loop_is_trivial = |i: usize, j: usize| {
         let (a, b) = (dense[i], dense[j]);
         let n = (j - i) as Real;
@@ -248,17 +249,13 @@ fn pull_pass(
                 }
             })
             .collect();
-        if rays.sweep_is_clear(&dense[i..=j], &chord) {
-            return true;
-        }
-        rays.chord_keeps_class(&dense[i..=j])
+        rays.same_class(&dense[i..=j], &chord)
+            .unwrap_or_else(|| rays.chord_keeps_class(&dense[i..=j]))
     };
     let ok = |i: usize, j: usize| {
         j == i + 1 || {
             let t = target(i, j);
-            t > 0.0
-                && clear_at_least(model, dense[i], dense[j], t, cell)
-                && (!checked || loop_is_trivial(i, j))
+            t > 0.0 && clear_at_least(model, dense[i], dense[j], t, cell) && loop_is_trivial(i, j)
         }
     };
     let last = dense.len() - 1;

@@ -12,7 +12,7 @@ use super::config::{PlanConfig, Seed};
 use super::world::World;
 #[cfg(doc)]
 use crate::growth::grow;
-use crate::growth::{Grown, Round, report_spacing};
+use crate::growth::{DIRECT_SIGNATURE_RAYS, Grown, Round, report_spacing};
 
 /// One optimised class.
 #[derive(Clone, Debug, PartialEq)]
@@ -182,6 +182,11 @@ pub(super) struct Origin<'a> {
     pub signature: Option<&'a Signature>,
     /// Graph cost of the class path.
     pub graph_cost: Real,
+    /// A polyline known to be in the class (the guard's last in-class samples): among more
+    /// than [`DIRECT_SIGNATURE_RAYS`] obstacles the reported path is compared with it near
+    /// where they differ ([`homospline_homotopy::Rays::same_class`]) before its signature
+    /// is computed.
+    pub in_class: Option<Vec<Point>>,
 }
 
 /// A class's plan from its grown curve (`None`: the growth loop could not start, and the
@@ -199,6 +204,7 @@ pub(super) fn report_class(
         seed_poly,
         signature,
         graph_cost,
+        in_class: known,
     } = origin;
     let (via_points, spline, terms, rounds, evaluations) = match grown {
         Some(g) => (g.points, Some(g.spline), g.terms, g.rounds, g.evaluations),
@@ -222,7 +228,13 @@ pub(super) fn report_class(
                 (path, least)
             };
             let inside = path.iter().all(|p| world.bounds.contains(p));
-            let in_class = signature.is_none_or(|s| &rays.signature(&path) == s);
+            let in_class = signature.is_none_or(|s| {
+                known
+                    .as_ref()
+                    .filter(|_| rays.len() > DIRECT_SIGNATURE_RAYS)
+                    .and_then(|k| rays.same_class(k, &path))
+                    .unwrap_or_else(|| &rays.signature(&path) == s)
+            });
             (
                 path,
                 length,
