@@ -420,8 +420,9 @@ impl Rays {
 
     /// Whether `to` has the class of `from` (two polylines with the same ends), decided from
     /// the obstacles near where they differ: `Some(true)` proven the same, `Some(false)`
-    /// proven different, `None` when that would read more than [`LOCAL_ORIGINS`] origins or
-    /// the ends differ (compute the signatures).
+    /// proven different, `None` when that would read more than [`LOCAL_ORIGINS`] origins
+    /// (or make more than [`LOCAL_TESTS`] side tests for one loop) or the ends differ
+    /// (compute the signatures).
     ///
     /// The two are cut into cells at matching points (point `k` of each when they have as
     /// many; else every point of the one with fewer and the point of the other at about the
@@ -509,7 +510,7 @@ impl Rays {
             near.push(i);
             near.len() > *budget
         });
-        if over {
+        if over || lp.len().saturating_mul(near.len()) > LOCAL_TESTS {
             return None;
         }
         *budget -= near.len();
@@ -612,6 +613,11 @@ fn same_ends(a: &[Point], b: &[Point]) -> bool {
 /// Most origins [`Rays::same_class`] reads near where two polylines differ before it leaves
 /// the answer to their signatures.
 pub const LOCAL_ORIGINS: usize = 4096;
+
+/// Most side tests (a loop's points times the origins in its box) [`Rays::same_class`]
+/// makes for one loop: a long loop among thousands of origins would cost more than the
+/// signature of a whole map path (about 18 ms on a random 4096^2 map).
+pub const LOCAL_TESTS: usize = 1 << 21;
 
 /// With at most this many rays, [`Rays::signature`] tests every point against every ray's
 /// line ([`Rays::signature_by_sides`]): a few vectorised operations per ray and point,
