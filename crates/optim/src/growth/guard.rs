@@ -137,12 +137,21 @@ pub const SHORT_OF_TARGET: Real = 1e9;
 /// "Measurements behind the defaults").
 pub const DIRECT_SIGNATURE_RAYS: usize = 64;
 
+/// Up to this many obstacles (and more than [`DIRECT_SIGNATURE_RAYS`]), a candidate whose
+/// sweep from the guard's last in-class samples is not clear gets its signature; beyond, the
+/// loops where the sweep is not clear are read first ([`Rays::same_class`]). The answer is
+/// the same either way. Among the 73 to 607 obstacles of the city and room maps the
+/// signature is the cheaper (the MovingAI plans about 2 % faster); among the 18,615 of
+/// random512-20-0 and the hundreds of thousands of a random 4096^2 map the loops are
+/// (measured: docs/performance.md, "Class checks from the obstacles nearby").
+pub const LOCAL_PROOF_RAYS: usize = 1024;
+
 /// Whether the spline stays in bounds and (when asked) in its class, on dense samples. The
 /// class holds when the samples' signature is the class's: with more than
-/// [`DIRECT_SIGNATURE_RAYS`] obstacles, first decided against the guard's last in-class
-/// samples from the obstacles near where they differ ([`Rays::same_class`]: a clear sweep,
-/// or the word of the loop where it is not), the signature computed only when that would
-/// read too many; the samples in the class become
+/// [`DIRECT_SIGNATURE_RAYS`] obstacles, first by the sweep from the guard's last in-class
+/// samples ([`Rays::sweep_is_clear`]) and, beyond [`LOCAL_PROOF_RAYS`], by the words of the
+/// loops where it is not clear ([`Rays::same_class`]), the signature computed only when
+/// those do not decide; the samples in the class become
 /// the guard's new reference. The collision test of a guarded candidate
 /// is the cost's own `m(C)` (every quadrature node, refined near the worst one), checked
 /// after the evaluation; a round's result is certified.
@@ -157,6 +166,11 @@ pub fn admissible(spline: &Spline, guard: &Guard<'_>, samples_per_segment: usize
             // With few obstacles the signature costs less than the sweep's proof.
             let same = if rays.len() <= DIRECT_SIGNATURE_RAYS {
                 &rays.signature(&pts) == sig
+            } else if rays.len() <= LOCAL_PROOF_RAYS {
+                proven
+                    .as_ref()
+                    .is_some_and(|before| rays.sweep_is_clear(before, &pts))
+                    || &rays.signature(&pts) == sig
             } else {
                 proven
                     .as_ref()

@@ -204,7 +204,9 @@ const CUT_STEPS: usize = 6;
 
 /// One pass of [`pull_taut`] over `path`, whose points carry the margin of the segment that
 /// ends at them. Each chord must also enclose no obstacle with the stretch it replaces
-/// (their loop's word is empty), which proves that the pass keeps the class.
+/// (their loop's word is empty), which proves that the pass keeps the class: the farthest
+/// chord that keeps its margin is checked, and only if it fails are the chords of the
+/// search checked one by one.
 fn pull_pass(
     path: &[(Point, Real)],
     model: &dyn ClearanceModel,
@@ -252,43 +254,57 @@ fn pull_pass(
         rays.same_class(&dense[i..=j], &chord)
             .unwrap_or_else(|| rays.chord_keeps_class(&dense[i..=j]))
     };
-    let ok = |i: usize, j: usize| {
+    let clear = |i: usize, j: usize| {
         j == i + 1 || {
             let t = target(i, j);
-            t > 0.0 && clear_at_least(model, dense[i], dense[j], t, cell) && loop_is_trivial(i, j)
+            t > 0.0 && clear_at_least(model, dense[i], dense[j], t, cell)
         }
     };
     let last = dense.len() - 1;
     let mut out = vec![(dense[0], 0.0)];
     let mut i = 0;
     while i < last {
-        // Doubling while the chord is admissible, then halving between the last
-        // admissible and the first refused.
-        let (mut good, mut step, mut bad) = (i + 1, 2, None);
-        while good < last {
-            let j = (i + step).min(last);
-            if ok(i, j) {
-                good = j;
-                step *= 2;
-            } else {
-                bad = Some(j);
-                break;
-            }
-        }
-        if let Some(mut hi) = bad {
-            while hi - good > 1 {
-                let mid = good + (hi - good) / 2;
-                if ok(i, mid) {
-                    good = mid;
-                } else {
-                    hi = mid;
-                }
-            }
+        // The farthest chord that keeps its margin; if its loop with the stretch is not
+        // trivial (rare: a chord that jumps a small obstacle), the search again with every
+        // chord tried held to the class too.
+        let mut good = farthest(i, last, &clear);
+        if good > i + 1 && !loop_is_trivial(i, good) {
+            good = farthest(i, last, &|i, j| {
+                clear(i, j) && (j == i + 1 || loop_is_trivial(i, j))
+            });
         }
         out.push((dense[good], target(i, good).max(0.0)));
         i = good;
     }
     out
+}
+
+/// The farthest `j` in `(i, last]` that `ok(i, j)` admits by doubling the step while it
+/// does, then halving between the last admitted and the first refused (`ok(i, i + 1)` is
+/// taken as true).
+fn farthest(i: usize, last: usize, ok: &dyn Fn(usize, usize) -> bool) -> usize {
+    let (mut good, mut step, mut bad) = (i + 1, 2, None);
+    while good < last {
+        let j = (i + step).min(last);
+        if ok(i, j) {
+            good = j;
+            step *= 2;
+        } else {
+            bad = Some(j);
+            break;
+        }
+    }
+    if let Some(mut hi) = bad {
+        while hi - good > 1 {
+            let mid = good + (hi - good) / 2;
+            if ok(i, mid) {
+                good = mid;
+            } else {
+                hi = mid;
+            }
+        }
+    }
+    good
 }
 
 /// Most passes of [`pull_taut`].

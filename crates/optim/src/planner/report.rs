@@ -12,7 +12,7 @@ use super::config::{PlanConfig, Seed};
 use super::world::World;
 #[cfg(doc)]
 use crate::growth::grow;
-use crate::growth::{DIRECT_SIGNATURE_RAYS, Grown, Round, report_spacing};
+use crate::growth::{Grown, LOCAL_PROOF_RAYS, Round, report_spacing};
 
 /// One optimised class.
 #[derive(Clone, Debug, PartialEq)]
@@ -183,7 +183,7 @@ pub(super) struct Origin<'a> {
     /// Graph cost of the class path.
     pub graph_cost: Real,
     /// A polyline known to be in the class (the guard's last in-class samples): among more
-    /// than [`DIRECT_SIGNATURE_RAYS`] obstacles the reported path is compared with it near
+    /// than [`LOCAL_PROOF_RAYS`] obstacles the reported path is compared with it near
     /// where they differ ([`homospline_homotopy::Rays::same_class`]) before its signature
     /// is computed.
     pub in_class: Option<Vec<Point>>,
@@ -231,7 +231,7 @@ pub(super) fn report_class(
             let in_class = signature.is_none_or(|s| {
                 known
                     .as_ref()
-                    .filter(|_| rays.len() > DIRECT_SIGNATURE_RAYS)
+                    .filter(|_| rays.len() > LOCAL_PROOF_RAYS)
                     .and_then(|k| rays.same_class(k, &path))
                     .unwrap_or_else(|| &rays.signature(&path) == s)
             });
