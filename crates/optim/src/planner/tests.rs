@@ -7,7 +7,7 @@ use super::pull::pull_taut;
 use super::report::refine_samples;
 use super::*;
 use homospline_geom::{Circle, Point};
-use homospline_homotopy::{SearchConfig, k_best_classes};
+use homospline_homotopy::{Rays, SearchConfig, k_best_classes};
 use homospline_spline::{CircleModel, ClearanceModel, EndCondition, Spline};
 use proptest::prelude::*;
 
@@ -80,6 +80,40 @@ fn sampled(model: &CircleModel, a: Point, b: Point, n: usize) -> Real {
     (0..=n)
         .map(|k| model.exact_clearance(&(a + (b - a) * (k as Real / n as Real))))
         .fold(Real::INFINITY, Real::min)
+}
+
+/// String pulling checks only the farthest chord that keeps its margin: here that chord
+/// passes under a small circle that the path goes over, so its loop is not trivial, and the
+/// pass searches again with every chord held to the class. The result keeps the class and
+/// goes over the circle about as tautly as its margin allows, clear of it.
+#[test]
+fn a_chord_that_jumps_a_small_obstacle_is_refused_and_the_class_kept() {
+    let model = CircleModel::new(vec![Circle::new(5.0, 0.0, 0.05)]);
+    let rays = Rays::new(vec![Point::new(5.0, 0.0)]);
+    let tent: Vec<Point> = (0..=40)
+        .map(|k| {
+            let x = k as Real * 0.25;
+            Point::new(x, 1.0 - 0.3 * (x - 5.0).abs())
+        })
+        .collect();
+    let sig = rays.signature(&tent);
+    // The straight chord between the tent's ends keeps the pull's margin (a quarter cell
+    // of 0.25 at most) but passes below the circle: the other class.
+    let (a, b) = (tent[0], tent[40]);
+    assert!(clear_at_least(&model, a, b, 0.25, 0.25));
+    assert_ne!(rays.signature(&[a, b]), sig);
+    let pulled = pull_taut(&tent, &model, &rays, 0.25, &sig);
+    assert_eq!(rays.signature(&pulled), sig);
+    assert_eq!((pulled[0], pulled[pulled.len() - 1]), (a, b));
+    let length = |p: &[Point]| -> Real { p.windows(2).map(|w| (w[1] - w[0]).norm()).sum() };
+    // Over the circle at the pull's margin (0.25 from its edge): about 10.127.
+    let over = 2.0 * (5.0 as Real).hypot(0.5 + 0.05 + 0.25);
+    assert!(
+        length(&pulled) <= over + 0.01,
+        "{} against {over}",
+        length(&pulled)
+    );
+    assert!(model.polyline_clearance(&pulled) > 0.0);
 }
 
 proptest! {
