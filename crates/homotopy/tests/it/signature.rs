@@ -178,6 +178,29 @@ proptest! {
     }
 }
 
+/// The path from (-35, 0) through `inner` to (35, 0).
+fn path_through(inner: &[(f64, f64)]) -> Vec<Point> {
+    let mut path = vec![Point::new(-35.0, 0.0)];
+    path.extend(inner.iter().map(|&(x, y)| Point::new(x, y)));
+    path.push(Point::new(35.0, 0.0));
+    path
+}
+
+/// `path` with its inner point `k` moved by `moves[k]` times `scale`, its ends kept.
+fn moved_inner(path: &[Point], moves: &[(f64, f64)], scale: f64) -> Vec<Point> {
+    let n = path.len();
+    path.iter()
+        .enumerate()
+        .map(|(k, p)| {
+            if k == 0 || k == n - 1 {
+                *p
+            } else {
+                p + Vector::new(moves[k].0, moves[k].1) * scale
+            }
+        })
+        .collect()
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]
 
@@ -191,22 +214,8 @@ proptest! {
         tiny in 1e-6..1e-3,
     ) {
         let rays = Rays::new(reps.iter().map(|&(x, y)| Point::new(x, y)).collect());
-        let mut from = vec![Point::new(-35.0, 0.0)];
-        from.extend(inner.iter().map(|&(x, y)| Point::new(x, y)));
-        from.push(Point::new(35.0, 0.0));
-        let n = from.len();
-        let moved = |scale: f64| -> Vec<Point> {
-            from.iter()
-                .enumerate()
-                .map(|(k, p)| {
-                    if k == 0 || k == n - 1 {
-                        *p
-                    } else {
-                        p + Vector::new(moves[k].0, moves[k].1) * scale
-                    }
-                })
-                .collect()
-        };
+        let from = path_through(&inner);
+        let moved = |scale: f64| moved_inner(&from, &moves, scale);
         for to in [moved(1.0), moved(0.1), moved(tiny)] {
             if rays.sweep_is_clear(&from, &to) {
                 prop_assert_eq!(rays.signature(&from), rays.signature(&to));
@@ -235,23 +244,9 @@ proptest! {
         split in 1usize..5,
     ) {
         let rays = Rays::new(reps.iter().map(|&(x, y)| Point::new(x, y)).collect());
-        let (s, t) = (Point::new(-35.0, 0.0), Point::new(35.0, 0.0));
-        let mut from = vec![s];
-        from.extend(inner.iter().map(|&(x, y)| Point::new(x, y)));
-        from.push(t);
-        let n = from.len();
-        let moved = |scale: f64| -> Vec<Point> {
-            from.iter()
-                .enumerate()
-                .map(|(k, p)| {
-                    if k == 0 || k == n - 1 {
-                        *p
-                    } else {
-                        p + Vector::new(moves[k].0, moves[k].1) * scale
-                    }
-                })
-                .collect()
-        };
+        let from = path_through(&inner);
+        let (s, t) = (from[0], from[from.len() - 1]);
+        let moved = |scale: f64| moved_inner(&from, &moves, scale);
         // The same path with each segment cut in `split` pieces.
         let mut finer = vec![s];
         for w in from.windows(2) {
