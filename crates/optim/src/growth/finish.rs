@@ -2,8 +2,10 @@
 //! log barrier on the clearance, in stages of falling weight, and the guarded gradient it
 //! (and an L-BFGS round) descends.
 
-use homospline_geom::{Point, Real};
-use homospline_spline::{ClearanceModel, EndCondition, Parametrization, Spline, gradient};
+use homospline_geom::{Point, Real, Vector};
+use homospline_spline::{
+    ClearanceModel, CostTerms, EndCondition, Parametrization, Spline, gradient,
+};
 
 use super::config::GrowthConfig;
 use super::guard::{Guard, SHORT_OF_TARGET, admissible, proven_at};
@@ -48,14 +50,25 @@ pub(super) fn guarded_gradient(
     guard: &Guard<'_>,
     current: Real,
 ) -> (Real, Vec<Real>) {
-    let inner = 2 * sp.points().len().saturating_sub(2);
     if !admissible(sp, guard, cfg.guard_samples) {
+        let inner = 2 * sp.points().len().saturating_sub(2);
         return (Real::INFINITY, vec![0.0; inner]);
     }
     let (terms, g) = gradient(sp, model, &cfg.cost);
+    guarded_value(terms, &g, guard, current)
+}
+
+/// [`guarded_gradient`] of an admissible candidate from its cost terms and gradient `g`
+/// (one vector per inner via-point).
+fn guarded_value(
+    terms: CostTerms,
+    g: &[Vector],
+    guard: &Guard<'_>,
+    current: Real,
+) -> (Real, Vec<Real>) {
     let m = terms.min_clearance;
     if guard.rejects(m) || m < guard.clearance_target.min(current) {
-        (Real::INFINITY, vec![0.0; inner])
+        (Real::INFINITY, vec![0.0; 2 * g.len()])
     } else {
         (terms.total, g.iter().flat_map(|v| [v.x, v.y]).collect())
     }
@@ -139,11 +152,21 @@ pub(super) fn interior_finish(
             let Some(sp) = build(&to_points(s, t, y), end, cfg) else {
                 return (Real::INFINITY, vec![0.0; y.len()]);
             };
-            let (v, mut g) = guarded_gradient(&sp, model, cfg, guard, current);
+            // [`guarded_gradient`], with the barrier worked out on the other core while the
+            // cost's gradient is (the finish runs alone after the classes' rounds). Each is
+            // computed as it would be alone, so the values are the same.
+            if !admissible(&sp, guard, cfg.guard_samples) {
+                return (Real::INFINITY, vec![0.0; y.len()]);
+            }
+            let ((terms, grad), barrier_part) = rayon::join(
+                || gradient(&sp, model, &cfg.cost),
+                || barrier.value_and_gradient(&sp, model),
+            );
+            let (v, mut g) = guarded_value(terms, &grad, guard, current);
             if !v.is_finite() {
                 return (v, g);
             }
-            match barrier.value_and_gradient(&sp, model) {
+            match barrier_part {
                 Some((b, bg)) => {
                     for (gi, bv) in g.chunks_exact_mut(2).zip(&bg) {
                         gi[0] += bv.x;
