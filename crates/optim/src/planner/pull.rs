@@ -24,10 +24,11 @@ use super::clearance::{clear_at_least, clearances_of};
 /// Every chord and cut is proven to keep the class (its loop with the stretch it replaces
 /// encloses no obstacle), so the result needs no signature unless [`push_clear`] moved a
 /// point; if that left the class, the ridge path is kept. (Passes that ran unchecked, the
-/// class tested once on the result, cost as much on the MovingAI maps and left the class on
-/// every long path of a random 4096 x 4096 map, which then ran them again checked.) The cost then decides how far from walls the curve ends up. On the
-/// MovingAI maps this brought the median length down to about the octile optimum (measured:
-/// docs/performance.md, "Measurements behind the defaults").
+/// class tested once on the result, left the class on both long paths of a random
+/// 4096 x 4096 map, which then ran them again checked.) The cost then decides how far from
+/// walls the curve ends up. On the MovingAI maps this brought the median length down to
+/// about the octile optimum (measured: docs/performance.md, "Measurements behind the
+/// defaults").
 pub(super) fn pull_taut(
     poly: &[Point],
     model: &dyn ClearanceModel,
