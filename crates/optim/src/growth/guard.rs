@@ -130,9 +130,8 @@ pub(super) fn proven_at(spline: &Spline, model: &dyn ClearanceModel, clearance: 
 pub const SHORT_OF_TARGET: Real = 1e9;
 
 /// Up to this many obstacles (rays), the class check computes the samples' signature
-/// directly; beyond, it first tries the proof from the obstacles near where the candidate
-/// left the last one found in the class ([`Rays::same_class`]). The answer
-/// is the same either way. On the paper scenes (3 to 6 obstacles) the direct signature is
+/// directly; beyond, it first compares them with a polyline known to be in the class
+/// ([`in_class_beside`]). The answer is the same either way. On the paper scenes (3 to 6 obstacles) the direct signature is
 /// cheaper; on a map's thousands of wall pieces the sweep is (measured: docs/performance.md,
 /// "Measurements behind the defaults").
 pub const DIRECT_SIGNATURE_RAYS: usize = 64;
@@ -163,26 +162,36 @@ pub fn admissible(spline: &Spline, guard: &Guard<'_>, samples_per_segment: usize
     match guard.class {
         Some((rays, sig)) => {
             let mut proven = guard.proven.borrow_mut();
-            // With few obstacles the signature costs less than the sweep's proof.
-            let same = if rays.len() <= DIRECT_SIGNATURE_RAYS {
-                &rays.signature(&pts) == sig
-            } else if rays.len() <= LOCAL_PROOF_RAYS {
-                proven
-                    .as_ref()
-                    .is_some_and(|before| rays.sweep_is_clear(before, &pts))
-                    || &rays.signature(&pts) == sig
-            } else {
-                proven
-                    .as_ref()
-                    .and_then(|before| rays.same_class(before, &pts))
-                    .unwrap_or_else(|| &rays.signature(&pts) == sig)
-            };
+            let same = in_class_beside(rays, sig, proven.as_deref(), &pts);
             if same {
                 *proven = Some(pts);
             }
             same
         }
         None => true,
+    }
+}
+
+/// Whether the polyline `pts` is in the class `sig`, given `known`, a polyline known to be
+/// in it (the guard's last in-class samples): up to [`DIRECT_SIGNATURE_RAYS`] obstacles by
+/// its signature (cheaper than any proof there); up to [`LOCAL_PROOF_RAYS`] by the sweep
+/// from `known` ([`Rays::sweep_is_clear`]), else its signature; beyond, by the words of the
+/// loops where the two differ ([`Rays::same_class`]), else its signature. The answer is
+/// the signature's in every case.
+pub fn in_class_beside(
+    rays: &Rays,
+    sig: &Signature,
+    known: Option<&[Point]>,
+    pts: &[Point],
+) -> bool {
+    if rays.len() <= DIRECT_SIGNATURE_RAYS {
+        &rays.signature(pts) == sig
+    } else if rays.len() <= LOCAL_PROOF_RAYS {
+        known.is_some_and(|k| rays.sweep_is_clear(k, pts)) || &rays.signature(pts) == sig
+    } else {
+        known
+            .and_then(|k| rays.same_class(k, pts))
+            .unwrap_or_else(|| &rays.signature(pts) == sig)
     }
 }
 

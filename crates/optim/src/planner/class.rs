@@ -302,7 +302,7 @@ impl<'w> ClassTask<'w> {
             seed_poly: &self.seed_poly,
             signature: self.signature,
             graph_cost: self.graph_cost,
-            in_class: self.guard.proven.borrow().clone(),
+            in_class: &self.guard.proven,
         }
     }
 

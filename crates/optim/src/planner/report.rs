@@ -1,6 +1,7 @@
 //! What a plan reports ([`Plan`], [`ClassPlan`], [`Timing`]), and a class's report from its
 //! grown curve: the path sampled and refined, its certification and its checks.
 
+use std::cell::RefCell;
 use std::time::Instant;
 
 use homospline_geom::{Point, Real};
@@ -12,7 +13,7 @@ use super::config::{PlanConfig, Seed};
 use super::world::World;
 #[cfg(doc)]
 use crate::growth::grow;
-use crate::growth::{Grown, LOCAL_PROOF_RAYS, Round, report_spacing};
+use crate::growth::{Grown, Round, in_class_beside, report_spacing};
 
 /// One optimised class.
 #[derive(Clone, Debug, PartialEq)]
@@ -182,11 +183,9 @@ pub(super) struct Origin<'a> {
     pub signature: Option<&'a Signature>,
     /// Graph cost of the class path.
     pub graph_cost: Real,
-    /// A polyline known to be in the class (the guard's last in-class samples): among more
-    /// than [`LOCAL_PROOF_RAYS`] obstacles the reported path is compared with it near
-    /// where they differ ([`homospline_homotopy::Rays::same_class`]) before its signature
-    /// is computed.
-    pub in_class: Option<Vec<Point>>,
+    /// The guard's last in-class samples: the reported path's class is checked beside them
+    /// ([`in_class_beside`]).
+    pub in_class: &'a RefCell<Option<Vec<Point>>>,
 }
 
 /// A class's plan from its grown curve (`None`: the growth loop could not start, and the
@@ -228,13 +227,8 @@ pub(super) fn report_class(
                 (path, least)
             };
             let inside = path.iter().all(|p| world.bounds.contains(p));
-            let in_class = signature.is_none_or(|s| {
-                known
-                    .as_ref()
-                    .filter(|_| rays.len() > LOCAL_PROOF_RAYS)
-                    .and_then(|k| rays.same_class(k, &path))
-                    .unwrap_or_else(|| &rays.signature(&path) == s)
-            });
+            let in_class = signature
+                .is_none_or(|s| in_class_beside(rays, s, known.borrow().as_deref(), &path));
             (
                 path,
                 length,
