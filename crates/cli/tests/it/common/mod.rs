@@ -28,17 +28,40 @@ pub fn root() -> &'static Path {
 
 /// A scratch file for this test process, in a folder of the calling test file's own (the
 /// test files share one process: two may use one name).
+///
+/// The folders live in Cargo's `target/tmp`, one per test process; the first call removes
+/// those left by test processes that have ended, so repeated runs do not pile up.
 #[track_caller]
 pub fn tmp(name: &str) -> PathBuf {
     let caller = Path::new(std::panic::Location::caller().file());
     let module = caller
         .file_stem()
         .map_or_else(|| "common".to_owned(), |s| s.to_string_lossy().into_owned());
-    let dir = std::env::temp_dir()
-        .join(format!("homospline-cli-test-{}", std::process::id()))
-        .join(module);
+    let dir = scratch_root().join(module);
     std::fs::create_dir_all(&dir).unwrap();
     dir.join(name)
+}
+
+/// This process's scratch folder, `target/tmp/cli-test-<pid>`; made once, after sweeping
+/// the folders of processes that no longer run (read from `/proc`; elsewhere nothing is
+/// swept).
+fn scratch_root() -> &'static Path {
+    static ROOT: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
+    ROOT.get_or_init(|| {
+        let base = Path::new(env!("CARGO_TARGET_TMPDIR"));
+        if Path::new("/proc/self").exists() {
+            for entry in std::fs::read_dir(base).into_iter().flatten().flatten() {
+                let name = entry.file_name();
+                let pid = name.to_str().and_then(|n| n.strip_prefix("cli-test-"));
+                if pid.is_some_and(|p| !Path::new("/proc").join(p).exists()) {
+                    let _ = std::fs::remove_dir_all(entry.path());
+                }
+            }
+        }
+        let root = base.join(format!("cli-test-{}", std::process::id()));
+        std::fs::create_dir_all(&root).unwrap();
+        root
+    })
 }
 
 /// Asserts exit code 0, showing stderr otherwise.
