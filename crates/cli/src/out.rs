@@ -270,7 +270,7 @@ fn writable(path: &Path) -> bool {
         && std::fs::OpenOptions::new().write(true).open(path).is_ok()
 }
 
-/// Whether [`write`] can replace `path` (a link's target): a file can be made beside it,
+/// Whether [`write()`] can replace `path` (a link's target): a file can be made beside it,
 /// or it is a file the user may write. Makes and removes a probe of its own name (a
 /// temporary file a killed run left behind does not stand in the way).
 fn can_write(path: &Path) -> std::io::Result<()> {

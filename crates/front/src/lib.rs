@@ -1,7 +1,7 @@
 //! What every front end of homospline shares (the command line, the Python package,
 //! `xtask`): the typed plan options and their checks ([`options`]), the plan's JSON and
 //! tables ([`report`]), a mission's text and JSON ([`mission`]), the memory check before a grid ([`memory`]), the MovingAI bench sweep
-//! ([`bench`]), scene summaries, and reading input files that must be regular files. The
+//! ([`bench`](mod@bench)), scene summaries, and reading input files that must be regular files. The
 //! pictures and the command line's arguments belong to `homospline-cli`.
 
 pub mod bench;

@@ -248,7 +248,7 @@ pub struct PlanOptions {
 }
 
 impl From<ConfigError> for OptionError {
-    /// The planner's setting in the front ends' spelling ([`plan_option`]).
+    /// The planner's setting in the front ends' spelling (`plan_option`).
     fn from(e: ConfigError) -> Self {
         let text = e.to_string();
         Self::at(plan_option(e.setting), e.value, e.problem, text)
@@ -257,7 +257,7 @@ impl From<ConfigError> for OptionError {
 
 impl From<MissionConfigError> for OptionError {
     /// A mission's setting in the front ends' spelling: the one map from
-    /// [`MissionSetting`] to [`Opt`] (a plan's settings by [`plan_option`]).
+    /// [`MissionSetting`] to [`Opt`] (a plan's settings by `plan_option`).
     fn from(e: MissionConfigError) -> Self {
         let option = match e.setting {
             MissionSetting::Plan(s) => plan_option(s),

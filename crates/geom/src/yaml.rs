@@ -8,13 +8,13 @@ pub struct YamlFault {
     pub line: Option<u64>,
     /// 1-based column, when known.
     pub column: Option<u64>,
-    /// The dotted key path at fault ([`key_at`]), when one is named.
+    /// The dotted key path at fault (`key_at`), when one is named.
     pub field: Option<String>,
     /// The problem in words.
     pub problem: String,
 }
 
-/// A YAML parser's error on `text`: its place, the key it sits under ([`key_at`]; none
+/// A YAML parser's error on `text`: its place, the key it sits under (`key_at`; none
 /// when the message names its field itself or concerns the whole file, and the parent's for
 /// an unknown field, which the message names), and the problem in words ([`yaml_problem`],
 /// with the text found where a number was expected; `fallback` when it says nothing).

@@ -287,7 +287,7 @@ enum Costs {
 const KNOWN: u64 = 1 << 63;
 
 /// Queries whose straight distance is at least this share of the map's diagonal have
-/// their edges' costs worked out all at once ([`Query`]).
+/// their edges' costs worked out all at once (`Query`).
 pub const EAGER_REACH: Real = 0.25;
 
 impl Query<'_> {

@@ -620,8 +620,8 @@ pub const LOCAL_ORIGINS: usize = 4096;
 pub const LOCAL_TESTS: usize = 1 << 21;
 
 /// With at most this many rays, [`Rays::signature`] tests every point against every ray's
-/// line ([`Rays::signature_by_sides`]): a few vectorised operations per ray and point,
-/// against [`Rays::cross_segment_at`]'s search and bookkeeping per segment (the class check
+/// line (`Rays::signature_by_sides`): a few vectorised operations per ray and point,
+/// against `Rays::cross_segment_at`'s search and bookkeeping per segment (the class check
 /// of an optimiser's candidate, 50 or so points among a scene's few obstacles, was a seventh
 /// of a plan's instructions that way).
 pub const FEW_RAYS: usize = 16;

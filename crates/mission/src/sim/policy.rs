@@ -4,7 +4,7 @@
 //!
 //! # Adding a policy
 //! Write one file in `sim/policy/` with a unit struct implementing [`ScoutPolicy`], and add
-//! one line `module::Type,` to the [`registry!`] call below. The command line
+//! one line `module::Type,` to the `registry!` call below. The command line
 //! (`simulate --policy`), Python (`simulate(policy=...)`), the JSON and `cargo xtask
 //! missions` pick it up by its [`ScoutPolicy::name`].
 
