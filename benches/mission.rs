@@ -202,8 +202,13 @@ fn bench_map(c: &mut Criterion) {
     };
     let (mut replan, mut field, mut graph, mut model, mut local) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new(), 0);
+    // Each policy's re-plans (the offline plan is not one), over the three runs.
+    let mut by_policy: Vec<(&str, Vec<f64>)> = Policy::all()
+        .iter()
+        .map(|p| (p.name(), Vec::new()))
+        .collect();
     for _ in 0..3 {
-        for &policy in Policy::all() {
+        for (k, &policy) in Policy::all().iter().enumerate() {
             let cfg = MissionConfig {
                 policy,
                 ..MissionConfig::for_maps()
@@ -211,6 +216,7 @@ fn bench_map(c: &mut Criterion) {
             let r = homospline_mission::simulate_map(&world, &cfg).expect("a mission");
             assert!(r.reached, "{}: not reached", policy.name());
             replan.extend(r.replan_ms.iter().copied());
+            by_policy[k].1.extend(r.replan_ms.iter().copied());
             for u in &r.map_updates {
                 field.push(u.field_ms);
                 graph.push(u.graph_ms);
@@ -234,6 +240,9 @@ fn bench_map(c: &mut Criterion) {
         percentile(&graph, 0.5),
         percentile(&model, 0.5),
     );
+    for (name, mut times) in by_policy {
+        report(&format!("512 x 512 map world, {name}"), &mut times);
+    }
     let grid = world.truth.to_grid().expect("a grid");
     let built = homospline_voronoi::DistanceField::build(&grid);
     let mut g = c.benchmark_group("mission_map_512");

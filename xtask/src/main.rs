@@ -4,10 +4,11 @@
 //! - `cargo xtask gen-scenes` rewrites `fixtures/random/` from a seeded generator.
 //! - `cargo xtask gen-worlds` rewrites `fixtures/worlds/`: each paper-like scene with its best
 //!   class blocked, for `homospline simulate`.
-//! - `cargo xtask missions [--worlds N] [--show WORLD] [--policy NAME]...` runs every scout
-//!   policy (or the named ones beside `none`) on N generated worlds (default 50) and prints
-//!   the mission figures, and the share of single blockages that leave another class open
-//!   with and without `--diverse`.
+//! - `cargo xtask missions [--worlds N] [--show WORLD] [--policy NAME]... [--csv FILE]` runs
+//!   every scout policy (or the named ones beside `none`) on N generated worlds (default 50)
+//!   and prints the mission figures, and the share of single blockages that leave another
+//!   class open with and without `--diverse`; `--csv` writes each policy's distance ratio
+//!   world by world, to compare two revisions.
 //! - `cargo xtask map-memory [N] [--plan]` prepares a seeded random N x N map (20 % occupied, default
 //!   4096) in a release build of the benches' `map-memory` binary and prints the time and
 //!   the peak resident memory (`VmHWM`), in all and per cell: issue 43's 1.5 GB and 5 s;
@@ -57,9 +58,8 @@ fn main() -> ExitCode {
         Some("gen-scenes") if args.len() == 1 => gen_scenes().map(|_| true),
         Some("gen-worlds") if args.len() == 1 => gen_worlds().map(|_| true),
         Some("missions") => {
-            let usage =
-                "usage: cargo xtask missions [--worlds N] [--show WORLD] [--policy NAME]...";
-            let (mut worlds, mut show, mut only) = (50, None, Vec::new());
+            let usage = "usage: cargo xtask missions [--worlds N] [--show WORLD] [--policy NAME]... [--csv FILE]";
+            let (mut worlds, mut show, mut only, mut csv) = (50, None, Vec::new(), None);
             let mut rest = args[1..].iter();
             while let Some(flag) = rest.next() {
                 match (flag.as_str(), rest.next()) {
@@ -73,6 +73,7 @@ fn main() -> ExitCode {
                         }
                     },
                     ("--show", Some(name)) => show = Some(name.clone()),
+                    ("--csv", Some(path)) => csv = Some(std::path::PathBuf::from(path)),
                     ("--policy", Some(name)) => match homospline_mission::Policy::named(name) {
                         Some(p) => only.push(p),
                         None => {
@@ -93,7 +94,7 @@ fn main() -> ExitCode {
                     }
                 }
             }
-            missions(worlds, show.as_deref(), &only).map(|_| true)
+            missions(worlds, show.as_deref(), &only, csv.as_deref()).map(|_| true)
         }
         Some("bench-against") => {
             let usage = "usage: cargo xtask bench-against REV [--runs N] [FILTER]";
@@ -163,7 +164,7 @@ fn main() -> ExitCode {
         }
         _ => {
             eprintln!(
-                "usage: cargo xtask regress [--bless] | gen-scenes | gen-worlds | missions [--worlds N] [--show WORLD] [--policy NAME]... | bench-against REV [--runs N] [FILTER] | map-memory [N] [--plan] | map-clearance [--sample N] [--robot-radius R] [--least-only] SCEN..."
+                "usage: cargo xtask regress [--bless] | gen-scenes | gen-worlds | missions [--worlds N] [--show WORLD] [--policy NAME]... [--csv FILE] | bench-against REV [--runs N] [FILTER] | map-memory [N] [--plan] | map-clearance [--sample N] [--robot-radius R] [--least-only] SCEN..."
             );
             return ExitCode::from(2);
         }
@@ -502,7 +503,12 @@ fn mean(v: &[f64]) -> f64 {
 
 /// Every scout policy (or those of `only`, with `none` as the baseline) on `count` generated
 /// worlds, and the limited-overlap measurement.
-fn missions(count: usize, show: Option<&str>, only: &[homospline_mission::Policy]) -> Result<()> {
+fn missions(
+    count: usize,
+    show: Option<&str>,
+    only: &[homospline_mission::Policy],
+    csv: Option<&Path>,
+) -> Result<()> {
     let (worlds, seeds) = generated_worlds(count);
     let maps = homospline_testkit::map_worlds(count.div_ceil(4));
     println!(
@@ -543,6 +549,17 @@ fn missions(count: usize, show: Option<&str>, only: &[homospline_mission::Policy
         .unwrap_or_default();
     for (policy, f) in &rows {
         print_policy_row(*policy, f, &none);
+    }
+    if let Some(path) = csv {
+        // One row per policy and world: its distance over the truth plan's (inf: goal not
+        // reached; NaN: the truth plan has none), to compare two revisions world by world.
+        let mut text = String::from("policy,world,distance_ratio\n");
+        for (policy, f) in &rows {
+            for (name, d) in f.names.iter().zip(&f.per_world) {
+                text += &format!("{},{name},{d:.6}\n", policy.name());
+            }
+        }
+        std::fs::write(path, text).with_context(|| format!("{}: cannot write", path.display()))?;
     }
     for (policy, f) in &rows {
         let worse = worse_than(f, &none);
