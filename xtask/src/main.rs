@@ -73,7 +73,7 @@ fn main() -> ExitCode {
                         }
                     },
                     ("--show", Some(name)) => show = Some(name.clone()),
-                    ("--csv", Some(path)) => csv = Some(std::path::PathBuf::from(path)),
+                    ("--csv", Some(path)) => csv = Some(PathBuf::from(path)),
                     ("--policy", Some(name)) => match homospline_mission::Policy::named(name) {
                         Some(p) => only.push(p),
                         None => {
