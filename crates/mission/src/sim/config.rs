@@ -126,7 +126,7 @@ impl MissionConfig {
     /// The settings of a mission on an occupancy-map world ([`simulate_map`](crate::simulate_map)):
     /// [`MissionConfig::default`] with the map defaults of `homospline_optim::PlanConfig::maps` for
     /// the via-points, the evaluation budget (rounds on long curves stop at 40 evaluations:
-    /// the seeds are pulled taut), the class search, the safety term (`dm` a quarter cell,
+    /// the seeds are pulled taut), the class search, the safety term (`dm` 1.5 map units,
     /// along the whole path) and the detour rule. It keeps the missions' own dm rule and
     /// L-BFGS tolerance, where `plan` on a map has neither: without either the map worlds'
     /// distances rose (measured: CHANGELOG.md, "Measured and not adopted"). Change any of
