@@ -64,7 +64,6 @@ fn scratch_root() -> &'static Path {
     })
 }
 
-/// Asserts exit code 0, showing stderr otherwise.
 /// Waits for `child` at most `secs` seconds: its exit status, or a panic naming `what`
 /// after it is killed (a hang is a failure, not a stuck test run).
 pub fn wait_bounded(
@@ -85,6 +84,7 @@ pub fn wait_bounded(
     }
 }
 
+/// Asserts exit code 0, showing stderr otherwise.
 pub fn assert_ok(out: &Output) {
     assert_eq!(
         out.status.code(),
