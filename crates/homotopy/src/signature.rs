@@ -360,19 +360,34 @@ impl Rays {
             None => self.by_q.partition_point(|&(q, ..)| q < lo),
         };
         *cursor = Some(first);
-        let mut hits: Vec<(Real, i32)> = Vec::new();
-        for &(q, i, o) in &self.by_q[first..] {
-            if q > hi {
-                break;
-            }
+        let candidates = self.by_q[first..]
+            .iter()
+            .take_while(|&&(q, ..)| q <= hi)
+            .map(|&(_, i, o)| (i, o));
+        self.push_crossings(a, b, candidates, &mut Vec::new(), word);
+    }
+
+    /// Appends to `word` the letters of segment `a -> b` against the rays of `candidates`
+    /// (index and origin; any order, each once), in the order the segment crosses them:
+    /// by parameter along it, then by letter. `hits` is scratch space.
+    #[inline]
+    fn push_crossings(
+        &self,
+        a: &Point,
+        b: &Point,
+        candidates: impl IntoIterator<Item = (usize, Point)>,
+        hits: &mut Vec<(Real, i32)>,
+        word: &mut Signature,
+    ) {
+        hits.clear();
+        for (i, o) in candidates {
             let (la, lb) = (self.left_of(&o, a), self.left_of(&o, b));
-            if la == lb {
-                continue;
+            if la != lb {
+                hits.extend(self.crossing_of(i, o, a, b, lb));
             }
-            hits.extend(self.crossing_of(i, o, a, b, lb));
         }
         hits.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
-        for (_, l) in hits {
+        for &(_, l) in hits.iter() {
             word.push(l);
         }
     }
@@ -514,23 +529,11 @@ impl Rays {
             return None;
         }
         *budget -= near.len();
-        near.sort_unstable();
         let mut word = Signature::identity();
-        let mut hits: Vec<(Real, i32)> = Vec::new();
+        let mut hits = Vec::new();
         for s in lp.windows(2) {
-            let (a, b) = (&s[0], &s[1]);
-            hits.clear();
-            for &i in &near {
-                let o = self.origins[i];
-                let (la, lb) = (self.left_of(&o, a), self.left_of(&o, b));
-                if la != lb {
-                    hits.extend(self.crossing_of(i, o, a, b, lb));
-                }
-            }
-            hits.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
-            for &(_, l) in &hits {
-                word.push(l);
-            }
+            let candidates = near.iter().map(|&i| (i, self.origins[i]));
+            self.push_crossings(&s[0], &s[1], candidates, &mut hits, &mut word);
         }
         Some(word.is_identity())
     }
