@@ -637,19 +637,38 @@ impl Rays {
     /// there; the crossings are pushed in the same order (by segment, then by their parameter
     /// along it, then by letter), so the word is the same as [`Rays::signature_by_q`]'s.
     fn signature_by_sides(&self, path: &[Point]) -> Signature {
-        let mut w = Signature::identity();
         let n = path.len();
         if n < 2 {
-            return w;
+            return Signature::identity();
         }
-        let xs: Vec<Real> = path.iter().map(|p| p.x).collect();
-        let ys: Vec<Real> = path.iter().map(|p| p.y).collect();
-        let mut left = vec![0u8; n];
-        let mut flips = vec![0u8; n - 1];
-        // (segment, parameter along it, letter) of every crossing.
-        let mut hits: Vec<(usize, Real, i32)> = Vec::new();
+        // `try_with`: a thread tearing down its locals gets fresh buffers instead of a panic.
+        let mut scratch = SIDES_SCRATCH.try_with(|s| s.take()).unwrap_or_default();
+        let w = self.signature_by_sides_in(path, &mut scratch);
+        let _ = SIDES_SCRATCH.try_with(|s| s.set(scratch));
+        w
+    }
+
+    /// [`Rays::signature_by_sides`] on the buffers of `scratch`.
+    fn signature_by_sides_in(&self, path: &[Point], scratch: &mut SidesScratch) -> Signature {
+        let n = path.len();
+        let SidesScratch {
+            xs,
+            ys,
+            left,
+            flips,
+            hits,
+        } = scratch;
+        xs.clear();
+        xs.extend(path.iter().map(|p| p.x));
+        ys.clear();
+        ys.extend(path.iter().map(|p| p.y));
+        left.clear();
+        left.resize(n, 0);
+        flips.clear();
+        flips.resize(n - 1, 0);
+        hits.clear();
         for (i, o) in self.origins.iter().enumerate() {
-            sides_and_flips(&xs, &ys, o, &self.dir, &mut left, &mut flips);
+            sides_and_flips(xs, ys, o, &self.dir, left, flips);
             // Segments whose ends are on different sides, found 8 at a time (most words
             // of 8 segments have none, so this is cheaper than a byte scan; measured:
             // docs/performance.md, "Measurements behind the defaults").
@@ -669,11 +688,32 @@ impl Rays {
             }
         }
         hits.sort_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)).then(x.2.cmp(&y.2)));
-        for (_, _, l) in hits {
+        let mut w = Signature::identity();
+        for &(_, _, l) in hits.iter() {
             w.push(l);
         }
         w
     }
+}
+
+/// The buffers of [`Rays::signature_by_sides`], kept per thread between calls: an
+/// optimiser's guard checks the class of every candidate curve, and these five allocations
+/// were most of a scene plan's allocation (1.8 % of its samples).
+#[derive(Default)]
+struct SidesScratch {
+    xs: Vec<Real>,
+    ys: Vec<Real>,
+    left: Vec<u8>,
+    flips: Vec<u8>,
+    /// (segment, parameter along it, letter) of every crossing.
+    hits: Vec<(usize, Real, i32)>,
+}
+
+thread_local! {
+    /// Taken out for a signature and put back after it (a `Cell`: a nested call, which
+    /// does not happen, would only allocate its own).
+    static SIDES_SCRATCH: std::cell::Cell<SidesScratch> =
+        std::cell::Cell::new(SidesScratch::default());
 }
 
 /// [`Rays::left`] of every point `(xs[k], ys[k])` for the ray from `o` along `dir` (1 on the
