@@ -46,7 +46,7 @@ def read_scene(path):
     rr = float(d.get("robot_radius", 0.0))
     circles = [
         (float(c[0]), float(c[1]), float(c[2]) + rr)
-        for o in d["obstacles"]
+        for o in d.get("obstacles") or []
         for c in o["circles"]
     ]
     return {
