@@ -19,9 +19,9 @@ so a motion check that stepped over a corner shows). OMPL's validity checker is 
 function here, called through the bindings; the line "checks" gives how many calls a peer
 run made and what they cost at the rate measured on their own, an estimate of the time a
 C++ checker would save (for RRTConnect, which stops at its first path, the summary gives
-the ratio without them too; RRT* runs to its limit either way). RRT* plans with OMPL's path-length objective and stops at its time
-limit; "no path" counts the runs that returned none. OMPL's random numbers are seeded once
-(`--seed`), so a run repeats itself.
+the ratio without them too; RRT* runs to its limit either way). RRT* plans with OMPL's
+path-length objective and stops at its time limit; "no path" counts the runs that returned
+none. OMPL's random numbers are seeded once (`--seed`), so a run repeats itself.
 """
 
 import argparse
