@@ -61,6 +61,11 @@ impl std::fmt::Display for NoPlan {
 
 impl std::error::Error for NoPlan {}
 
+/// No plan, as an answer: `msg` and exit 1.
+pub fn no_plan(msg: impl Into<String>) -> anyhow::Error {
+    NoPlan(msg.into()).into()
+}
+
 /// A map error as the command line answers it: no route for the robot is no plan (exit 1),
 /// anything else the input's fault (exit 2).
 pub fn map_error(e: homospline_maps::MapError) -> anyhow::Error {

@@ -14,7 +14,7 @@ use homospline_voronoi::VoronoiGraph;
 
 use crate::args::PlanArgs;
 use crate::input::{Reads, load_input, parse_point, parse_weights, read_graph};
-use crate::out::{bad, check_outputs, map_error, write};
+use crate::out::{bad, check_outputs, map_error, no_plan, write};
 use crate::picture;
 
 /// Exit code when no plan could be found.
@@ -232,8 +232,14 @@ fn plan_scene(
         || format!("scene {} at --resolution {resolution}", scene.name),
         homospline_front::memory::scene_cells(scene, resolution),
     )?;
-    let result =
-        plan_with_graph(scene, saved, cfg).map_err(|e| bad(format!("{}: {e}", scene.name)))?;
+    let result = plan_with_graph(scene, saved, cfg).map_err(|e| {
+        let msg = format!("{}: {e}", scene.name);
+        if e.is_no_route() {
+            no_plan(msg)
+        } else {
+            bad(msg)
+        }
+    })?;
     // Said once the grid is built: a grid refused (too coarse, too fine) is the message.
     if cfg.seed == Seed::Voronoi
         && let Some(n) = homospline_front::unseen_obstacles(scene, resolution)

@@ -496,7 +496,15 @@ fn plan(
         homospline_optim::plan_with_graph(s, saved, &cfg)
     })?
     .map(|inner| PyPlan { inner })
-    .map_err(|e| bad(format!("{}: {e}", s.name)))
+    .map_err(|e| {
+        let msg = format!("{}: {e}", s.name);
+        if e.is_no_route() {
+            // Start and goal walled apart: an answer, as on maps.
+            NoRoute::new_err(msg)
+        } else {
+            bad(msg)
+        }
+    })
 }
 
 /// The occupancy of a NumPy array, checked: 2-D, bool, not empty.
@@ -606,8 +614,9 @@ pyo3::create_exception!(
     homospline,
     NoRoute,
     PyValueError,
-    "No route joins start and goal for the robot at its radius (`plan MAP` exits 1): the \
-     message names the widest route's least clearance and where it is."
+    "No route joins start and goal for the robot at its radius (`plan` exits 1): on a map \
+     the message names the widest route's least clearance and where it is; in a scene, the \
+     obstacles that wall start and goal apart."
 );
 
 /// Runs the mission of a world file, on a scene or an occupancy map (`homospline simulate`),

@@ -170,12 +170,76 @@ pub enum GraphError {
         cell = 1.0 / .0
     )]
     ApartAtResolution(Real),
+    /// A scene's start and goal are walled apart: every gap between its circles and the
+    /// bounds is open on the grid ([`crate::apart`]), and the grid joins them nowhere.
+    /// `obstacles` names the touching obstacles that wall them apart on their own, when
+    /// one group does.
+    #[error(
+        "no route: start and goal are walled apart by {}: their circles (grown by the robot's radius) touch one another or the bounds, and no gap between them lets a path through",
+        obstacles.as_deref().unwrap_or("the obstacles together")
+    )]
+    Walled {
+        /// The walling obstacles, in words.
+        obstacles: Option<String>,
+    },
+    /// A scene's start and goal are apart on its grid, and a gap narrower than
+    /// [`crate::apart::GAP_CELLS`] of its cells (or an end that close to an obstacle) may
+    /// join them; the grid that would tell is over [`crate::apart::REFINE_MAX_CELLS`]: no
+    /// verdict either way.
+    #[error(
+        "start and goal are apart at {} cells per unit, but {between} leave a gap of {} that this grid cannot resolve and that may join them, so no plan is claimed: {}",
+        homospline_geom::math::Num(significant(*resolution)),
+        homospline_geom::math::Num(significant(*width)),
+        if *fits {
+            format!("--resolution {} resolves it", homospline_geom::math::Num(significant_up(*needed)))
+        } else {
+            "it needs a grid over the limit; scale the scene's units up or widen the gap".to_owned()
+        }
+    )]
+    Unresolved {
+        /// The resolution tried.
+        resolution: Real,
+        /// The narrowest place's width.
+        width: Real,
+        /// What it lies between.
+        between: String,
+        /// The resolution that resolves it.
+        needed: Real,
+        /// Whether that grid is within the grid's limit.
+        fits: bool,
+    },
     /// A serialised graph could not be read.
     #[error("cannot read the graph: {0}")]
     Decode(String),
     /// A serialised graph has another format version.
     #[error("graph format version {0} is not supported (this build reads {GRAPH_FORMAT_VERSION})")]
     Version(u32),
+}
+
+/// `x` to 4 significant digits, for messages.
+fn significant(x: Real) -> Real {
+    if x == 0.0 || !x.is_finite() {
+        return x;
+    }
+    let scale = 10f64.powf(x.abs().log10().floor() - 3.0);
+    (x / scale).round() * scale
+}
+
+/// `x` rounded up to 3 significant digits: a resolution at least `x`.
+fn significant_up(x: Real) -> Real {
+    if x <= 0.0 || !x.is_finite() {
+        return x;
+    }
+    let scale = 10f64.powf(x.log10().floor() - 2.0);
+    (x / scale).ceil() * scale
+}
+
+impl GraphError {
+    /// Whether this is an answer, not a fault: start and goal are walled apart
+    /// ([`GraphError::Walled`]), so there is no route (a front end's "no plan").
+    pub fn is_no_route(&self) -> bool {
+        matches!(self, GraphError::Walled { .. })
+    }
 }
 
 /// The edges at each node in one array: node `k`'s are `links[first[k]..first[k + 1]]`, as

@@ -29,6 +29,7 @@
 //!
 //! [`build`] does grid, field and graph for a scene.
 
+pub mod apart;
 mod assemble;
 pub mod attach;
 mod crack;
@@ -93,6 +94,79 @@ pub fn build(
     scene: &Scene,
     resolution: Real,
 ) -> Result<(Grid, DistanceField, VoronoiGraph), BuildError> {
+    match build_at(scene, resolution) {
+        // Apart on this grid: a gap narrower than a few cells may be closed here and open
+        // between the circles. Judged from the circles ([`apart`]): walled apart, or built
+        // again on a grid fine enough for the narrowest gap (once: that grid opens every
+        // gap, so being apart there is the circles' verdict).
+        Err(Apart(grid)) => match apart::judge(scene, &grid) {
+            apart::Apart::Walled(obstacles) => Err(GraphError::Walled { obstacles }.into()),
+            apart::Apart::Narrow(n) => {
+                let finer = 1.0 / n.need;
+                let ext = scene.bounds.extent();
+                let cells = ((ext.x * finer).ceil() + 2.0) * ((ext.y * finer).ceil() + 2.0);
+                if cells > apart::REFINE_MAX_CELLS as Real {
+                    return Err(GraphError::Unresolved {
+                        resolution,
+                        width: n.width,
+                        between: n.between,
+                        needed: finer,
+                        fits: cells <= grid::MAX_CELLS as Real,
+                    }
+                    .into());
+                }
+                match build_at(scene, finer) {
+                    Err(Apart(grid)) => Err(GraphError::Walled {
+                        obstacles: match apart::judge(scene, &grid) {
+                            apart::Apart::Walled(o) => o,
+                            apart::Apart::Narrow(_) => None,
+                        },
+                    }
+                    .into()),
+                    other => other.map_err(|e| e.into_build()),
+                }
+            }
+        },
+        other => other.map_err(|e| e.into_build()),
+    }
+}
+
+/// Why [`build_at`] failed: start and goal apart on the grid (which it returns), or
+/// another error.
+enum BuildAtError {
+    Apart(Grid),
+    Other(BuildError),
+}
+use BuildAtError::Apart;
+
+impl BuildAtError {
+    /// As [`build`] reports it (apart only where [`build`] has judged it).
+    fn into_build(self) -> BuildError {
+        match self {
+            Apart(g) => GraphError::ApartAtResolution(g.resolution()).into(),
+            BuildAtError::Other(e) => e,
+        }
+    }
+}
+
+impl From<GridError> for BuildAtError {
+    fn from(e: GridError) -> Self {
+        BuildAtError::Other(e.into())
+    }
+}
+
+impl From<GraphError> for BuildAtError {
+    fn from(e: GraphError) -> Self {
+        BuildAtError::Other(e.into())
+    }
+}
+
+/// [`build`] at `resolution` as it stands: start and goal apart on its grid is
+/// [`BuildAtError::Apart`].
+fn build_at(
+    scene: &Scene,
+    resolution: Real,
+) -> Result<(Grid, DistanceField, VoronoiGraph), BuildAtError> {
     let grid = Grid::from_scene(scene, resolution)?;
     let field = DistanceField::build(&grid);
     let mut graph = match VoronoiGraph::build(&grid, &field, Some(scene.start), Some(scene.goal)) {
@@ -100,11 +174,12 @@ pub fn build(
         // obstacle and itself (one that touches the wall, two joined by a blockage) it has no
         // crack, and it can come apart inside one free region. The complete graph (the ridge
         // of free space, as on maps) joins start and goal whenever their region does.
-        Err(GraphError::DifferentRegions) => build_complete(&grid, &field, scene.start, scene.goal)
-            .map_err(|e| match e {
-                GraphError::DifferentRegions => GraphError::ApartAtResolution(resolution),
-                e => e,
-            })?,
+        Err(GraphError::DifferentRegions) => {
+            match build_complete(&grid, &field, scene.start, scene.goal) {
+                Err(GraphError::DifferentRegions) => return Err(Apart(grid)),
+                other => other?,
+            }
+        }
         other => other?,
     };
     // A thousandth of a cell of clearance for every point moved out of a circle.

@@ -928,3 +928,48 @@ fn the_class_table_keeps_its_columns() {
         assert_eq!(row, row.trim_end(), "{row}");
     }
 }
+
+#[test]
+fn a_scene_walled_apart_is_no_plan_naming_the_wall_and_a_narrow_gap_is_planned() {
+    // Two discs that, grown by the robot's radius 3, touch each other and the bounds.
+    let closed = tmp("walled.yaml");
+    let scene = "bounds: {min: [0, 0], max: [60, 60]}\nstart: [5, 30]\ngoal: [55, 30]\n\
+                 robot_radius: 3\nobstacles:\n  - name: top\n    circles: [[30, 45, 12]]\n  \
+                 - name: bot\n    circles: [[30, 15, 12]]\n";
+    std::fs::write(&closed, scene).unwrap();
+    let out = homospline()
+        .args(["plan", closed.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("no route: start and goal are walled apart by 'top', 'bot'"),
+        "{err}"
+    );
+    // Without the radius they leave a gap of a tenth of a unit, under a cell of the default
+    // grid (4.27 cells per unit): a finer grid is made for it, and the plan goes through.
+    let open = tmp("narrow-gap.yaml");
+    let narrow = scene
+        .replace("robot_radius: 3\n", "")
+        .replace("[30, 45, 12]", "[30, 45.05, 15]")
+        .replace("[30, 15, 12]", "[30, 14.95, 15]");
+    std::fs::write(&open, narrow).unwrap();
+    let json = tmp("narrow-gap.json");
+    let out = homospline()
+        .args(["plan", open.to_str().unwrap(), "--json"])
+        .arg(&json)
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let v = read_json(&json);
+    let best = v["best"].as_u64().unwrap();
+    let chosen = v["classes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["rank"].as_u64() == Some(best))
+        .unwrap();
+    assert_eq!(chosen["collision_free"], true);
+    assert!(chosen["length"].as_f64().unwrap() < 50.1, "{chosen}");
+}

@@ -270,6 +270,15 @@ pub enum PlanError {
     Interrupted,
 }
 
+impl PlanError {
+    /// Whether this is an answer, not a fault: start and goal are walled apart
+    /// ([`homospline_voronoi::GraphError::Walled`]), so there is no route (exit 1 on the
+    /// command line, as no collision-free class is).
+    pub fn is_no_route(&self) -> bool {
+        matches!(self, PlanError::Build(BuildError::Graph(g)) if g.is_no_route())
+    }
+}
+
 /// Most classes a plan may ask for ([`PlanConfig::classes`]).
 pub const MAX_CLASSES: usize = 64;
 

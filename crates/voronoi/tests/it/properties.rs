@@ -248,10 +248,11 @@ fn start_and_goal_in_different_regions_are_an_error() {
         homospline_voronoi::build(&scene, 1.0)
             .unwrap_err()
             .to_string(),
-        "start and goal are in different free regions at 1 cells per unit: no path joins them on this grid (if a passage narrower than a cell, 1 units, joins them, a finer --resolution opens it)"
+        "no route: start and goal are walled apart by 'wall': their circles (grown by the robot's radius) touch one another or the bounds, and no gap between them lets a path through"
     );
-    // A gap of 0.1 between two circles, a tenth of a cell: closed on the grid, open at
-    // 40 cells per unit, and the message says so.
+    // A gap of 0.1 between two circles, a tenth of a cell: closed on the grid at 1 cell
+    // per unit, so the graph is built again on a grid fine enough for it (60 cells per
+    // unit) and joins start and goal.
     let gap = Scene {
         obstacles: vec![Obstacle {
             name: "wall".into(),
@@ -263,11 +264,28 @@ fn start_and_goal_in_different_regions_are_an_error() {
         },
         ..scene.clone()
     };
-    let e = homospline_voronoi::build(&gap, 1.0)
+    let (grid, _, graph) = homospline_voronoi::build(&gap, 1.0).unwrap();
+    assert!(grid.resolution() >= 59.9, "{}", grid.resolution());
+    assert!(graph.connected(graph.start.unwrap(), graph.goal.unwrap()));
+    // A gap of 0.001 would need a grid over the limit: no verdict, and the message says
+    // between what and how wide.
+    let hair = Scene {
+        obstacles: vec![Obstacle {
+            name: "wall".into(),
+            circles: vec![
+                Circle::new(20.0, 4.9995, 5.0),
+                Circle::new(20.0, 15.0005, 5.0),
+            ],
+        }],
+        ..gap.clone()
+    };
+    let e = homospline_voronoi::build(&hair, 1.0)
         .unwrap_err()
         .to_string();
-    assert!(e.contains("a finer --resolution opens it"), "{e}");
-    assert!(homospline_voronoi::build(&gap, 40.0).is_ok());
+    assert!(
+        e.contains("'wall' and 'wall' leave a gap of 0.001") && e.contains("no plan is claimed"),
+        "{e}"
+    );
 }
 
 proptest! {

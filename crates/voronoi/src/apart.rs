@@ -1,0 +1,222 @@
+//! When a scene's grid finds start and goal apart: the narrowest gap the grid may have
+//! closed and the finer grid that opens it, or the obstacles that truly wall them apart.
+//!
+//! A grid cell is occupied when its centre is in a circle, so a gap narrower than a few
+//! cells can be closed on the grid while the circles leave it open. Whether it matters is
+//! decided from the circles themselves. Let `h` be the cell size. If every positive gap
+//! (between two inflated circles, or between one and a side of the bounds) is at least
+//! [`GAP_CELLS`] cells and start and goal keep [`END_CELLS`] cells from every circle and
+//! side, then growing every circle by `2h` and pulling the bounds in by as much makes no
+//! new contact: the obstacles meet each other and the sides as they did, so any route
+//! between start and goal can be pushed to a clearance of `2h`, and such a route runs
+//! through free, 4-connected cells. The grid's verdict is then the circles' own: start and
+//! goal are walled apart. Otherwise the grid is made fine enough for the narrowest gap, when
+//! that fits in [`MAX_CELLS`](crate::grid::MAX_CELLS), and built again.
+
+use homospline_geom::{Circle, Point, Real, Scene, topological_obstacles};
+
+use crate::grid::Grid;
+
+/// A gap counts as open on a grid when it is at least this many cells wide.
+pub const GAP_CELLS: Real = 6.0;
+
+/// Most cells of the finer grid [`build`](crate::build) makes by itself for a narrow gap:
+/// half the grid's limit (a plan on 13 million cells peaked at 261 MB and took 0.24 s);
+/// past it the error says which `--resolution` would resolve the gap.
+pub const REFINE_MAX_CELLS: usize = 1 << 24;
+
+/// Start and goal count as clear on a grid when they keep this many cells from every
+/// circle and side of the bounds.
+pub const END_CELLS: Real = 3.0;
+
+/// The narrowest place the grid may have closed: a gap between two things, or an end's
+/// clearance.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Narrowest {
+    /// The cell size the place needs, `width / GAP_CELLS` (a gap) or `clearance /
+    /// END_CELLS` (an end).
+    pub need: Real,
+    /// Its width.
+    pub width: Real,
+    /// What it lies between, in words.
+    pub between: String,
+}
+
+/// What the grid's "apart" means for the scene.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Apart {
+    /// Every gap is open on the grid: start and goal are walled apart by these obstacles
+    /// (their names, in words), or by several together when `None`.
+    Walled(Option<String>),
+    /// The narrowest place needs a finer grid.
+    Narrow(Narrowest),
+}
+
+/// What the grid of cell size `h` finding start and goal apart means for `scene`.
+pub(crate) fn judge(scene: &Scene, grid: &Grid) -> Apart {
+    let h = grid.cell();
+    let circles = scene.circles();
+    match narrowest(scene, &circles, h) {
+        Some(n) if n.need < h => Apart::Narrow(n),
+        _ => Apart::Walled(walling(scene, &circles, grid)),
+    }
+}
+
+/// The narrowest gap or end clearance that needs cells smaller than `h` (`None` when none
+/// does): gaps under [`GAP_CELLS`] cells between two circles (a sweep over the circles by
+/// their left edge) or a circle and a side, ends within [`END_CELLS`] cells of either.
+fn narrowest(scene: &Scene, circles: &[Circle], h: Real) -> Option<Narrowest> {
+    let owners = scene.circle_owners();
+    let name = |i: usize| format!("'{}'", scene.obstacles[owners[i]].name);
+    let b = &scene.bounds;
+    let sides = [
+        (
+            "the bounds' left side",
+            Point::new(b.min.x, b.min.y),
+            Point::new(b.min.x, b.max.y),
+        ),
+        (
+            "the bounds' right side",
+            Point::new(b.max.x, b.min.y),
+            Point::new(b.max.x, b.max.y),
+        ),
+        (
+            "the bounds' lower side",
+            Point::new(b.min.x, b.min.y),
+            Point::new(b.max.x, b.min.y),
+        ),
+        (
+            "the bounds' upper side",
+            Point::new(b.min.x, b.max.y),
+            Point::new(b.max.x, b.max.y),
+        ),
+    ];
+    let reach = GAP_CELLS * h;
+    let mut best: Option<Narrowest> = None;
+    let mut offer = |need: Real, width: Real, between: &dyn Fn() -> String| {
+        if need < h && best.as_ref().is_none_or(|b| need < b.need) {
+            best = Some(Narrowest {
+                need,
+                width,
+                between: between(),
+            });
+        }
+    };
+    let mut order: Vec<usize> = (0..circles.len()).collect();
+    order.sort_by(|&a, &b| {
+        let ka = circles[a].center.x - circles[a].radius;
+        let kb = circles[b].center.x - circles[b].radius;
+        ka.total_cmp(&kb).then(a.cmp(&b))
+    });
+    for (k, &i) in order.iter().enumerate() {
+        let ci = &circles[i];
+        let right = ci.center.x + ci.radius + reach;
+        for &j in &order[k + 1..] {
+            let cj = &circles[j];
+            if cj.center.x - cj.radius > right {
+                break;
+            }
+            let gap = (ci.center - cj.center).norm() - ci.radius - cj.radius;
+            if gap > 0.0 {
+                offer(gap / GAP_CELLS, gap, &|| {
+                    format!("{} and {}", name(i.min(j)), name(i.max(j)))
+                });
+            }
+        }
+        for (side, a, z) in &sides {
+            let gap = homospline_geom::math::distance_point_segment(&ci.center, a, z) - ci.radius;
+            if gap > 0.0 {
+                offer(gap / GAP_CELLS, gap, &|| format!("{} and {side}", name(i)));
+            }
+        }
+    }
+    for (end, p) in [("start", scene.start), ("goal", scene.goal)] {
+        let to_circle = circles
+            .iter()
+            .map(|c| (p - c.center).norm() - c.radius)
+            .fold(Real::INFINITY, Real::min);
+        let to_side = sides
+            .iter()
+            .map(|(_, a, z)| homospline_geom::math::distance_point_segment(&p, a, z))
+            .fold(Real::INFINITY, Real::min);
+        let clearance = to_circle.min(to_side);
+        offer(clearance / END_CELLS, clearance, &|| {
+            format!("the {end} and its nearest obstacle or side")
+        });
+    }
+    best
+}
+
+/// The topological obstacle (touching circles) that alone walls start and goal apart on
+/// `grid`'s cells, named by its listed obstacles; `None` when none does alone. Only groups
+/// that can wall anything off are tried: those of three or more circles (a ring) or that
+/// reach a side of the bounds.
+fn walling(scene: &Scene, circles: &[Circle], grid: &Grid) -> Option<String> {
+    let owners = scene.circle_owners();
+    let b = &scene.bounds;
+    let reaches_side = |c: &Circle| {
+        c.center.x - c.radius <= b.min.x
+            || c.center.x + c.radius >= b.max.x
+            || c.center.y - c.radius <= b.min.y
+            || c.center.y + c.radius >= b.max.y
+    };
+    for group in topological_obstacles(circles) {
+        if group.circles.len() < 3 && !group.circles.iter().any(|&i| reaches_side(&circles[i])) {
+            continue;
+        }
+        let Ok(mut alone) = Grid::new(grid.width(), grid.height(), grid.origin(), grid.cell())
+        else {
+            return None;
+        };
+        for &i in &group.circles {
+            alone.fill_disc(&circles[i].center, circles[i].radius);
+        }
+        if !joined(&alone, &scene.start, &scene.goal) {
+            let mut names: Vec<usize> = group.circles.iter().map(|&i| owners[i]).collect();
+            names.dedup();
+            names.sort_unstable();
+            names.dedup();
+            let listed: Vec<String> = names
+                .iter()
+                .take(6)
+                .map(|&o| format!("'{}'", scene.obstacles[o].name))
+                .collect();
+            let more = names.len().saturating_sub(listed.len());
+            return Some(if more > 0 {
+                format!("{} and {more} more", listed.join(", "))
+            } else {
+                listed.join(", ")
+            });
+        }
+    }
+    None
+}
+
+/// Whether the free cells of `grid` join the cells of `a` and `b` (4-connected).
+fn joined(grid: &Grid, a: &Point, b: &Point) -> bool {
+    let (Some((ai, aj)), Some((bi, bj))) = (grid.cell_of(a), grid.cell_of(b)) else {
+        return false;
+    };
+    let w = grid.width();
+    let occ = grid.occupancy();
+    let (from, to) = (grid.index(ai, aj), grid.index(bi, bj));
+    if occ[from] || occ[to] {
+        return false;
+    }
+    let mut seen = vec![false; occ.len()];
+    let mut stack = vec![from];
+    seen[from] = true;
+    while let Some(c) = stack.pop() {
+        if c == to {
+            return true;
+        }
+        // The wall ring is occupied, so a free cell's four neighbours are in the grid.
+        for n in [c - 1, c + 1, c - w, c + w] {
+            if !occ[n] && !seen[n] {
+                seen[n] = true;
+                stack.push(n);
+            }
+        }
+    }
+    false
+}

@@ -1,0 +1,128 @@
+//! Start and goal apart on a scene's grid, against an exact oracle: the tangent graph of
+//! the circles (`homospline_geom::shortest`), which joins start and goal exactly when a
+//! path keeps out of every disc.
+
+use homospline_geom::shortest::TangentGraph;
+use homospline_geom::{Bounds, Circle, Obstacle, Point, Scene};
+use homospline_voronoi::{BuildError, GraphError};
+use proptest::prelude::*;
+
+/// A ring of `n` overlapping circles of ring radius 6 around the start (bounds 0 to 50,
+/// goal outside at (3, 3)); with `door`, circle 0 shrinks so that it leaves a gap of
+/// `width` to each neighbour.
+fn ring(n: usize, door: Option<f64>) -> Scene {
+    let (cx, cy, big_r) = (25.0, 25.0, 6.0);
+    let chord = 2.0 * big_r * (std::f64::consts::PI / n as f64).sin();
+    // Neighbours overlap by 0.8.
+    let rho = chord / 2.0 + 0.4;
+    let obstacles = (0..n)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / n as f64;
+            let r = match door {
+                Some(width) if i == 0 => rho - 0.8 - width,
+                _ => rho,
+            };
+            Obstacle {
+                name: format!("c{i}"),
+                circles: vec![Circle::new(cx + big_r * a.cos(), cy + big_r * a.sin(), r)],
+            }
+        })
+        .collect();
+    Scene {
+        name: "ring".into(),
+        bounds: Bounds {
+            min: Point::new(0.0, 0.0),
+            max: Point::new(50.0, 50.0),
+        },
+        start: Point::new(cx, cy),
+        goal: Point::new(3.0, 3.0),
+        robot_radius: 0.0,
+        obstacles,
+        danger_points: vec![],
+        critical_points: vec![],
+        hazards: vec![],
+    }
+}
+
+/// Whether a path from start to goal keeps out of every circle (bounds far from all).
+fn oracle(scene: &Scene) -> bool {
+    TangentGraph::build(&scene.start, &scene.goal, &scene.circles(), 0.0)
+        .unwrap()
+        .and_then(|g| g.shortest())
+        .is_some()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    /// The graph joins start and goal exactly when the circles let a path through: a door
+    /// of half a unit or more, narrower than a cell or not, is found (on a finer grid when
+    /// needed), and a closed ring is reported walled, naming its circles, never as a gap
+    /// the grid could not see.
+    #[test]
+    fn apart_on_the_grid_is_judged_from_the_circles(
+        n in 5usize..10,
+        door in prop::option::of(0.5f64..1.5),
+        resolution in prop::sample::select(vec![1.0, 2.0, 5.12]),
+    ) {
+        let scene = ring(n, door);
+        let through = oracle(&scene);
+        prop_assert_eq!(through, door.is_some(), "the oracle disagrees with the ring's make");
+        match homospline_voronoi::build(&scene, resolution) {
+            Ok((_, _, g)) => {
+                prop_assert!(through, "a graph through a closed ring");
+                prop_assert!(g.connected(g.start.unwrap(), g.goal.unwrap()));
+            }
+            Err(BuildError::Graph(e @ GraphError::Walled { .. })) => {
+                prop_assert!(!through, "walled, but a path exists: {}", e);
+                prop_assert!(e.is_no_route());
+                prop_assert!(e.to_string().contains("'c0', 'c1'"), "{}", e);
+            }
+            Err(e) => prop_assert!(false, "{}", e),
+        }
+    }
+}
+
+/// Two discs meeting the bounds' lower and upper sides wall the left half off: named,
+/// and the other obstacles (a free disc) are not.
+#[test]
+fn a_wall_across_the_bounds_is_named() {
+    let scene = Scene {
+        name: "across".into(),
+        bounds: Bounds {
+            min: Point::new(0.0, 0.0),
+            max: Point::new(60.0, 60.0),
+        },
+        start: Point::new(5.0, 30.0),
+        goal: Point::new(55.0, 30.0),
+        robot_radius: 3.0,
+        obstacles: vec![
+            Obstacle {
+                name: "top".into(),
+                circles: vec![Circle::new(30.0, 45.0, 12.0)],
+            },
+            Obstacle {
+                name: "rock".into(),
+                circles: vec![Circle::new(50.0, 52.0, 1.0)],
+            },
+            Obstacle {
+                name: "bot".into(),
+                circles: vec![Circle::new(30.0, 15.0, 12.0)],
+            },
+        ],
+        danger_points: vec![],
+        critical_points: vec![],
+        hazards: vec![],
+    };
+    let e = homospline_voronoi::build(&scene, 4.0).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "no route: start and goal are walled apart by 'top', 'bot': their circles (grown by the robot's radius) touch one another or the bounds, and no gap between them lets a path through"
+    );
+    // Without the robot's radius they leave a gap of 6: planned.
+    let open = Scene {
+        robot_radius: 0.0,
+        ..scene
+    };
+    assert!(homospline_voronoi::build(&open, 4.0).is_ok());
+}
