@@ -107,6 +107,18 @@ def test_no_route_for_the_robot_is_its_own_exception_naming_the_widest_route():
     assert issubclass(homospline.NoRoute, ValueError)
 
 
+def test_a_scene_walled_apart_is_no_route_naming_the_obstacles():
+    # Grown by the robot's radius 3, the two discs touch each other and the bounds.
+    walled = homospline.Scene.from_dict(
+        {"bounds": {"min": [0, 0], "max": [60, 60]}, "start": [5, 30], "goal": [55, 30],
+         "robot_radius": 3,
+         "obstacles": [{"name": "top", "circles": [[30, 45, 12]]},
+                       {"name": "bot", "circles": [[30, 15, 12]]}]}
+    )
+    with pytest.raises(homospline.NoRoute, match="walled apart by 'top', 'bot'"):
+        homospline.plan(walled)
+
+
 def test_results_are_numpy_arrays_of_points():
     p = homospline.plan(homospline.Scene.example(), classes=3)
     assert p.best == 1
