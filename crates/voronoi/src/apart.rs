@@ -5,8 +5,8 @@
 //! cells can be closed on the grid while the circles leave it open. Whether it matters is
 //! decided from the circles themselves. Let `h` be the cell size. If every positive gap
 //! (between two inflated circles, or between one and a side of the bounds) is at least
-//! [`GAP_CELLS`] cells and start and goal keep [`END_CELLS`] cells from every circle and
-//! side, then growing every circle by `2h` and pulling the bounds in by as much makes no
+//! [`GAP_CELLS`] cells and start and goal keep [`END_CELLS`] cells from every circle,
+//! then growing every circle by `2h` and pulling the bounds in by as much makes no
 //! new contact: the obstacles meet each other and the sides as they did, so any route
 //! between start and goal can be pushed to a clearance of `2h`, and such a route runs
 //! through free, 4-connected cells. The grid's verdict is then the circles' own: start and
@@ -26,7 +26,7 @@ pub const GAP_CELLS: Real = 6.0;
 pub const REFINE_MAX_CELLS: usize = 1 << 24;
 
 /// Start and goal count as clear on a grid when they keep this many cells from every
-/// circle and side of the bounds.
+/// circle.
 pub const END_CELLS: Real = 3.0;
 
 /// The narrowest place the grid may have closed: a gap between two things, or an end's
@@ -64,7 +64,7 @@ pub(crate) fn judge(scene: &Scene, grid: &Grid) -> Apart {
 
 /// The narrowest gap or end clearance that needs cells smaller than `h` (`None` when none
 /// does): gaps under [`GAP_CELLS`] cells between two circles (a sweep over the circles by
-/// their left edge) or a circle and a side, ends within [`END_CELLS`] cells of either.
+/// their left edge) or a circle and a side, ends within [`END_CELLS`] cells of a circle.
 fn narrowest(scene: &Scene, circles: &[Circle], h: Real) -> Option<Narrowest> {
     let owners = scene.circle_owners();
     let name = |i: usize| format!("'{}'", scene.obstacles[owners[i]].name);
@@ -130,18 +130,16 @@ fn narrowest(scene: &Scene, circles: &[Circle], h: Real) -> Option<Narrowest> {
             }
         }
     }
+    // The ends' clearance from the circles only: a start on a side of the bounds (which a
+    // scene allows) still lies in a free cell, the wall ring being outside the bounds.
     for (end, p) in [("start", scene.start), ("goal", scene.goal)] {
-        let to_circle = circles
+        let (clearance, nearest) = circles
             .iter()
-            .map(|c| (p - c.center).norm() - c.radius)
-            .fold(Real::INFINITY, Real::min);
-        let to_side = sides
-            .iter()
-            .map(|(_, a, z)| homospline_geom::math::distance_point_segment(&p, a, z))
-            .fold(Real::INFINITY, Real::min);
-        let clearance = to_circle.min(to_side);
+            .enumerate()
+            .map(|(i, c)| ((p - c.center).norm() - c.radius, i))
+            .fold((Real::INFINITY, 0), |a, b| if b.0 < a.0 { b } else { a });
         offer(clearance / END_CELLS, clearance, &|| {
-            format!("the {end} and its nearest obstacle or side")
+            format!("the {end} and {}", name(nearest))
         });
     }
     best

@@ -102,7 +102,8 @@ pub fn build(
         Err(Apart(grid)) => match apart::judge(scene, &grid) {
             apart::Apart::Walled(obstacles) => Err(GraphError::Walled { obstacles }.into()),
             apart::Apart::Narrow(n) => {
-                let finer = 1.0 / n.need;
+                // A hair finer than the need, so that the grid is sure to meet it.
+                let finer = 1.0001 / n.need;
                 let ext = scene.bounds.extent();
                 let cells = ((ext.x * finer).ceil() + 2.0) * ((ext.y * finer).ceil() + 2.0);
                 if cells > apart::REFINE_MAX_CELLS as Real {
