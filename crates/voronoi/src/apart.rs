@@ -146,9 +146,10 @@ fn narrowest(scene: &Scene, circles: &[Circle], h: Real) -> Option<Narrowest> {
 }
 
 /// The topological obstacle (touching circles) that alone walls start and goal apart on
-/// `grid`'s cells, named by its listed obstacles; `None` when none does alone. Only groups
-/// that can wall anything off are tried: those of three or more circles (a ring) or that
-/// reach a side of the bounds.
+/// `grid`'s cells, named by its listed obstacles; `None` when none of those tried does
+/// alone. Only groups that can wall anything off are tried: those of three or more circles
+/// (a ring) or that reach a side of the bounds, the [`WALL_TRIES`] nearest the segment from
+/// start to goal.
 fn walling(scene: &Scene, circles: &[Circle], grid: &Grid) -> Option<String> {
     let owners = scene.circle_owners();
     let b = &scene.bounds;
@@ -158,19 +159,35 @@ fn walling(scene: &Scene, circles: &[Circle], grid: &Grid) -> Option<String> {
             || c.center.y - c.radius <= b.min.y
             || c.center.y + c.radius >= b.max.y
     };
-    for group in topological_obstacles(circles) {
-        if group.circles.len() < 3 && !group.circles.iter().any(|&i| reaches_side(&circles[i])) {
-            continue;
-        }
+    // Nearest the segment from start to goal first (a wall across it, a ring round an
+    // end), at most `WALL_TRIES` of them: each try fills the whole grid.
+    let gap_to_segment = |c: &Circle| {
+        homospline_geom::math::distance_point_segment(&c.center, &scene.start, &scene.goal)
+            - c.radius
+    };
+    let mut groups: Vec<(Real, Vec<usize>)> = topological_obstacles(circles)
+        .into_iter()
+        .filter(|g| g.circles.len() >= 3 || g.circles.iter().any(|&i| reaches_side(&circles[i])))
+        .map(|g| {
+            let near = g
+                .circles
+                .iter()
+                .map(|&i| gap_to_segment(&circles[i]))
+                .fold(Real::INFINITY, Real::min);
+            (near, g.circles)
+        })
+        .collect();
+    groups.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for (_, members) in groups.into_iter().take(WALL_TRIES) {
         let Ok(mut alone) = Grid::new(grid.width(), grid.height(), grid.origin(), grid.cell())
         else {
             return None;
         };
-        for &i in &group.circles {
+        for &i in &members {
             alone.fill_disc(&circles[i].center, circles[i].radius);
         }
         if !joined(&alone, &scene.start, &scene.goal) {
-            let mut names: Vec<usize> = group.circles.iter().map(|&i| owners[i]).collect();
+            let mut names: Vec<usize> = members.iter().map(|&i| owners[i]).collect();
             names.dedup();
             names.sort_unstable();
             names.dedup();
@@ -189,6 +206,9 @@ fn walling(scene: &Scene, circles: &[Circle], grid: &Grid) -> Option<String> {
     }
     None
 }
+
+/// Most groups [`walling`] tries alone on the grid before it names none.
+const WALL_TRIES: usize = 32;
 
 /// Whether the free cells of `grid` join the cells of `a` and `b` (4-connected).
 fn joined(grid: &Grid, a: &Point, b: &Point) -> bool {
