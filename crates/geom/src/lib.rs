@@ -40,6 +40,6 @@ pub use polygon::{CoverError, Polygon, cover_polygon};
 pub use query::{CircleSet, Clearance, QueryBackend, RayHit};
 pub use scene::{CriticalPoint, DangerPoint, Scene, SceneError};
 pub use shape::{
-    Bounds, Circle, Obstacle, Placement, ROBOT_RADIUS_RULE, TopoObstacle, is_robot_radius,
-    topological_obstacles,
+    Bounds, Circle, Obstacle, Placement, ROBOT_RADIUS_RULE, TopoObstacle, for_each_near_pair,
+    is_robot_radius, topological_obstacles,
 };

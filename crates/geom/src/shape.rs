@@ -192,6 +192,29 @@ pub struct TopoObstacle {
     pub representative: Point,
 }
 
+/// Calls `f(i, j)` for every pair of `circles` whose extents along x, the first's grown by
+/// `reach` on its right, overlap: every pair whose gap is at most `reach`, and others. A
+/// sweep over the circles sorted by their left edge (ties by index), so `O(n log n +
+/// pairs)`; `i` is the pair's circle with the lower left edge, and the pairs come in a
+/// fixed order.
+pub fn for_each_near_pair(circles: &[Circle], reach: Real, mut f: impl FnMut(usize, usize)) {
+    let mut order: Vec<usize> = (0..circles.len()).collect();
+    order.sort_by(|&a, &b| {
+        let ka = circles[a].center.x - circles[a].radius;
+        let kb = circles[b].center.x - circles[b].radius;
+        ka.total_cmp(&kb).then(a.cmp(&b))
+    });
+    for (k, &i) in order.iter().enumerate() {
+        let right = circles[i].center.x + circles[i].radius + reach;
+        for &j in &order[k + 1..] {
+            if circles[j].center.x - circles[j].radius > right {
+                break;
+            }
+            f(i, j);
+        }
+    }
+}
+
 /// Groups `circles` into connected components of the "discs touch" relation.
 ///
 /// Deterministic: groups are ordered by their lowest circle index. Runs a sweep over the
@@ -206,27 +229,15 @@ pub fn topological_obstacles(circles: &[Circle]) -> Vec<TopoObstacle> {
         }
         i
     }
-    let mut order: Vec<usize> = (0..n).collect();
-    order.sort_by(|&a, &b| {
-        let ka = circles[a].center.x - circles[a].radius;
-        let kb = circles[b].center.x - circles[b].radius;
-        ka.total_cmp(&kb).then(a.cmp(&b))
-    });
-    for (k, &i) in order.iter().enumerate() {
-        let right = circles[i].center.x + circles[i].radius;
-        for &j in &order[k + 1..] {
-            if circles[j].center.x - circles[j].radius > right {
-                break;
-            }
-            if circles[i].touches(&circles[j]) {
-                let (ri, rj) = (find(&mut parent, i), find(&mut parent, j));
-                if ri != rj {
-                    let (lo, hi) = if ri < rj { (ri, rj) } else { (rj, ri) };
-                    parent[hi] = lo;
-                }
+    for_each_near_pair(circles, 0.0, |i, j| {
+        if circles[i].touches(&circles[j]) {
+            let (ri, rj) = (find(&mut parent, i), find(&mut parent, j));
+            if ri != rj {
+                let (lo, hi) = if ri < rj { (ri, rj) } else { (rj, ri) };
+                parent[hi] = lo;
             }
         }
-    }
+    });
     let mut group_of_root: Vec<Option<usize>> = vec![None; n];
     let mut members: Vec<Vec<usize>> = Vec::new();
     for i in 0..n {

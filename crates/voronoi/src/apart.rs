@@ -13,8 +13,11 @@
 //! goal are walled apart. Otherwise the grid is made fine enough for the narrowest gap, when
 //! that fits in [`MAX_CELLS`](crate::grid::MAX_CELLS), and built again.
 
-use homospline_geom::{Circle, Point, Real, Scene, topological_obstacles};
+use homospline_geom::{
+    Circle, Placement, Point, Real, Scene, for_each_near_pair, topological_obstacles,
+};
 
+use crate::attach::{free_bfs, free_cell};
 use crate::grid::Grid;
 
 /// A gap counts as open on a grid when it is at least this many cells wide.
@@ -102,29 +105,18 @@ fn narrowest(scene: &Scene, circles: &[Circle], h: Real) -> Option<Narrowest> {
             });
         }
     };
-    let mut order: Vec<usize> = (0..circles.len()).collect();
-    order.sort_by(|&a, &b| {
-        let ka = circles[a].center.x - circles[a].radius;
-        let kb = circles[b].center.x - circles[b].radius;
-        ka.total_cmp(&kb).then(a.cmp(&b))
-    });
-    for (k, &i) in order.iter().enumerate() {
-        let ci = &circles[i];
-        let right = ci.center.x + ci.radius + reach;
-        for &j in &order[k + 1..] {
-            let cj = &circles[j];
-            if cj.center.x - cj.radius > right {
-                break;
-            }
-            let gap = (ci.center - cj.center).norm() - ci.radius - cj.radius;
-            if gap > 0.0 {
-                offer(gap / GAP_CELLS, gap, &|| {
-                    format!("{} and {}", name(i.min(j)), name(i.max(j)))
-                });
-            }
+    for_each_near_pair(circles, reach, |i, j| {
+        let (ci, cj) = (&circles[i], &circles[j]);
+        let gap = (ci.center - cj.center).norm() - ci.radius - cj.radius;
+        if gap > 0.0 {
+            offer(gap / GAP_CELLS, gap, &|| {
+                format!("{} and {}", name(i.min(j)), name(i.max(j)))
+            });
         }
+    });
+    for (i, c) in circles.iter().enumerate() {
         for (side, a, z) in &sides {
-            let gap = homospline_geom::math::distance_point_segment(&ci.center, a, z) - ci.radius;
+            let gap = homospline_geom::math::distance_point_segment(&c.center, a, z) - c.radius;
             if gap > 0.0 {
                 offer(gap / GAP_CELLS, gap, &|| format!("{} and {side}", name(i)));
             }
@@ -152,13 +144,6 @@ fn narrowest(scene: &Scene, circles: &[Circle], h: Real) -> Option<Narrowest> {
 /// start to goal.
 fn walling(scene: &Scene, circles: &[Circle], grid: &Grid) -> Option<String> {
     let owners = scene.circle_owners();
-    let b = &scene.bounds;
-    let reaches_side = |c: &Circle| {
-        c.center.x - c.radius <= b.min.x
-            || c.center.x + c.radius >= b.max.x
-            || c.center.y - c.radius <= b.min.y
-            || c.center.y + c.radius >= b.max.y
-    };
     // Nearest the segment from start to goal first (a wall across it, a ring round an
     // end), at most `WALL_TRIES` of them: each try fills the whole grid.
     let gap_to_segment = |c: &Circle| {
@@ -167,7 +152,13 @@ fn walling(scene: &Scene, circles: &[Circle], grid: &Grid) -> Option<String> {
     };
     let mut groups: Vec<(Real, Vec<usize>)> = topological_obstacles(circles)
         .into_iter()
-        .filter(|g| g.circles.len() >= 3 || g.circles.iter().any(|&i| reaches_side(&circles[i])))
+        .filter(|g| {
+            g.circles.len() >= 3
+                || scene
+                    .bounds
+                    .place_discs(g.circles.iter().map(|&i| &circles[i]))
+                    != Placement::Inside
+        })
         .map(|g| {
             let near = g
                 .circles
@@ -188,7 +179,6 @@ fn walling(scene: &Scene, circles: &[Circle], grid: &Grid) -> Option<String> {
         }
         if !joined(&alone, &scene.start, &scene.goal) {
             let mut names: Vec<usize> = members.iter().map(|&i| owners[i]).collect();
-            names.dedup();
             names.sort_unstable();
             names.dedup();
             let listed: Vec<String> = names
@@ -210,31 +200,12 @@ fn walling(scene: &Scene, circles: &[Circle], grid: &Grid) -> Option<String> {
 /// Most groups [`walling`] tries alone on the grid before it names none.
 const WALL_TRIES: usize = 32;
 
-/// Whether the free cells of `grid` join the cells of `a` and `b` (4-connected).
+/// Whether the free cells of `grid` join those of `a` and `b` (4-connected), each found
+/// as the graph's own start and goal are ([`free_cell`]: a point on a cell's side takes a
+/// free cell beside it).
 fn joined(grid: &Grid, a: &Point, b: &Point) -> bool {
-    let (Some((ai, aj)), Some((bi, bj))) = (grid.cell_of(a), grid.cell_of(b)) else {
+    let (Ok(from), Ok(to)) = (free_cell(grid, *a, "start"), free_cell(grid, *b, "goal")) else {
         return false;
     };
-    let w = grid.width();
-    let occ = grid.occupancy();
-    let (from, to) = (grid.index(ai, aj), grid.index(bi, bj));
-    if occ[from] || occ[to] {
-        return false;
-    }
-    let mut seen = vec![false; occ.len()];
-    let mut stack = vec![from];
-    seen[from] = true;
-    while let Some(c) = stack.pop() {
-        if c == to {
-            return true;
-        }
-        // The wall ring is occupied, so a free cell's four neighbours are in the grid.
-        for n in [c - 1, c + 1, c - w, c + w] {
-            if !occ[n] && !seen[n] {
-                seen[n] = true;
-                stack.push(n);
-            }
-        }
-    }
-    false
+    free_bfs(grid, from, |i, j| ((i, j) == to).then_some(())).is_some()
 }

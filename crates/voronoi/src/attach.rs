@@ -466,7 +466,11 @@ pub fn build_complete(
 /// cell (within a billionth of a cell), a free neighbour whose closed square holds it. A
 /// point on a scene's bounds lies on the side of the grid's wall ring wherever the
 /// resolution divides the bounds evenly: it was refused at some resolutions and not others.
-fn free_cell(grid: &Grid, p: Point, what: &'static str) -> Result<(usize, usize), GraphError> {
+pub(crate) fn free_cell(
+    grid: &Grid,
+    p: Point,
+    what: &'static str,
+) -> Result<(usize, usize), GraphError> {
     let (i, j) = grid
         .cell_of(&p)
         .ok_or(GraphError::Outside(what, p.x, p.y))?;
@@ -607,7 +611,7 @@ pub(crate) fn join_directly(
 /// Breadth-first over free cells (4-connected, fixed neighbour order: deterministic) from
 /// `start` to the first cell where `stop` answers; that cell's path from `start` and the
 /// answer. `None` when the free region is exhausted first.
-fn free_bfs<T>(
+pub(crate) fn free_bfs<T>(
     grid: &Grid,
     start: (usize, usize),
     mut stop: impl FnMut(usize, usize) -> Option<T>,

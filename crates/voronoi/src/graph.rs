@@ -163,13 +163,6 @@ pub enum GraphError {
     /// Start and goal are in different free regions.
     #[error("start and goal are in different free regions: no path joins them")]
     DifferentRegions,
-    /// A scene's start and goal are in different free regions of its grid: a passage
-    /// narrower than a cell is closed at this resolution (cells per unit).
-    #[error(
-        "start and goal are in different free regions at {0} cells per unit: no path joins them on this grid (if a passage narrower than a cell, {cell} units, joins them, a finer --resolution opens it)",
-        cell = 1.0 / .0
-    )]
-    ApartAtResolution(Real),
     /// A scene's start and goal are walled apart: every gap between its circles and the
     /// bounds is open on the grid ([`crate::apart`]), and the grid joins them nowhere.
     /// `obstacles` names the touching obstacles that wall them apart on their own, when

@@ -94,41 +94,43 @@ pub fn build(
     scene: &Scene,
     resolution: Real,
 ) -> Result<(Grid, DistanceField, VoronoiGraph), BuildError> {
-    match build_at(scene, resolution) {
-        // Apart on this grid: a gap narrower than a few cells may be closed here and open
-        // between the circles. Judged from the circles ([`apart`]): walled apart, or built
-        // again on a grid fine enough for the narrowest gap (once: that grid opens every
-        // gap, so being apart there is the circles' verdict).
-        Err(Apart(grid)) => match apart::judge(scene, &grid) {
-            apart::Apart::Walled(obstacles) => Err(GraphError::Walled { obstacles }.into()),
-            apart::Apart::Narrow(n) => {
-                // A hair finer than the need, so that the grid is sure to meet it.
-                let finer = 1.0001 / n.need;
-                let ext = scene.bounds.extent();
-                let cells = ((ext.x * finer).ceil() + 2.0) * ((ext.y * finer).ceil() + 2.0);
-                if cells > apart::REFINE_MAX_CELLS as Real {
-                    return Err(GraphError::Unresolved {
-                        resolution,
-                        width: n.width,
-                        between: n.between,
-                        needed: finer,
-                        fits: cells <= grid::MAX_CELLS as Real,
-                    }
-                    .into());
-                }
-                match build_at(scene, finer) {
-                    Err(Apart(grid)) => Err(GraphError::Walled {
-                        obstacles: match apart::judge(scene, &grid) {
-                            apart::Apart::Walled(o) => o,
-                            apart::Apart::Narrow(_) => None,
-                        },
-                    }
-                    .into()),
-                    other => other.map_err(|e| e.into_build()),
-                }
-            }
-        },
-        other => other.map_err(|e| e.into_build()),
+    let grid = match build_at(scene, resolution) {
+        Ok(built) => return Ok(built),
+        Err(BuildAtError::Other(e)) => return Err(e),
+        Err(BuildAtError::Apart(grid)) => grid,
+    };
+    // Apart on this grid: a gap narrower than a few cells may be closed here and open
+    // between the circles. Judged from the circles ([`apart`]): walled apart, or built again
+    // on a grid fine enough for the narrowest gap (once: that grid opens every gap, so being
+    // apart there is the circles' verdict).
+    let n = match apart::judge(scene, &grid) {
+        apart::Apart::Walled(obstacles) => return Err(GraphError::Walled { obstacles }.into()),
+        apart::Apart::Narrow(n) => n,
+    };
+    // A hair finer than the need, so that the grid is sure to meet it.
+    let finer = 1.0001 / n.need;
+    let ext = scene.bounds.extent();
+    let cells = ((ext.x * finer).ceil() + 2.0) * ((ext.y * finer).ceil() + 2.0);
+    if cells > apart::REFINE_MAX_CELLS as Real {
+        return Err(GraphError::Unresolved {
+            resolution,
+            width: n.width,
+            between: n.between,
+            needed: finer,
+            fits: cells <= grid::MAX_CELLS as Real,
+        }
+        .into());
+    }
+    match build_at(scene, finer) {
+        Ok(built) => Ok(built),
+        Err(BuildAtError::Other(e)) => Err(e),
+        Err(BuildAtError::Apart(grid)) => Err(GraphError::Walled {
+            obstacles: match apart::judge(scene, &grid) {
+                apart::Apart::Walled(o) => o,
+                apart::Apart::Narrow(_) => None,
+            },
+        }
+        .into()),
     }
 }
 
@@ -137,17 +139,6 @@ pub fn build(
 enum BuildAtError {
     Apart(Grid),
     Other(BuildError),
-}
-use BuildAtError::Apart;
-
-impl BuildAtError {
-    /// As [`build`] reports it (apart only where [`build`] has judged it).
-    fn into_build(self) -> BuildError {
-        match self {
-            Apart(g) => GraphError::ApartAtResolution(g.resolution()).into(),
-            BuildAtError::Other(e) => e,
-        }
-    }
 }
 
 impl From<GridError> for BuildAtError {
@@ -177,7 +168,7 @@ fn build_at(
         // of free space, as on maps) joins start and goal whenever their region does.
         Err(GraphError::DifferentRegions) => {
             match build_complete(&grid, &field, scene.start, scene.goal) {
-                Err(GraphError::DifferentRegions) => return Err(Apart(grid)),
+                Err(GraphError::DifferentRegions) => return Err(BuildAtError::Apart(grid)),
                 other => other?,
             }
         }
