@@ -14,6 +14,7 @@ use crate::math::{Num, Point, Real, Short};
 use crate::query::CircleSet;
 use crate::shape::{Bounds, Circle, Obstacle, TopoObstacle, topological_obstacles};
 pub use crate::yaml::{MAX_YAML_NODES, from_yaml, from_yaml_within, yaml_problem};
+use crate::yaml::{Number, Whole};
 
 /// Largest coordinate or length magnitude a scene may hold. Far beyond any map, and small
 /// enough that squared distances stay finite.
@@ -144,14 +145,14 @@ impl SceneError {
 #[serde(deny_unknown_fields)]
 struct RawScene {
     #[serde(default)]
-    version: Option<Spanned<u32>>,
+    version: Option<Spanned<Whole>>,
     #[serde(default)]
     name: Option<String>,
     bounds: Spanned<RawBounds>,
-    start: Spanned<[Real; 2]>,
-    goal: Spanned<[Real; 2]>,
+    start: Spanned<[Number; 2]>,
+    goal: Spanned<[Number; 2]>,
     #[serde(default)]
-    robot_radius: Option<Spanned<Real>>,
+    robot_radius: Option<Spanned<Number>>,
     #[serde(default)]
     obstacles: Vec<Spanned<ObstacleEntry>>,
     #[serde(default)]
@@ -159,14 +160,14 @@ struct RawScene {
     #[serde(default)]
     critical_points: Vec<Spanned<RawCritical>>,
     #[serde(default)]
-    hazards: Vec<Spanned<[Real; 2]>>,
+    hazards: Vec<Spanned<[Number; 2]>>,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawBounds {
-    min: Spanned<[Real; 2]>,
-    max: Spanned<[Real; 2]>,
+    min: Spanned<[Number; 2]>,
+    max: Spanned<[Number; 2]>,
 }
 
 /// An obstacle as a scene file or a world file writes it (`name:` and `circles:`), each
@@ -179,7 +180,7 @@ pub struct ObstacleEntry {
     #[serde(default)]
     pub name: Option<String>,
     /// Its circles `[x, y, r]`.
-    pub circles: Vec<Spanned<[Real; 3]>>,
+    pub circles: Vec<Spanned<[Number; 3]>>,
 }
 
 impl ObstacleEntry {
@@ -191,7 +192,7 @@ impl ObstacleEntry {
             circles: self
                 .circles
                 .iter()
-                .map(|c| Circle::new(c.value[0], c.value[1], c.value[2]))
+                .map(|c| Circle::new(c.value[0].0, c.value[1].0, c.value[2].0))
                 .collect(),
         }
     }
@@ -263,15 +264,15 @@ pub fn check_obstacle(field: &str, o: &Obstacle) -> Result<(), (String, String)>
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawDanger {
-    at: [Real; 2],
-    min_distance: Real,
+    at: [Number; 2],
+    min_distance: Number,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawCritical {
-    at: [Real; 2],
-    max_distance: Real,
+    at: [Number; 2],
+    max_distance: Number,
 }
 
 /// Where each checked field sits in the file.
@@ -340,8 +341,8 @@ fn xy(p: &Point) -> [Real; 2] {
     [p.x, p.y]
 }
 
-fn pt(a: [Real; 2]) -> Point {
-    Point::new(a[0], a[1])
+fn pt(a: [Number; 2]) -> Point {
+    Point::new(a[0].0, a[1].0)
 }
 
 fn stem(source: &str) -> String {
@@ -417,7 +418,10 @@ impl Scene {
 
     fn from_raw(raw: RawScene, source: &str) -> (Self, RawLines) {
         let mut lines = Lines::default();
-        let version = raw.version.as_ref().map(|v| (v.value, v.referenced.line()));
+        let version = raw
+            .version
+            .as_ref()
+            .map(|v| (v.value.0, v.referenced.line()));
         lines.put("bounds".into(), &raw.bounds);
         lines.put("bounds.min".into(), &raw.bounds.value.min);
         lines.put("bounds.max".into(), &raw.bounds.value.max);
@@ -446,7 +450,7 @@ impl Scene {
                 lines.put(format!("danger_points[{i}]"), d);
                 DangerPoint {
                     at: pt(d.value.at),
-                    min_distance: d.value.min_distance,
+                    min_distance: d.value.min_distance.0,
                 }
             })
             .collect();
@@ -458,7 +462,7 @@ impl Scene {
                 lines.put(format!("critical_points[{i}]"), d);
                 CriticalPoint {
                     at: pt(d.value.at),
-                    max_distance: d.value.max_distance,
+                    max_distance: d.value.max_distance.0,
                 }
             })
             .collect();
@@ -479,7 +483,7 @@ impl Scene {
             },
             start: pt(raw.start.value),
             goal: pt(raw.goal.value),
-            robot_radius: raw.robot_radius.map_or(0.0, |r| r.value),
+            robot_radius: raw.robot_radius.map_or(0.0, |r| r.value.0),
             obstacles,
             danger_points,
             critical_points,

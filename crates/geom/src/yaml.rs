@@ -1,6 +1,123 @@
 //! Reading YAML (and JSON) with the project's limits, and the parser's errors as messages:
 //! the problem in words, the dotted key path at fault, and what was found there.
 
+use serde::de::{self, Deserialize, Deserializer, Visitor};
+
+use crate::math::Real;
+
+/// A number as an input file writes it: a plain YAML scalar or a JSON number, never a
+/// quoted string. serde-saphyr reads a quoted `'5'` or `"5"` into an `f64` as it reads `5`;
+/// `docs/formats.md` refuses a value of the wrong type, and a quoted number is a string.
+/// Read through `deserialize_any`, so the parser says which it found.
+///
+/// # Examples
+///
+/// ```
+/// use homospline_geom::yaml::{Number, from_yaml};
+///
+/// let ok: [Number; 2] = from_yaml("[5, 2.5e1]").unwrap();
+/// assert_eq!(ok, [Number(5.0), Number(25.0)]);
+/// let quoted = from_yaml::<[Number; 2]>("['5', 30]").unwrap_err();
+/// assert!(quoted.to_string().contains("without quotes), not the string '5'"));
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Number(pub Real);
+
+/// A whole number `>= 0` as an input file writes it (a version): plain, never quoted; see
+/// [`Number`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Whole(pub u32);
+
+/// What a [`Number`] is, in an error.
+const A_NUMBER: &str = "a number (such as 2, -1.5 or 3e-2, without quotes)";
+/// What a [`Whole`] is, in an error.
+const A_WHOLE: &str = "a whole number >= 0 (without quotes)";
+
+/// The problem of a string (quoted or not) where a number belongs.
+fn quoted<E: de::Error>(v: &str, what: &str) -> E {
+    E::custom(format!("expected {what}, not the string '{v}'"))
+}
+
+impl<'de> Deserialize<'de> for Number {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = Number;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str(A_NUMBER)
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Number, E> {
+                Ok(Number(v))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Number, E> {
+                Ok(Number(v as Real))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Number, E> {
+                Ok(Number(v as Real))
+            }
+            fn visit_i128<E: de::Error>(self, v: i128) -> Result<Number, E> {
+                Ok(Number(v as Real))
+            }
+            fn visit_u128<E: de::Error>(self, v: u128) -> Result<Number, E> {
+                Ok(Number(v as Real))
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Number, E> {
+                Err(quoted(v, A_NUMBER))
+            }
+            fn visit_bool<E: de::Error>(self, _: bool) -> Result<Number, E> {
+                Err(E::custom(format!("expected {A_NUMBER}")))
+            }
+            fn visit_unit<E: de::Error>(self) -> Result<Number, E> {
+                Err(E::custom(format!("expected {A_NUMBER}")))
+            }
+            fn visit_seq<A: de::SeqAccess<'de>>(self, _: A) -> Result<Number, A::Error> {
+                Err(de::Error::custom(format!(
+                    "expected {A_NUMBER}, not a list"
+                )))
+            }
+            fn visit_map<A: de::MapAccess<'de>>(self, _: A) -> Result<Number, A::Error> {
+                Err(de::Error::custom(format!("expected {A_NUMBER}, not a map")))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+impl<'de> Deserialize<'de> for Whole {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl Visitor<'_> for V {
+            type Value = Whole;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str(A_WHOLE)
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Whole, E> {
+                u32::try_from(v)
+                    .map(Whole)
+                    .map_err(|_| E::custom(format!("expected {A_WHOLE}")))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Whole, E> {
+                u32::try_from(v)
+                    .map(Whole)
+                    .map_err(|_| E::custom(format!("expected {A_WHOLE}")))
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Whole, E> {
+                Err(quoted(v, A_WHOLE))
+            }
+            fn visit_f64<E: de::Error>(self, _: f64) -> Result<Whole, E> {
+                Err(E::custom(format!("expected {A_WHOLE}")))
+            }
+            fn visit_bool<E: de::Error>(self, _: bool) -> Result<Whole, E> {
+                Err(E::custom(format!("expected {A_WHOLE}")))
+            }
+            fn visit_unit<E: de::Error>(self) -> Result<Whole, E> {
+                Err(E::custom(format!("expected {A_WHOLE}")))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
 /// Where a YAML parser's error on `text` lies and what it says, for a message.
 #[derive(Clone, Debug, PartialEq)]
 pub struct YamlFault {
@@ -33,7 +150,9 @@ pub fn locate(text: &str, e: &serde_saphyr::Error, fallback: &str) -> YamlFault 
             _ => Some(key),
         }
     });
+    // A string where a number belongs already names what was found ([`Number`]).
     if problem.starts_with("expected a")
+        && !problem.contains(", not the string '")
         && let Some(l) = loc
         && let Some(found) = token_at(text, l.line(), l.column())
     {
@@ -85,12 +204,12 @@ pub const MAX_YAML_NODES: usize = 8_000_000;
 
 /// Reads YAML (or JSON, a subset of it) into `T` with the project's limits
 /// ([`MAX_YAML_NODES`]): for scene files and the other YAML inputs.
-pub fn from_yaml<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, serde_saphyr::Error> {
+pub fn from_yaml<T: de::DeserializeOwned>(text: &str) -> Result<T, serde_saphyr::Error> {
     from_yaml_within(text, MAX_YAML_NODES)
 }
 
 /// [`from_yaml`] with at most `max_nodes` nodes.
-pub fn from_yaml_within<T: serde::de::DeserializeOwned>(
+pub fn from_yaml_within<T: de::DeserializeOwned>(
     text: &str,
     max_nodes: usize,
 ) -> Result<T, serde_saphyr::Error> {
@@ -100,6 +219,9 @@ pub fn from_yaml_within<T: serde::de::DeserializeOwned>(
     budget.max_total_scalar_bytes = 1 << 29;
     let mut options = serde_saphyr::Options::default();
     options.budget = Some(budget);
+    // [`Number`] reads through `deserialize_any`: NaN and infinities reach it as numbers,
+    // and the checks after reading name them ("radius is infinite", "x is NaN").
+    options.non_finite_float_policy = serde_saphyr::options::NonFiniteFloatPolicy::PassThrough;
     serde_saphyr::from_str_with_options(text, options)
 }
 
@@ -321,6 +443,42 @@ mod tests {
             ("^[1, 2]\n", None),
         ] {
             assert_eq!(key(text).as_deref(), want, "{text}");
+        }
+    }
+
+    #[test]
+    fn numbers_are_plain_scalars_never_quoted_strings() {
+        for (text, want) in [
+            ("[5, -2.5, 3e-2, 7]", Ok([5.0, -2.5, 0.03, 7.0])),
+            // YAML 1.2's integer forms are numbers, read exactly.
+            ("[0x10, 0o10, -0, 1e2]", Ok([16.0, 8.0, 0.0, 100.0])),
+            ("[5, '30', 1, 1]", Err("not the string '30'")),
+            ("[\"5\", 30, 1, 1]", Err("not the string '5'")),
+            ("[five, 30, 1, 1]", Err("not the string 'five'")),
+            ("[null, 30, 1, 1]", Err("expected a number (such as")),
+            ("[true, 30, 1, 1]", Err("expected a number (such as")),
+            ("[[1], 30, 1, 1]", Err("without quotes), not a list")),
+        ] {
+            let got = from_yaml::<[Number; 4]>(text).map(|a| a.map(|n| n.0));
+            match (got, want) {
+                (Ok(a), Ok(w)) => assert_eq!(a, w, "{text}"),
+                (Err(e), Err(w)) => assert!(e.to_string().contains(w), "{text}: {e}"),
+                (got, _) => panic!("{text}: {got:?}"),
+            }
+        }
+        assert_eq!(from_yaml::<Whole>("1").unwrap(), Whole(1));
+        for (text, want) in [
+            ("'1'", "not the string '1'"),
+            ("\"1\"", "not the string '1'"),
+            ("-1", "expected a whole number >= 0 (without quotes)"),
+            ("1.5", "expected a whole number >= 0 (without quotes)"),
+            (
+                "4294967296",
+                "expected a whole number >= 0 (without quotes)",
+            ),
+        ] {
+            let e = from_yaml::<Whole>(text).unwrap_err().to_string();
+            assert!(e.contains(want), "{text}: {e}");
         }
     }
 }

@@ -158,17 +158,17 @@ fn parser_messages_name_the_key_and_what_was_found() {
         (
             "version.yaml",
             format!("version: 1.0\n{scene}"),
-            ":1:10: version: expected a whole number >= 0, got '1.0'",
+            ":1:10: version: expected a whole number >= 0 (without quotes), got '1.0'",
         ),
         (
-            "hex.yaml",
-            scene.replace("min: [0, 0]", "min: [0x0, 0]"),
-            ": bounds.min: expected a finite number (such as 2, -1.5 or 3e-2), got '0x0'",
+            "word.yaml",
+            scene.replace("min: [0, 0]", "min: [zero, 0]"),
+            ": bounds.min: expected a number (such as 2, -1.5 or 3e-2, without quotes), not the string 'zero'",
         ),
         (
             "flow.json",
             r#"{"name":"j","bounds":{"min":[0,0],"max":[NaN,60]},"start":[5,30],"goal":[55,30],"obstacles":[]}"#.to_owned(),
-            ":1:42: bounds.max: expected a finite number (such as 2, -1.5 or 3e-2), got 'NaN'",
+            ":1:42: bounds.max: expected a number (such as 2, -1.5 or 3e-2, without quotes), not the string 'NaN'",
         ),
         (
             "escape.yaml",
@@ -396,7 +396,9 @@ fn an_unknown_first_key_of_a_flow_map_names_its_parent_and_json_strings_lose_the
     );
     let err = assert_check_refused(&p);
     assert!(
-        err.contains("start: expected a finite number (such as 2, -1.5 or 3e-2), got 'q'"),
+        err.contains(
+            "start: expected a number (such as 2, -1.5 or 3e-2, without quotes), not the string 'q'"
+        ),
         "{err}"
     );
 }

@@ -4,6 +4,7 @@
 
 use homospline_geom::math::Num;
 use homospline_geom::scene::{MAX_MAGNITUDE, ObstacleEntry, check_obstacle};
+use homospline_geom::yaml::{Number, Whole};
 use homospline_geom::{Obstacle, Point, ROBOT_RADIUS_RULE, Real, SceneError, is_robot_radius};
 use serde::Deserialize;
 use serde_saphyr::Spanned;
@@ -14,7 +15,7 @@ use super::types::{MapSpec, Team, Uav, Ugv, WORLD_VERSION, WorldFile};
 #[serde(deny_unknown_fields)]
 struct RawWorld {
     #[serde(default)]
-    version: Option<Spanned<u32>>,
+    version: Option<Spanned<Whole>>,
     #[serde(default)]
     name: Option<String>,
     #[serde(default)]
@@ -24,9 +25,9 @@ struct RawWorld {
     #[serde(default)]
     truth_map: Option<Spanned<String>>,
     #[serde(default)]
-    start: Option<Spanned<[Real; 2]>>,
+    start: Option<Spanned<[Number; 2]>>,
     #[serde(default)]
-    goal: Option<Spanned<[Real; 2]>>,
+    goal: Option<Spanned<[Number; 2]>>,
     #[serde(default)]
     hidden_obstacles: Vec<Spanned<ObstacleEntry>>,
     #[serde(default)]
@@ -46,18 +47,18 @@ struct RawTeam {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawUgv {
-    speed: Real,
-    sensor_range: Real,
+    speed: Number,
+    sensor_range: Number,
     #[serde(default)]
-    radius: Real,
+    radius: Number,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawUav {
-    start: [Real; 2],
-    speed: Real,
-    sensor_range: Real,
+    start: [Number; 2],
+    speed: Number,
+    sensor_range: Number,
 }
 
 fn line_of<T>(s: &Spanned<T>) -> u64 {
@@ -174,12 +175,12 @@ fn deserialize(text: &str, reader: &Reader) -> Result<RawWorld, SceneError> {
 /// `version`, when given, is the one this build reads.
 fn check_version(raw: &RawWorld, reader: &Reader) -> Result<(), SceneError> {
     match &raw.version {
-        Some(v) if v.value != WORLD_VERSION => Err(reader.at(
+        Some(v) if v.value.0 != WORLD_VERSION => Err(reader.at(
             v,
             "version",
             format!(
                 "version {} is not supported (this build reads version {WORLD_VERSION})",
-                v.value
+                v.value.0
             ),
         )),
         _ => Ok(()),
@@ -297,7 +298,7 @@ fn map_form(
 
 /// `[x, y]` as a point, if both are finite; else the error with `field` at `at`.
 fn finite_point<T>(
-    [x, y]: [Real; 2],
+    [Number(x), Number(y)]: [Number; 2],
     reader: &Reader,
     at: &Spanned<T>,
     field: &str,
@@ -360,8 +361,8 @@ fn team(t: &Spanned<RawTeam>, reader: &mut Reader) -> Result<Team, SceneError> {
 /// `team.ugv`: a positive speed and sensor range, a radius of at least 0.
 fn ugv(u: &Spanned<RawUgv>, reader: &Reader) -> Result<Ugv, SceneError> {
     for (what, v) in [
-        ("speed", u.value.speed),
-        ("sensor_range", u.value.sensor_range),
+        ("speed", u.value.speed.0),
+        ("sensor_range", u.value.sensor_range.0),
     ] {
         if !positive(v) {
             return Err(reader.at(
@@ -371,7 +372,7 @@ fn ugv(u: &Spanned<RawUgv>, reader: &Reader) -> Result<Ugv, SceneError> {
             ));
         }
     }
-    let r = u.value.radius;
+    let r = u.value.radius.0;
     if !(is_robot_radius(r) && r <= MAX_MAGNITUDE) {
         return Err(reader.at(
             u,
@@ -380,9 +381,9 @@ fn ugv(u: &Spanned<RawUgv>, reader: &Reader) -> Result<Ugv, SceneError> {
         ));
     }
     Ok(Ugv {
-        speed: u.value.speed,
-        sensor_range: u.value.sensor_range,
-        radius: u.value.radius,
+        speed: u.value.speed.0,
+        sensor_range: u.value.sensor_range.0,
+        radius: u.value.radius.0,
     })
 }
 
@@ -391,8 +392,8 @@ fn uav(i: usize, a: &Spanned<RawUav>, reader: &mut Reader) -> Result<Uav, SceneE
     let field = format!("team.uavs[{i}]");
     reader.note(field.clone(), a);
     for (what, v) in [
-        ("speed", a.value.speed),
-        ("sensor_range", a.value.sensor_range),
+        ("speed", a.value.speed.0),
+        ("sensor_range", a.value.sensor_range.0),
     ] {
         if !positive(v) {
             return Err(reader.at(
@@ -404,8 +405,8 @@ fn uav(i: usize, a: &Spanned<RawUav>, reader: &mut Reader) -> Result<Uav, SceneE
     }
     Ok(Uav {
         start: finite_point(a.value.start, reader, a, &format!("{field}.start"))?,
-        speed: a.value.speed,
-        sensor_range: a.value.sensor_range,
+        speed: a.value.speed.0,
+        sensor_range: a.value.sensor_range.0,
     })
 }
 
