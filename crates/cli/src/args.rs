@@ -182,6 +182,14 @@ pub struct PlanArgs {
     /// the same on any machine; `off` never; `--polish` replaces it.
     #[arg(long, value_name = "N|off", value_parser = finish_arg, help_heading = ADVANCED)]
     pub finish_within: Option<OrOff<usize>>,
+    /// Stop planning after this many milliseconds: no plan, exit 4.
+    ///
+    /// Counted from when planning starts (the input read and checked). The plan stops at
+    /// its next growth round or class seed once the limit has passed; building the graph
+    /// and preparing a map run to their end. A plan done within the limit is the plan
+    /// without one.
+    #[arg(long, value_name = "MS", help_heading = ADVANCED)]
+    pub time_limit: Option<f64>,
 }
 
 /// The options of `graph`.

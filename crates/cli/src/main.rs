@@ -32,6 +32,9 @@ const EXIT_NO_PLAN: u8 = 1;
 /// Exit code of a run that failed for another reason (an output that cannot be written).
 const EXIT_FAILURE: u8 = 3;
 
+/// Exit code of no plan because `plan --time-limit` passed first.
+const EXIT_TIME_LIMIT: u8 = 4;
+
 /// Homotopy-seeded spline path planning for ground robots.
 #[derive(Parser, Debug)]
 #[command(name = "homospline", version, about, long_about = None)]
@@ -103,6 +106,8 @@ fn main() -> ExitCode {
             // be written, is the run's failure (3).
             ExitCode::from(if e.downcast_ref::<out::NoPlan>().is_some() {
                 EXIT_NO_PLAN
+            } else if e.downcast_ref::<out::TimedOut>().is_some() {
+                EXIT_TIME_LIMIT
             } else if e.downcast_ref::<BadInput>().is_some() {
                 EXIT_BAD_INPUT
             } else {

@@ -66,6 +66,18 @@ pub fn no_plan(msg: impl Into<String>) -> anyhow::Error {
     NoPlan(msg.into()).into()
 }
 
+/// No plan because `plan --time-limit` passed first: exit 4.
+#[derive(Debug)]
+pub struct TimedOut(pub String);
+
+impl std::fmt::Display for TimedOut {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for TimedOut {}
+
 /// A map error as the command line answers it: no route for the robot is no plan (exit 1),
 /// anything else the input's fault (exit 2).
 pub fn map_error(e: homospline_maps::MapError) -> anyhow::Error {

@@ -6,15 +6,16 @@ use std::path::{Path, PathBuf};
 
 use anyhow::bail;
 use homospline_front::{EXAMPLE_SCENE, PlanOptions, report};
+use homospline_geom::math::Num;
 use homospline_geom::{Circle, Obstacle, Point, Scene};
 use homospline_maps::input::Input;
-use homospline_maps::{OccupancyMap, PreparedMap};
-use homospline_optim::{Plan, PlanConfig, Seed, default_resolution, plan_with_graph};
+use homospline_maps::{MapError, OccupancyMap, PreparedMap};
+use homospline_optim::{Plan, PlanConfig, PlanError, Seed, default_resolution, plan_with_graph};
 use homospline_voronoi::VoronoiGraph;
 
 use crate::args::PlanArgs;
 use crate::input::{Reads, load_input, parse_point, parse_weights, read_graph};
-use crate::out::{bad, check_outputs, map_error, no_plan, write};
+use crate::out::{TimedOut, bad, check_outputs, map_error, no_plan, write};
 use crate::picture;
 
 /// Exit code when no plan could be found.
@@ -82,15 +83,43 @@ pub fn outcome(
     let cfg = options(a)?
         .validate(scene)
         .map_err(|e| bad(format!("{}: {e}", input_name(&input))))?;
-    let (result, picture) = match &input {
-        Input::Scene(scene) => plan_scene(a, scene, &cfg, wants_picture)?,
-        Input::Map(map) => plan_map(a, map, ends, &cfg, wants_picture)?,
+    let deadline = time_limit(a)?.map(|after| cfg.interrupt.raise_after(after));
+    let planned = match &input {
+        Input::Scene(scene) => plan_scene(a, scene, &cfg, wants_picture),
+        Input::Map(map) => plan_map(a, map, ends, &cfg, wants_picture),
     };
+    drop(deadline);
+    let (result, picture) = planned?;
     Ok(Outcome {
         input,
         result,
         picture,
     })
+}
+
+/// `--time-limit MS` as a duration (a limit past what one holds is none); refused unless
+/// a positive number.
+fn time_limit(a: &PlanArgs) -> anyhow::Result<Option<std::time::Duration>> {
+    let Some(ms) = a.time_limit else {
+        return Ok(None);
+    };
+    if !(ms.is_finite() && ms > 0.0) {
+        bail!(bad(format!(
+            "--time-limit {}: must be a positive number of ms",
+            Num(ms)
+        )));
+    }
+    Ok(std::time::Duration::try_from_secs_f64(ms / 1e3).ok())
+}
+
+/// The error of a plan that `--time-limit` stopped (exit 4), naming `name`.
+fn timed_out(a: &PlanArgs, name: &str) -> anyhow::Error {
+    TimedOut(format!(
+        "{name}: no plan within --time-limit {} ms (the plan stopped there; a larger limit, \
+         fewer --classes or fewer --rounds let it finish)",
+        Num(a.time_limit.unwrap_or(f64::NAN))
+    ))
+    .into()
 }
 
 /// The input's name, as its errors start.
@@ -234,7 +263,9 @@ fn plan_scene(
     )?;
     let result = plan_with_graph(scene, saved, cfg).map_err(|e| {
         let msg = format!("{}: {e}", scene.name);
-        if e.is_no_route() {
+        if matches!(e, PlanError::Interrupted) {
+            timed_out(a, &scene.name)
+        } else if e.is_no_route() {
             no_plan(msg)
         } else {
             bad(msg)
@@ -293,7 +324,10 @@ fn plan_map(
             .map_err(|e| bad(format!("{}: {e}", p.display())))?,
         None => PreparedMap::for_robot(map, radius).map_err(map_error)?,
     };
-    let mut result = prepared.plan(s, g, cfg).map_err(map_error)?;
+    let mut result = prepared.plan(s, g, cfg).map_err(|e| match e {
+        MapError::Plan(PlanError::Interrupted) => timed_out(a, &map.name),
+        e => map_error(e),
+    })?;
     // A map's plan does not copy the query's graph out of the map's; the picture draws it.
     if wants_picture {
         result.graph = prepared.query_graph(s, g).ok();

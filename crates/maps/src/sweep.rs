@@ -464,18 +464,13 @@ pub fn run(
                 interrupt: Default::default(),
                 ..cfg.clone()
             };
-            let (done, wait) = std::sync::mpsc::channel::<()>();
-            let flag = cfg.interrupt.clone();
-            let limit = std::time::Duration::from_secs_f64(limit.max(0.0) / 1e3);
-            let watchdog = std::thread::spawn(move || {
-                if let Err(std::sync::mpsc::RecvTimeoutError::Timeout) = wait.recv_timeout(limit) {
-                    flag.raise();
-                }
-            });
+            // A limit past what a `Duration` holds is no limit (and no panic).
+            let after = std::time::Duration::try_from_secs_f64(limit.max(0.0) / 1e3)
+                .unwrap_or(std::time::Duration::MAX);
+            let deadline = cfg.interrupt.raise_after(after);
             let outcome = prepared.plan(s.start, s.goal, &cfg);
             let ms = t.elapsed().as_secs_f64() * 1e3;
-            drop(done);
-            let _ = watchdog.join();
+            drop(deadline);
             (outcome, ms)
         }
     };

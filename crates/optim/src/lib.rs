@@ -28,7 +28,7 @@ pub use growth::{Grown, Growth, GrowthConfig, Guard, Optimizer, Round, grow};
 pub use lbfgs::Lbfgs;
 pub use nelder_mead::{Coefficients, NelderMead, Outcome};
 pub use planner::{
-    ClassPlan, Detour, Interrupt, Plan, PlanConfig, PlanError, PlanGraph, Seed, Timing, World,
-    default_resolution, graph_misfit, plan, plan_with_graph, plan_world,
+    ClassPlan, Deadline, Detour, Interrupt, Plan, PlanConfig, PlanError, PlanGraph, Seed, Timing,
+    World, default_resolution, graph_misfit, plan, plan_with_graph, plan_world,
 };
 pub use solver::{Solver, Termination};

@@ -46,9 +46,9 @@ mod world;
 
 pub use class::DENSE_SEED_SHARE;
 pub use config::{
-    ConfigError, DEFAULT_FINISH_WITHIN, DEFAULT_PRUNE, DIVERSE_CANDIDATES, DM_RULE_SHARE, Detour,
-    Interrupt, MAX_CLASSES, MAX_POLISH, MAX_ROUNDS, MAX_THREADS, MAX_VIA_POINTS_CAP, PlanConfig,
-    PlanError, Seed, Setting, check_classes, check_diverse,
+    ConfigError, DEFAULT_FINISH_WITHIN, DEFAULT_PRUNE, DIVERSE_CANDIDATES, DM_RULE_SHARE, Deadline,
+    Detour, Interrupt, MAX_CLASSES, MAX_POLISH, MAX_ROUNDS, MAX_THREADS, MAX_VIA_POINTS_CAP,
+    PlanConfig, PlanError, Seed, Setting, check_classes, check_diverse,
 };
 pub use report::{ClassPlan, Plan, Timing};
 pub use seed::PlanGraph;

@@ -973,3 +973,52 @@ fn a_scene_walled_apart_is_no_plan_naming_the_wall_and_a_narrow_gap_is_planned()
     assert_eq!(chosen["collision_free"], true);
     assert!(chosen["length"].as_f64().unwrap() < 50.1, "{chosen}");
 }
+
+/// `v` without its times (`timing_ms`, each class's `time_ms`), which differ run to run.
+fn without_times(mut v: serde_json::Value) -> serde_json::Value {
+    v.as_object_mut().unwrap().remove("timing_ms");
+    for c in v["classes"].as_array_mut().unwrap() {
+        c.as_object_mut().unwrap().remove("time_ms");
+    }
+    v
+}
+
+#[test]
+fn a_time_limit_withholds_a_late_plan_and_never_changes_one() {
+    // 10 microseconds: no plan is done by then (a paper scene's graph alone takes about a
+    // millisecond), on a scene or a map: exit 4, the limit named, nothing written.
+    for (input, extra, name) in [
+        ("fixtures/scenes/field.yaml", &[][..], "field"),
+        (
+            "fixtures/maps/movingai/room-32-32-4.map",
+            &["--start", "2.5,2.5", "--goal", "30.5,30.5"][..],
+            "room-32-32-4",
+        ),
+    ] {
+        let json = tmp(&format!("late-{name}.json"));
+        let out = homospline()
+            .args(["plan", input, "--time-limit", "0.01", "--json"])
+            .arg(&json)
+            .args(extra)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(4), "{input}: {err}");
+        assert!(
+            err.contains(&format!("{name}: no plan within --time-limit 0.01 ms")),
+            "{err}"
+        );
+        assert!(!json.exists(), "{input}: a withheld plan writes nothing");
+    }
+    // A limit the plan meets: the plan without one, class for class.
+    let scene = "fixtures/scenes/concave-cup.yaml";
+    let free = plan_json(scene, &[], "limit-none.json");
+    let limited = plan_json(scene, &["--time-limit", "600000"], "limit-long.json");
+    assert_eq!(without_times(free), without_times(limited));
+    for v in ["0", "-1", "nan", "inf"] {
+        assert_refused(
+            &["plan", scene, &format!("--time-limit={v}")],
+            "must be a positive number of ms",
+        );
+    }
+}

@@ -184,6 +184,59 @@ impl Interrupt {
     }
 }
 
+impl Interrupt {
+    /// Raises the flag once `after` has passed, unless the returned [`Deadline`] is dropped
+    /// first (a watchdog thread: `plan --time-limit`, `bench-scen --time-limit`). A plan
+    /// holding the flag then stops at its next growth round or seed.
+    ///
+    /// # Examples
+    /// ```
+    /// use std::time::Duration;
+    /// use homospline_optim::Interrupt;
+    ///
+    /// let flag = Interrupt::default();
+    /// {
+    ///     let _deadline = flag.raise_after(Duration::from_secs(60));
+    ///     // work that ends well within the minute
+    /// }
+    /// assert!(!flag.is_raised()); // dropped in time: never raised
+    /// let deadline = flag.raise_after(Duration::from_millis(1));
+    /// std::thread::sleep(Duration::from_millis(50));
+    /// drop(deadline);
+    /// assert!(flag.is_raised());
+    /// ```
+    pub fn raise_after(&self, after: std::time::Duration) -> Deadline {
+        let (done, wait) = std::sync::mpsc::channel::<()>();
+        let flag = self.clone();
+        let thread = std::thread::spawn(move || {
+            if let Err(std::sync::mpsc::RecvTimeoutError::Timeout) = wait.recv_timeout(after) {
+                flag.raise();
+            }
+        });
+        Deadline {
+            done: Some(done),
+            thread: Some(thread),
+        }
+    }
+}
+
+/// The watchdog of [`Interrupt::raise_after`]: dropping it before its time ends the thread
+/// without raising the flag (and waits for it).
+#[derive(Debug)]
+pub struct Deadline {
+    done: Option<std::sync::mpsc::Sender<()>>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl Drop for Deadline {
+    fn drop(&mut self) {
+        drop(self.done.take());
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
 impl PartialEq for Interrupt {
     /// Always: the flag is no part of what a plan is asked for.
     fn eq(&self, _: &Self) -> bool {
