@@ -45,6 +45,9 @@ pub fn plan(a: PlanArgs) -> anyhow::Result<u8> {
         Input::Scene(s) => Some(s),
         Input::Map(_) => None,
     };
+    for n in homospline_front::avoid_notes(&a.avoid, &done.result) {
+        let _ = writeln!(std::io::stderr().lock(), "{n}");
+    }
     report_plan(&a, scene, &done.result, done.picture)?;
     Ok(if done.result.best.is_some() {
         0

@@ -57,6 +57,39 @@ pub fn unseen_obstacles(scene: &Scene, resolution: f64) -> Option<String> {
     })
 }
 
+/// A note for each class of `avoid` (as given to the plan) that `plan` left nothing out
+/// for: it matched none of the classes the search found (a well-formed id of a class
+/// elsewhere, or of none). Empty when every avoided class was found.
+///
+/// # Examples
+///
+/// ```
+/// use homospline_geom::Scene;
+/// use homospline_optim::{PlanConfig, plan};
+///
+/// let text = std::fs::read_to_string("../../fixtures/scenes/convex.yaml")?;
+/// let scene = Scene::from_str(&text, "convex.yaml")?;
+/// let avoid = vec!["e".to_owned(), "#00000000".to_owned()];
+/// let cfg = PlanConfig { avoid: avoid.clone(), classes: 2, ..PlanConfig::default() };
+/// let p = plan(&scene, &cfg)?;
+/// let notes = homospline_front::avoid_notes(&avoid, &p);
+/// assert_eq!(notes.len(), 1);
+/// assert!(notes[0].contains("'#00000000' matched none of the classes"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn avoid_notes(avoid: &[String], plan: &homospline_optim::Plan) -> Vec<String> {
+    avoid
+        .iter()
+        .filter(|a| !plan.avoided.contains(a))
+        .map(|a| {
+            format!(
+                "note: --avoid '{a}' matched none of the classes the search found, so it left \
+                 nothing out (a class is named by its id or signature as plan prints them)"
+            )
+        })
+        .collect()
+}
+
 /// A note for a plan on `scene` with no collision-free class whose best curve crosses three
 /// obstacles or more: it says how many the curve crosses, that a dense pass along the
 /// class's graph path (pulled taut) did not come out clear either, and what to change. That

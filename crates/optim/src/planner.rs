@@ -229,6 +229,7 @@ pub fn plan_world<'g>(
         pareto,
         timing,
         graph: seeded.graph,
+        avoided: seeded.avoided,
     })
 }
 

@@ -393,6 +393,23 @@ fn block_avoid_and_diverse_change_the_classes() {
             .iter()
             .all(|c| c["signature"] != best.as_str())
     );
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // A well-formed id of no class found is said to have left nothing out.
+    let out = homospline()
+        .args(["plan", "--avoid", &best, "--avoid", "#00000000"])
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--avoid '#00000000' matched none of the classes the search found")
+            && !err.contains(&format!("'{best}'")),
+        "{err}"
+    );
     // A blocked disc on its path: the chosen path keeps clear of it.
     let path = read_json(&plain)["classes"][0]["path"]
         .as_array()

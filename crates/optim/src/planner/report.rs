@@ -110,6 +110,10 @@ pub struct Plan {
     /// (its graph: `PreparedMap::graph`, or a query's as a graph of its own:
     /// [`homospline_voronoi::QueryGraph::to_graph`]).
     pub graph: Option<VoronoiGraph>,
+    /// The classes of [`PlanConfig::avoid`] that the class search found and left out, as
+    /// given. One not here matched none of the classes the search offered (the k best and
+    /// one more per avoided class), so it left nothing out: a front end says so.
+    pub avoided: Vec<String>,
 }
 
 impl Plan {
@@ -172,6 +176,7 @@ pub(super) fn plan_to_stay(world: &World<'_>, cfg: &PlanConfig) -> Plan {
         pareto: vec![1],
         timing: Timing::default(),
         graph: None,
+        avoided: Vec::new(),
     }
 }
 

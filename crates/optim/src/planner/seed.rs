@@ -42,6 +42,8 @@ pub(super) struct Seeds {
     /// The classes optimised while the search ran (a map's: [`stream_classes`]), by seed
     /// index, and the time spent after the search ended, ms.
     pub streamed: Option<(Vec<(usize, ClassPlan)>, Real)>,
+    /// The avoided classes ([`PlanConfig::avoid`]) that the search found, in their order.
+    pub avoided: Vec<String>,
 }
 
 impl Seeds {
@@ -124,6 +126,7 @@ pub(super) fn seed_classes<'g>(
                 raw: None,
                 edges: Vec::new(),
                 streamed: None,
+                avoided: Vec::new(),
             })
         }
         Seed::Voronoi => {
@@ -165,7 +168,13 @@ fn voronoi_seeds(
         ),
     };
     let mut found = result?.classes;
-    found.retain(|c| taken(cfg, c));
+    let avoided = cfg
+        .avoid
+        .iter()
+        .filter(|a| found.iter().any(|c| !taken(&[a.to_string()], c)))
+        .cloned()
+        .collect();
+    found.retain(|c| taken(&cfg.avoid, c));
     let (kept, edges) = select(&found, &graph, cfg);
     let (seeds, raw, streamed) = match streamed {
         Some((optimised, made, after_search)) => (made, None, Some((optimised, after_search))),
@@ -191,6 +200,7 @@ fn voronoi_seeds(
         raw,
         edges,
         streamed,
+        avoided,
     })
 }
 
@@ -216,16 +226,17 @@ fn search_config(world: &World<'_>, cfg: &PlanConfig, cell: Real) -> (SearchConf
     (search, min_clearance)
 }
 
-/// Whether the class is not one `cfg` avoids, by its signature or its short id.
-fn taken(cfg: &PlanConfig, c: &ClassPath) -> bool {
-    if cfg.avoid.is_empty() {
+/// Whether the class is not one of `avoid` ([`PlanConfig::avoid`]), by its signature or its
+/// short id.
+fn taken(avoid: &[String], c: &ClassPath) -> bool {
+    if avoid.is_empty() {
         // No text to compare with (a long map path's word is hundreds of thousands of
         // letters: writing it out took milliseconds on the search's thread).
         return true;
     }
     let signature = c.signature.to_string();
     let id = homospline_homotopy::class_id(&signature);
-    !cfg.avoid.iter().any(|a| *a == signature || *a == id)
+    !avoid.iter().any(|a| *a == signature || *a == id)
 }
 
 /// The classes of `graph` by `search`. When every way is narrower than a cell (a robot that
@@ -277,7 +288,7 @@ fn stream_classes(
         rayon::scope(|s| {
             let mut handed = 0;
             let r = graph.classes_each(&world.rays, search, |c| {
-                if handed >= cfg.classes || !taken(cfg, c) {
+                if handed >= cfg.classes || !taken(&cfg.avoid, c) {
                     return;
                 }
                 let (i, c, done, seeds) = (handed, c.clone(), &done, &seeds);
