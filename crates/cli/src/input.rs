@@ -4,18 +4,11 @@
 use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 
-use homospline_geom::{Point, Scene};
+use homospline_geom::Point;
 use homospline_maps::input::Input;
 use homospline_voronoi::VoronoiGraph;
 
 use crate::out::bad;
-
-/// Reads a scene file (YAML or JSON).
-pub fn load_scene(path: &Path) -> anyhow::Result<Scene> {
-    let bytes = homospline_front::read_regular(path)
-        .map_err(|e| bad(format!("{}: cannot read: {e}", path.display())))?;
-    Scene::from_bytes(&bytes, &path.display().to_string()).map_err(|e| bad(e.to_string()))
-}
 
 /// `--weight NAME=VALUE` options as names and numbers (the names are checked later, by
 /// the cost).

@@ -71,9 +71,10 @@ enum Command {
     /// and the goal, block passages and watch the re-plan, play a mission. Serves until
     /// Ctrl-C.
     Serve(ServeArgs),
-    /// Validate a scene file (YAML or JSON) and summarise it.
+    /// Validate an input and summarise it: a scene (YAML or JSON), a map (MovingAI `.map`
+    /// or ROS map YAML) or a world file, read as `plan` and `simulate` read them.
     Check {
-        /// The scene file.
+        /// The file.
         scene: PathBuf,
     },
 }
@@ -130,10 +131,24 @@ fn check_thread_env() -> anyhow::Result<()> {
     }
 }
 
-/// `check`: the scene's summary.
+/// `check`: the summary of a scene, a map (MovingAI or ROS) or a world file, each read as
+/// `plan` and `simulate` read them.
 fn check(path: &std::path::Path) -> anyhow::Result<u8> {
-    let scene = input::load_scene(path)?;
-    say_raw!("{}", homospline_front::summary(&scene));
+    let reads = input::Reads::default();
+    let bytes = reads
+        .read(path)
+        .map_err(|e| out::bad(format!("{}: cannot read: {e}", path.display())))?;
+    let world = std::str::from_utf8(&bytes).is_ok_and(homospline_front::check::is_world);
+    let summary = if world {
+        let w = homospline_mission::world::load_any(path, |p| reads.read(p)).map_err(out::bad)?;
+        homospline_front::check::world_summary(&w)
+    } else {
+        match input::load_input(path, &reads)? {
+            homospline_maps::input::Input::Scene(scene) => homospline_front::summary(&scene),
+            homospline_maps::input::Input::Map(map) => homospline_front::check::map_summary(&map),
+        }
+    };
+    say_raw!("{summary}");
     Ok(0)
 }
 

@@ -1,10 +1,11 @@
 //! What every front end of homospline shares (the command line, the Python package,
 //! `xtask`): the typed plan options and their checks ([`options`]), the plan's JSON and
-//! tables ([`report`]), a mission's text and JSON ([`mission`]), the memory check before a grid ([`memory`]), the MovingAI bench sweep
+//! tables ([`report`]), a mission's text and JSON ([`mission`]), what `check` says of maps and worlds ([`check`]), the memory check before a grid ([`memory`]), the MovingAI bench sweep
 //! ([`bench`](mod@bench)), scene summaries, and reading input files that must be regular files. The
 //! pictures and the command line's arguments belong to `homospline-cli`.
 
 pub mod bench;
+pub mod check;
 pub mod memory;
 pub mod mission;
 pub mod options;

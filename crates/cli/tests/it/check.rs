@@ -15,6 +15,56 @@ fn valid_scenes_exit_0_with_a_summary() {
 }
 
 #[test]
+fn maps_and_worlds_are_checked_as_plan_and_simulate_read_them() {
+    for (file, lines) in [
+        (
+            "fixtures/maps/movingai/room-32-32-4.map",
+            &[
+                "map        room-32-32-4",
+                "cells      32 x 32, 1 map unit each (MovingAI: row 0 at the top)",
+                "free       682 of 1024 cells (66.6 %)",
+            ][..],
+        ),
+        (
+            "fixtures/maps/ros/nav2/tb3_sandbox.yaml",
+            &[
+                "cells      384 x 384, 0.05 m each (ROS: y up from the origin)",
+                "extent     [-10, -10] .. [9.2, 9.2]",
+            ][..],
+        ),
+        (
+            "fixtures/worlds/field-blocked.yaml",
+            &[
+                "world      field-blocked (a scene world)",
+                "truth      1 obstacle hidden, 0 cleared",
+                "scouts     2",
+            ][..],
+        ),
+        (
+            "fixtures/worlds/maps/16room-blocked.yaml",
+            &[
+                "world      16room-blocked (a map world)",
+                "truth      map 16room_000-truth: 1 cell differing from the prior",
+            ][..],
+        ),
+    ] {
+        let out = homospline().args(["check", file]).output().unwrap();
+        assert_ok(&out);
+        let text = String::from_utf8(out.stdout).unwrap();
+        for l in lines {
+            assert!(text.contains(l), "{file}: {l}\n{text}");
+        }
+    }
+    // A world is read as `simulate` reads it: the scene it names must be there.
+    let dir = tmp("check-world");
+    std::fs::create_dir_all(&dir).unwrap();
+    let w = dir.join("w.yaml");
+    std::fs::write(&w, "scene: nowhere.yaml\n").unwrap();
+    let err = refused(&["check", w.to_str().unwrap()]);
+    assert!(err.contains("scene: cannot read"), "{err}");
+}
+
+#[test]
 fn every_invalid_fixture_exits_2_with_its_message_on_stderr() {
     let dir = root().join("fixtures/invalid");
     let mut n = 0;
