@@ -278,13 +278,55 @@ pub fn plan_table(plan: &Plan, names: ClassNames) -> String {
             );
         }
         None => {
-            let _ = writeln!(
-                s,
-                "no collision-free class (meeting the clearance floor): no plan"
-            );
+            let _ = writeln!(s, "{}", no_plan_line(plan, names));
         }
     }
     s
+}
+
+/// The table's last line when no class was chosen: why, naming the class that came
+/// closest. The classes were found on the graph, which joins start and goal: a route
+/// exists, and the line does not say otherwise.
+fn no_plan_line(plan: &Plan, names: ClassNames) -> String {
+    let name = |c: &homospline_optim::ClassPlan| {
+        format!(
+            "{} (id {})",
+            names.ranked(c.rank, &c.signature),
+            class_id(&c.signature)
+        )
+    };
+    let clearest = |free: bool| {
+        plan.classes
+            .iter()
+            .filter(|c| c.collision_free == free)
+            .max_by(|a, b| a.min_clearance.total_cmp(&b.min_clearance))
+    };
+    let n = plan.classes.len();
+    match (clearest(true), clearest(false)) {
+        (Some(c), _) => format!(
+            "no collision-free class meets the clearance floor {} (the clearest, class {}, \
+             keeps {:.3}): no plan",
+            homospline_geom::math::Num(plan.clearance_floor),
+            name(c),
+            c.min_clearance
+        ),
+        (None, Some(c)) => format!(
+            "no collision-free curve in the {n} class{} found (the closest, class {}, comes \
+             {:.3} into an obstacle): {}; no plan",
+            if n == 1 { "" } else { "es" },
+            name(c),
+            -c.min_clearance,
+            match plan.seed {
+                homospline_optim::Seed::Voronoi => {
+                    "the graph joins start and goal, but no smooth curve found keeps clear"
+                }
+                homospline_optim::Seed::Straight => {
+                    "the straight seed tries one class; --seed voronoi tries each class of the graph"
+                }
+            }
+        ),
+        (None, None) => "no class found: no plan".to_owned(),
+    }
 }
 
 /// What `plan --optimum` finds for one collision-free class: the length of the exact shortest

@@ -86,9 +86,54 @@ fn the_straight_seed_in_the_cup_finds_no_plan_and_exits_1() {
             .unwrap();
         assert_eq!(out.status.code(), Some(1), "{extra:?}");
         let stdout = String::from_utf8(out.stdout).unwrap();
-        assert!(stdout.contains("no collision-free class"), "{extra:?}");
+        assert!(
+            stdout.contains(
+                "no collision-free curve in the 1 class found (the closest, class A (id -1), \
+                 comes 0.976 into an obstacle): the straight seed tries one class"
+            ),
+            "{stdout}"
+        );
         assert!(stdout.contains("seed straight  1 classes"), "{stdout}");
     }
+    // A floor no class meets: the clearest class is named, with its clearance.
+    let out = homospline()
+        .args([
+            "plan",
+            "fixtures/scenes/field.yaml",
+            "--clearance-floor",
+            "12",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        stdout.contains("no collision-free class meets the clearance floor 12 (the clearest"),
+        "{stdout}"
+    );
+    // A radius that leaves a door a two-thousandth of a cell: the map's classes are found
+    // (a route exists), but no curve keeps clear; the line says so, not "no route".
+    let out = homospline()
+        .args([
+            "plan",
+            "fixtures/maps/movingai/room-32-32-4.map",
+            "--start",
+            "2.5,2.5",
+            "--goal",
+            "30.5,30.5",
+            "--robot-radius",
+            "0.4995",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        stdout.contains("no collision-free curve in the 5 classes found")
+            && stdout
+                .contains("the graph joins start and goal, but no smooth curve found keeps clear"),
+        "{stdout}"
+    );
 }
 
 #[test]
