@@ -107,6 +107,7 @@ def plan(
     clearance_search: Optional[str] = None,
     polish: Optional[int] = None,
     finish_within: Optional[Union[str, int]] = None,
+    time_limit: Optional[float] = None,
 ) -> Plan:
     """Plans a scene (the `plan` command); `classes` is 1 to 64 (default 5; the straight
     seed plans one class and refuses any other count); `soft_dm` turns the dm rule off; `prune` is
@@ -115,7 +116,10 @@ def plan(
     polish rounds, 0 to 10 (`--polish`; default 0); `finish_within` is `"off"` or the work
     budget, in cost evaluations, under which the chosen class gets its interior-point
     finish (`--finish-within`; default 1500; 0 or `"off"`: never; `polish` > 0 replaces
-    it). A count out of range raises `ValueError` naming its keyword.
+    it). A count out of range raises `ValueError` naming its keyword. `time_limit` is a
+    positive number of milliseconds (`--time-limit`): the plan stops at its next growth
+    round or class seed once it has passed, and `TimeoutError` is raised; a plan done in
+    time is the plan without a limit.
 
     The plan runs with the GIL released and Ctrl-C (any signal handler that raises) stops
     it between growth rounds: `KeyboardInterrupt` is raised within a round or so. A grid
@@ -131,13 +135,14 @@ def plan_map(
     y_down: bool = False,
     classes: Optional[int] = None,
     robot_radius: float = 0.0,
+    time_limit: Optional[float] = None,
 ) -> Plan:
     """Plans on a 2-D bool occupancy array (True = occupied; rows are y, columns x; y up
     from `origin` as in ROS, or rows down the page with `y_down=True`). `robot_radius`
     (map units) is kept from every occupied cell and the array's edge. Raises `NoRoute`
     when no route at that radius joins start and goal, `ValueError` for bad input (a start
-    or goal closer than the radius among it). `classes` defaults to 5. Interruptible and
-    memory-checked as `plan`."""
+    or goal closer than the radius among it). `classes` defaults to 5. Interruptible,
+    memory-checked and time-limited (`time_limit`, ms: `TimeoutError`) as `plan`."""
 
 class NoRoute(ValueError):
     """No route joins start and goal for the robot at its radius; the message names the

@@ -63,6 +63,33 @@ fn interruptible<T: Send>(
     })
 }
 
+/// `time_limit=` (milliseconds) as a duration for [`Interrupt::raise_after`]; `None` when
+/// left out or too large for one. A `ValueError` unless a positive number.
+///
+/// [`Interrupt::raise_after`]: homospline_optim::Interrupt::raise_after
+fn deadline_of(ms: Option<f64>) -> PyResult<Option<std::time::Duration>> {
+    match ms {
+        None => Ok(None),
+        Some(ms) if ms.is_finite() && ms > 0.0 => {
+            Ok(std::time::Duration::try_from_secs_f64(ms / 1e3).ok())
+        }
+        Some(ms) => Err(bad(format!(
+            "time_limit={}: must be a positive number of ms",
+            Num(ms)
+        ))),
+    }
+}
+
+/// The `TimeoutError` of a plan on `name` stopped by `time_limit=` (as `plan --time-limit`
+/// exits 4).
+fn timed_out(name: &str, ms: Option<f64>) -> PyErr {
+    pyo3::exceptions::PyTimeoutError::new_err(format!(
+        "{name}: no plan within time_limit={} ms (the plan stopped there; a larger limit, \
+         fewer classes or fewer rounds let it finish)",
+        Num(ms.unwrap_or(f64::NAN))
+    ))
+}
+
 /// How often [`interruptible`] looks for Python signals.
 const SIGNAL_POLL: std::time::Duration = std::time::Duration::from_millis(50);
 
@@ -439,7 +466,7 @@ fn off_or<'py, T: std::str::FromStr + FromPyObjectOwned<'py>>(
 /// Plans a scene: the k best homotopy classes, each optimised and checked (the `plan`
 /// command). `weights` maps names (`safety`, `dm`, ...) to values.
 #[pyfunction]
-#[pyo3(signature = (scene, classes=None, preset="paper-voronoi", weights=None, optimizer=None, seed="voronoi", roughness=None, clearance_floor=0.0, graph=None, soft_dm=false, prune=None, clearance_search=None, polish=None, finish_within=None))]
+#[pyo3(signature = (scene, classes=None, preset="paper-voronoi", weights=None, optimizer=None, seed="voronoi", roughness=None, clearance_floor=0.0, graph=None, soft_dm=false, prune=None, clearance_search=None, polish=None, finish_within=None, time_limit=None))]
 #[allow(clippy::too_many_arguments)]
 fn plan(
     py: Python<'_>,
@@ -457,7 +484,9 @@ fn plan(
     clearance_search: Option<String>,
     polish: Option<&Bound<'_, PyAny>>,
     finish_within: Option<&Bound<'_, PyAny>>,
+    time_limit: Option<f64>,
 ) -> PyResult<PyPlan> {
+    let limit = deadline_of(time_limit)?;
     let classes = count("classes", classes)?;
     let polish = count("polish", polish)?.unwrap_or(0);
     let options = PlanOptions {
@@ -492,13 +521,16 @@ fn plan(
             homospline_front::memory::scene_cells(s, res),
         )?;
     }
+    let _deadline = limit.map(|d| cfg.interrupt.raise_after(d));
     interruptible(py, &cfg.interrupt, || {
         homospline_optim::plan_with_graph(s, saved, &cfg)
     })?
     .map(|inner| PyPlan { inner })
     .map_err(|e| {
         let msg = format!("{}: {e}", s.name);
-        if e.is_no_route() {
+        if matches!(e, homospline_optim::PlanError::Interrupted) {
+            timed_out(&s.name, time_limit)
+        } else if e.is_no_route() {
             // Start and goal walled apart: an answer, as on maps.
             NoRoute::new_err(msg)
         } else {
@@ -544,7 +576,7 @@ fn occupancy_of(a: &Bound<'_, PyAny>) -> PyResult<(usize, usize, Vec<bool>)> {
 /// `[origin + i * resolution, origin + (i + 1) * resolution]` in x and likewise in y, with
 /// y up from `origin` (ROS) or, with `y_down=True`, rows down the page (images, MovingAI).
 #[pyfunction]
-#[pyo3(signature = (occupancy, start, goal, resolution=1.0, origin=(0.0, 0.0), y_down=false, classes=None, robot_radius=0.0))]
+#[pyo3(signature = (occupancy, start, goal, resolution=1.0, origin=(0.0, 0.0), y_down=false, classes=None, robot_radius=0.0, time_limit=None))]
 #[allow(clippy::too_many_arguments)]
 fn plan_map(
     py: Python<'_>,
@@ -556,7 +588,9 @@ fn plan_map(
     y_down: bool,
     classes: Option<&Bound<'_, PyAny>>,
     robot_radius: f64,
+    time_limit: Option<f64>,
 ) -> PyResult<PyPlan> {
+    let limit = deadline_of(time_limit)?;
     let classes = count("classes", classes)?.unwrap_or(PlanConfig::maps().classes);
     let (rows, cols, cells) = occupancy_of(occupancy)?;
     // The checks a ROS map's YAML gets, named by keyword.
@@ -596,12 +630,18 @@ fn plan_map(
         || format!("occupancy ({rows} x {cols} cells)"),
         homospline_front::memory::map_cells(&map, robot_radius),
     )?;
+    let _deadline = limit.map(|d| cfg.interrupt.raise_after(d));
     interruptible(py, &cfg.interrupt, || {
         homospline_maps::plan_map_for_robot(&map, robot_radius, s, g, &cfg)
     })?
     .map(|(inner, _)| PyPlan { inner })
     .map_err(|e| {
-        if e.is_no_route() {
+        if matches!(
+            e,
+            homospline_maps::MapError::Plan(homospline_optim::PlanError::Interrupted)
+        ) {
+            timed_out("array", time_limit)
+        } else if e.is_no_route() {
             // An answer, not bad input: its own exception (a `ValueError` still).
             NoRoute::new_err(e.to_string())
         } else {

@@ -119,6 +119,28 @@ def test_a_scene_walled_apart_is_no_route_naming_the_obstacles():
         homospline.plan(walled)
 
 
+def test_a_time_limit_raises_timeout_error_and_never_changes_a_plan():
+    scene = homospline.Scene.example()
+    # 10 microseconds: no plan is done by then (a scene's graph alone takes about a ms).
+    with pytest.raises(TimeoutError, match=r"no plan within time_limit=0.01 ms"):
+        homospline.plan(scene, time_limit=0.01)
+    grid = movingai_array(ROOT / "fixtures/maps/movingai/room-32-32-4.map")
+    with pytest.raises(TimeoutError, match=r"array: no plan within time_limit=0.01 ms"):
+        homospline.plan_map(grid, (2.5, 2.5), (30.5, 30.5), y_down=True, time_limit=0.01)
+    free, limited = homospline.plan(scene, classes=2), homospline.plan(scene, classes=2, time_limit=6e5)
+    assert [c.length for c in free.classes] == [c.length for c in limited.classes]
+    for bad in (0, -1.0, float("nan"), float("inf")):
+        with pytest.raises(ValueError, match="time_limit=.*must be a positive number of ms"):
+            homospline.plan(scene, time_limit=bad)
+
+
+def test_a_quoted_number_in_a_scene_is_refused():
+    with pytest.raises(ValueError, match="start: expected a number .*not the string '5'"):
+        homospline.Scene.from_dict(
+            {"bounds": {"min": [0, 0], "max": [60, 60]}, "start": ["5", 30], "goal": [55, 30]}
+        )
+
+
 def test_results_are_numpy_arrays_of_points():
     p = homospline.plan(homospline.Scene.example(), classes=3)
     assert p.best == 1
