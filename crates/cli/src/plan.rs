@@ -207,6 +207,7 @@ pub fn edit_input(a: &PlanArgs, input: Input) -> anyhow::Result<(Input, Option<(
     let mut ends = None;
     let input = match input {
         Input::Scene(mut scene) => {
+            let listed = scene.obstacles.len();
             if let Some(r) = a.robot_radius {
                 scene.robot_radius = r;
             }
@@ -220,7 +221,7 @@ pub fn edit_input(a: &PlanArgs, input: Input) -> anyhow::Result<(Input, Option<(
             }
             scene
                 .validate(&scene.name.clone())
-                .map_err(|e| bad(format!("--start/--goal/--block/--robot-radius: {e}")))?;
+                .map_err(|e| bad(blame_option(a, listed, &e)))?;
             Input::Scene(scene)
         }
         Input::Map(mut map) => {
@@ -243,6 +244,65 @@ pub fn edit_input(a: &PlanArgs, input: Input) -> anyhow::Result<(Input, Option<(
         }
     };
     Ok((input, ends))
+}
+
+/// The message of a scene that the command line's changes made invalid (`e`, from the
+/// scene with `listed` obstacles of its own), blamed on the option at fault: `--block X,Y,R`
+/// for a blocked disc's field or one that covers an end, `--start`, `--goal` or
+/// `--robot-radius` for theirs.
+fn blame_option(a: &PlanArgs, listed: usize, e: &homospline_geom::SceneError) -> String {
+    let field = e.field.as_deref().unwrap_or("");
+    // The blocked discs are the obstacles after the scene's own, named `blocked-K`: a
+    // disc's own field (its radius) or an end it covers.
+    let own = field
+        .strip_prefix("obstacles[")
+        .and_then(|r| r.split(']').next())
+        .and_then(|k| k.parse::<usize>().ok())
+        .and_then(|k| k.checked_sub(listed));
+    let covers = || {
+        let k = e.problem.split("'blocked-").nth(1)?.split('\'').next()?;
+        k.parse::<usize>().ok()
+    };
+    match (
+        own.and_then(|k| a.block.get(k)),
+        covers().and_then(|k| a.block.get(k)),
+    ) {
+        (Some(b), _) => return format!("--block {b}: {}: {}", e.source_name, e.problem),
+        (None, Some(b)) => return format!("--block {b}: {}: {}", e.source_name, with_field(e)),
+        (None, None) => {}
+    }
+    if let Some(r) = a.robot_radius
+        && e.problem.contains("after inflating by robot_radius")
+    {
+        return format!(
+            "--robot-radius {}: {}: {}",
+            Num(r),
+            e.source_name,
+            with_field(e)
+        );
+    }
+    let given = match field {
+        "start" => a.start.as_ref().map(|v| ("--start", v.clone())),
+        "goal" => a.goal.as_ref().map(|v| ("--goal", v.clone())),
+        "robot_radius" => a
+            .robot_radius
+            .map(|r| ("--robot-radius", Num(r).to_string())),
+        _ => None,
+    };
+    match given {
+        Some((opt, v)) => format!("{opt} {v}: {}: {}", e.source_name, e.problem),
+        // The scene's own field, made invalid by another change (a radius that swallows
+        // its start): the options together, and the field.
+        None => format!("--start/--goal/--block/--robot-radius: {e}"),
+    }
+}
+
+/// `field: problem` of `e`, or the problem alone.
+fn with_field(e: &homospline_geom::SceneError) -> String {
+    match &e.field {
+        Some(f) => format!("{f}: {}", e.problem),
+        None => e.problem.clone(),
+    }
 }
 
 /// A plan on a scene, and its picture when one is asked for.

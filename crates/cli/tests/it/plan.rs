@@ -515,7 +515,23 @@ fn block_avoid_and_diverse_change_the_classes() {
             vec!["plan", "--diverse", "1.5"],
             "--diverse 1.5: must be a fraction in [0, 1]",
         ),
-        (vec!["plan", "--block", "5,47,3"], "--start/--goal/--block"),
+        // Each change that makes the scene invalid is named by its option.
+        (
+            vec!["plan", "--block", "60,60,1", "--block", "5,47,3"],
+            "--block 5,47,3: narrow-pass: start: [5, 47] is inside obstacle 'blocked-1'",
+        ),
+        (
+            vec!["plan", "--block", "40,30,1e10"],
+            "--block 40,30,1e10: narrow-pass: radius = 1e10 is too large",
+        ),
+        (
+            vec!["plan", "--start", "200,20"],
+            "--start 200,20: narrow-pass: [200, 20] is outside the bounds",
+        ),
+        (
+            vec!["plan", "--robot-radius", "45"],
+            "--robot-radius 45: narrow-pass: start: [5, 47] is inside obstacle",
+        ),
     ] {
         assert_refused(&args, msg);
     }
