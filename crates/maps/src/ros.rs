@@ -47,6 +47,17 @@ fn err(source: &str, line: Option<usize>, problem: impl Into<String>) -> MapErro
     }
 }
 
+/// The 1-based line of top-level `key` in a map YAML (`key:` at the start of a line), for
+/// the checks made after reading.
+fn line_of(text: &str, key: &str) -> Option<usize> {
+    text.lines()
+        .position(|l| {
+            l.strip_prefix(key)
+                .is_some_and(|r| r.trim_start().starts_with(':'))
+        })
+        .map(|i| i + 1)
+}
+
 /// Reads and checks the YAML.
 pub fn read_yaml(text: &str, source: &str) -> Result<RosMapYaml, MapError> {
     let y: RosMapYaml = homospline_geom::scene::from_yaml(text).map_err(|e| {
@@ -64,7 +75,7 @@ pub fn read_yaml(text: &str, source: &str) -> Result<RosMapYaml, MapError> {
     if !(y.resolution.is_finite() && y.resolution >= MIN_RESOLUTION) {
         return Err(err(
             source,
-            None,
+            line_of(text, "resolution"),
             format!(
                 "resolution: must be a cell size of at least {MIN_RESOLUTION:e} metres, got {}",
                 Num(y.resolution)
@@ -72,12 +83,16 @@ pub fn read_yaml(text: &str, source: &str) -> Result<RosMapYaml, MapError> {
         ));
     }
     if !y.origin.iter().all(|v| v.is_finite()) {
-        return Err(err(source, None, "origin: must be finite"));
+        return Err(err(
+            source,
+            line_of(text, "origin"),
+            "origin: must be finite",
+        ));
     }
     if y.origin[2] != 0.0 {
         return Err(err(
             source,
-            None,
+            line_of(text, "origin"),
             format!(
                 "origin: yaw {} is not supported (rotate the map image instead)",
                 Num(y.origin[2])
@@ -90,7 +105,7 @@ pub fn read_yaml(text: &str, source: &str) -> Result<RosMapYaml, MapError> {
     {
         return Err(err(
             source,
-            None,
+            line_of(text, "free_thresh"),
             format!(
                 "free_thresh {} and occupied_thresh {} must satisfy 0 <= free < occupied <= 1",
                 y.free_thresh, y.occupied_thresh
@@ -100,7 +115,7 @@ pub fn read_yaml(text: &str, source: &str) -> Result<RosMapYaml, MapError> {
     if !(y.negate == 0 || y.negate == 1) {
         return Err(err(
             source,
-            None,
+            line_of(text, "negate"),
             format!("negate: must be 0 or 1, got {}", y.negate),
         ));
     }
@@ -109,7 +124,7 @@ pub fn read_yaml(text: &str, source: &str) -> Result<RosMapYaml, MapError> {
         Some(m) => {
             return Err(err(
                 source,
-                None,
+                line_of(text, "mode"),
                 format!("mode: '{m}' is not supported (trinary or scale)"),
             ));
         }
@@ -264,7 +279,10 @@ mod tests {
                 "image: m.pgm\nresolution: {r}\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n"
             );
             let e = read_yaml(&text, "m.yaml").unwrap_err().to_string();
-            assert!(e.contains("resolution: must be a cell size"), "{r}: {e}");
+            assert!(
+                e.starts_with("m.yaml:2: resolution: must be a cell size"),
+                "{r}: {e}"
+            );
         }
         let ok = "image: m.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
         assert!(read_yaml(ok, "m.yaml").is_ok());
@@ -276,7 +294,38 @@ mod tests {
         let text = "image: m.pgm\nresolution: 0.05\norigin: [0, 0, 1e-300]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
         let e = read_yaml(text, "m.yaml").unwrap_err().to_string();
         assert!(
-            e.contains("origin: yaw 1e-300 is not supported (rotate the map image instead)"),
+            e.contains(
+                "m.yaml:3: origin: yaw 1e-300 is not supported (rotate the map image instead)"
+            ),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_value_refused_after_reading_is_blamed_at_its_line() {
+        let base = "image: m.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
+        for (from, to, want) in [
+            (
+                "free_thresh: 0.196",
+                "free_thresh: 0.9",
+                "m.yaml:6: free_thresh 0.9",
+            ),
+            ("negate: 0", "negate: 2", "m.yaml:4: negate: must be 0 or 1"),
+            (
+                "origin: [0, 0, 0]",
+                "origin: [.nan, 0, 0]",
+                "m.yaml:3: origin: must be finite",
+            ),
+        ] {
+            let e = read_yaml(&base.replace(from, to), "m.yaml")
+                .unwrap_err()
+                .to_string();
+            assert!(e.starts_with(want), "{to}: {e}");
+        }
+        let moded = format!("{base}mode: raw\n");
+        let e = read_yaml(&moded, "m.yaml").unwrap_err().to_string();
+        assert!(
+            e.starts_with("m.yaml:7: mode: 'raw' is not supported"),
             "{e}"
         );
     }
