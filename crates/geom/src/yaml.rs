@@ -1,6 +1,8 @@
 //! Reading YAML (and JSON) with the project's limits, and the parser's errors as messages:
 //! the problem in words, the dotted key path at fault, and what was found there.
 
+use std::fmt::Write;
+
 use serde::de::{self, Deserialize, Deserializer, Visitor};
 
 use crate::math::Real;
@@ -150,6 +152,11 @@ pub fn locate(text: &str, e: &serde_saphyr::Error, fallback: &str) -> YamlFault 
             _ => Some(key),
         }
     });
+    // The items of the sequences on the way, counted (`obstacles[3].circles[1]`).
+    let field = match (field, loc) {
+        (Some(f), Some(l)) => Some(indexed(text, &f, (l.line(), l.column())).unwrap_or(f)),
+        (f, _) => f,
+    };
     // A string where a number belongs already names what was found ([`Number`]).
     if problem.starts_with("expected a")
         && !problem.contains(", not the string '")
@@ -164,6 +171,151 @@ pub fn locate(text: &str, e: &serde_saphyr::Error, fallback: &str) -> YamlFault 
         field,
         problem,
     }
+}
+
+/// A YAML node and the place each of its items starts: the tree in which a parser's error
+/// is placed, to count the sequence items on the way to it ([`indexed`]).
+enum Node {
+    Map(Vec<(String, serde_saphyr::Spanned<Node>)>),
+    Seq(Vec<serde_saphyr::Spanned<Node>>),
+    Leaf,
+}
+
+impl<'de> Deserialize<'de> for Node {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = Node;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("any YAML node")
+            }
+            fn visit_map<A: de::MapAccess<'de>>(self, mut m: A) -> Result<Node, A::Error> {
+                let mut entries = Vec::new();
+                while let Some(k) = m.next_key::<Key>()? {
+                    entries.push((k.0, m.next_value()?));
+                }
+                Ok(Node::Map(entries))
+            }
+            fn visit_seq<A: de::SeqAccess<'de>>(self, mut q: A) -> Result<Node, A::Error> {
+                let mut items = Vec::new();
+                while let Some(item) = q.next_element()? {
+                    items.push(item);
+                }
+                Ok(Node::Seq(items))
+            }
+            fn visit_bool<E>(self, _: bool) -> Result<Node, E> {
+                Ok(Node::Leaf)
+            }
+            fn visit_i64<E>(self, _: i64) -> Result<Node, E> {
+                Ok(Node::Leaf)
+            }
+            fn visit_u64<E>(self, _: u64) -> Result<Node, E> {
+                Ok(Node::Leaf)
+            }
+            fn visit_i128<E>(self, _: i128) -> Result<Node, E> {
+                Ok(Node::Leaf)
+            }
+            fn visit_u128<E>(self, _: u128) -> Result<Node, E> {
+                Ok(Node::Leaf)
+            }
+            fn visit_f64<E>(self, _: f64) -> Result<Node, E> {
+                Ok(Node::Leaf)
+            }
+            fn visit_str<E>(self, _: &str) -> Result<Node, E> {
+                Ok(Node::Leaf)
+            }
+            fn visit_unit<E>(self) -> Result<Node, E> {
+                Ok(Node::Leaf)
+            }
+            fn visit_none<E>(self) -> Result<Node, E> {
+                Ok(Node::Leaf)
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// A mapping's key as text, whatever scalar it is.
+struct Key(String);
+
+impl<'de> Deserialize<'de> for Key {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl Visitor<'_> for V {
+            type Value = Key;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a key")
+            }
+            fn visit_str<E>(self, v: &str) -> Result<Key, E> {
+                Ok(Key(v.to_owned()))
+            }
+            fn visit_bool<E>(self, v: bool) -> Result<Key, E> {
+                Ok(Key(v.to_string()))
+            }
+            fn visit_i64<E>(self, v: i64) -> Result<Key, E> {
+                Ok(Key(v.to_string()))
+            }
+            fn visit_u64<E>(self, v: u64) -> Result<Key, E> {
+                Ok(Key(v.to_string()))
+            }
+            fn visit_f64<E>(self, v: f64) -> Result<Key, E> {
+                Ok(Key(v.to_string()))
+            }
+            fn visit_unit<E>(self) -> Result<Key, E> {
+                Ok(Key(String::new()))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// `key` (a dotted path of [`key_at`]) with the sequence items on the way to `at` (line,
+/// column, 1-based) counted: `obstacles[3].circles[1]` for `obstacles.circles`. Each
+/// sequence on the way is entered at its last item that starts at or before `at`; after the
+/// last key, a sequence of sequences or maps gets its item's index too (`circles[1]`), one of
+/// numbers does not (`start`). `None` when the text does not read as YAML or the path does
+/// not lead through it (the caller keeps `key`).
+fn indexed(text: &str, key: &str, at: (u64, u64)) -> Option<String> {
+    let root: serde_saphyr::Spanned<Node> = from_yaml(text).ok()?;
+    let item = |items| holding(items, at);
+    let mut node = &root;
+    let mut out = String::new();
+    for k in key.split('.') {
+        while let Node::Seq(items) = &node.value {
+            let (j, n) = item(items)?;
+            let _ = write!(out, "[{j}]");
+            node = n;
+        }
+        let Node::Map(entries) = &node.value else {
+            return None;
+        };
+        let (_, v) = entries.iter().find(|(name, _)| name == k)?;
+        if !out.is_empty() {
+            out.push('.');
+        }
+        out.push_str(k);
+        node = v;
+    }
+    if let Node::Seq(items) = &node.value
+        && let Some((j, n)) = item(items)
+        && matches!(n.value, Node::Seq(_) | Node::Map(_))
+    {
+        let _ = write!(out, "[{j}]");
+    }
+    Some(out)
+}
+
+/// The last of `items` that starts at or before `at` (line, column), and its index: the
+/// item that holds `at`.
+fn holding(
+    items: &[serde_saphyr::Spanned<Node>],
+    at: (u64, u64),
+) -> Option<(usize, &serde_saphyr::Spanned<Node>)> {
+    items
+        .iter()
+        .enumerate()
+        .take_while(|(_, n)| (n.referenced.line(), n.referenced.column()) <= at)
+        .last()
 }
 
 /// The scalar that starts at `line`, `column` (1-based): up to the next `,`, `]`, `}`,
@@ -444,6 +596,41 @@ mod tests {
         ] {
             assert_eq!(key(text).as_deref(), want, "{text}");
         }
+    }
+
+    #[test]
+    fn the_field_counts_the_items_on_the_way() {
+        for (text, key, want) in [
+            (
+                "obstacles:\n  - name: a\n    circles: [[1, 2, 3]]\n  - name: b\n    circles:\n      - [1, 2, 3]\n      - [^1, 2]\n",
+                "obstacles.circles",
+                "obstacles[1].circles[1]",
+            ),
+            (
+                "{\"obstacles\": [{\"circles\": [[1, 2, 3]]}, {\"circles\": [[1, 2, 3], [1, ^\"x\", 3]]}]}",
+                "obstacles.circles",
+                "obstacles[1].circles[1]",
+            ),
+            ("start: [^x, 2]\n", "start", "start"),
+            ("hazards: [[1, 2], [^x, 3]]\n", "hazards", "hazards[1]"),
+            (
+                "team:\n  uavs:\n    - {speed: 1}\n    - {speed: ^fast}\n",
+                "team.uavs.speed",
+                "team.uavs[1].speed",
+            ),
+        ] {
+            let (n, l) = text
+                .lines()
+                .enumerate()
+                .find(|(_, l)| l.contains('^'))
+                .unwrap();
+            let col = l.chars().position(|c| c == '^').unwrap() as u64 + 1;
+            let got = indexed(&text.replace('^', ""), key, (n as u64 + 1, col));
+            assert_eq!(got.as_deref(), Some(want), "{text}");
+        }
+        // Not YAML, or a path the text does not hold: none (the caller keeps its key).
+        assert_eq!(indexed("a: [1, 2", "a", (1, 1)), None);
+        assert_eq!(indexed("a: 1\n", "b", (1, 1)), None);
     }
 
     #[test]
