@@ -201,6 +201,36 @@ pub enum GraphError {
         /// Whether that grid is within the grid's limit.
         fits: bool,
     },
+    /// A scene's start or goal is closer to a circle than a grid within
+    /// [`crate::apart::REFINE_MAX_CELLS`] can tell (or touches it): no grid was built.
+    #[error(
+        "the {what} [{}, {}] is {} from obstacle{obstacle}, closer than a grid of {} cells per unit can tell: {}",
+        homospline_geom::math::Num(at[0]),
+        homospline_geom::math::Num(at[1]),
+        homospline_geom::math::Num(significant(*clearance)),
+        homospline_geom::math::Num(significant(*resolution)),
+        if *fits {
+            format!("--resolution {} plans it", homospline_geom::math::Num(significant_up(*needed)))
+        } else {
+            "it needs a grid over the limit; move it farther from the obstacle or scale the scene's units up".to_owned()
+        }
+    )]
+    TooClose {
+        /// `start` or `goal`.
+        what: &'static str,
+        /// Where it is.
+        at: [Real; 2],
+        /// Its clearance from the circles.
+        clearance: Real,
+        /// The nearest obstacle's name, quoted with a space before it (empty if unknown).
+        obstacle: String,
+        /// The resolution tried.
+        resolution: Real,
+        /// The resolution that plans it.
+        needed: Real,
+        /// Whether that grid is within the grid's limit.
+        fits: bool,
+    },
     /// A serialised graph could not be read.
     #[error("cannot read the graph: {0}")]
     Decode(String),

@@ -55,7 +55,7 @@ pub use graph::{
 pub use grid::{Grid, GridError};
 pub use query::QueryGraph;
 
-use homospline_geom::{Real, Scene};
+use homospline_geom::{Point, Real, Scene};
 use thiserror::Error;
 
 /// Why [`build`] failed.
@@ -96,9 +96,65 @@ pub fn build(
 ) -> Result<(Grid, DistanceField, VoronoiGraph), BuildError> {
     let grid = match build_at(scene, resolution) {
         Ok(built) => return Ok(built),
+        // A start or goal closer to a circle than this grid's cells can tell (its cell's
+        // centre inside the circle): a grid fine enough for it, built once.
+        Err(BuildAtError::Other(BuildError::Graph(GraphError::Occupied(what, x, y)))) => {
+            return build_for_ends(scene, resolution, what, Point::new(x, y));
+        }
         Err(BuildAtError::Other(e)) => return Err(e),
         Err(BuildAtError::Apart(grid)) => grid,
     };
+    build_apart(scene, resolution, grid)
+}
+
+/// [`build`] on a grid whose cells are at most the ends' clearance across, after `what` at
+/// `p` fell in an occupied cell at `resolution`. A cell is occupied when its centre lies in
+/// a circle; on that grid the centre of the cell holding an end is within `0.71 h` of it,
+/// so outside every circle: the end's cell is free. Refused, naming the end, its clearance
+/// and the `--resolution` that plans it, when that grid is over
+/// [`apart::REFINE_MAX_CELLS`] (or the end touches a circle).
+fn build_for_ends(
+    scene: &Scene,
+    resolution: Real,
+    what: &'static str,
+    p: Point,
+) -> Result<(Grid, DistanceField, VoronoiGraph), BuildError> {
+    let set = scene.circle_set();
+    let clear = |q: &Point| set.clearance(q).map_or(Real::INFINITY, |c| c.distance);
+    let (c_end, c) = (clear(&p), clear(&scene.start).min(clear(&scene.goal)));
+    let finer = (1.0001 / c).max(resolution);
+    let ext = scene.bounds.extent();
+    let cells = ((ext.x * finer).ceil() + 2.0) * ((ext.y * finer).ceil() + 2.0);
+    let owner = set
+        .clearance(&p)
+        .and_then(|n| scene.circle_owners().get(n.nearest).copied())
+        .and_then(|o| scene.obstacles.get(o))
+        .map_or_else(String::new, |o| format!(" '{}'", o.name));
+    if !(c > 0.0 && finer.is_finite() && cells <= apart::REFINE_MAX_CELLS as Real) {
+        return Err(GraphError::TooClose {
+            what,
+            at: [p.x, p.y],
+            clearance: c_end,
+            obstacle: owner,
+            resolution,
+            needed: finer,
+            fits: c > 0.0 && finer.is_finite() && cells <= grid::MAX_CELLS as Real,
+        }
+        .into());
+    }
+    match build_at(scene, finer) {
+        Ok(built) => Ok(built),
+        Err(BuildAtError::Other(e)) => Err(e),
+        Err(BuildAtError::Apart(grid)) => build_apart(scene, finer, grid),
+    }
+}
+
+/// [`build`] once start and goal came out apart on `grid` (built at `resolution`).
+fn build_apart(
+    scene: &Scene,
+    resolution: Real,
+    grid: Grid,
+) -> Result<(Grid, DistanceField, VoronoiGraph), BuildError> {
     // Apart on this grid: a gap narrower than a few cells may be closed here and open
     // between the circles. Judged from the circles ([`apart`]): walled apart, or built again
     // on a grid fine enough for the narrowest gap (once: that grid opens every gap, so being

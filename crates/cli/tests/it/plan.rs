@@ -1100,3 +1100,37 @@ fn a_time_limit_withholds_a_late_plan_and_never_changes_one() {
         );
     }
 }
+
+#[test]
+fn a_start_next_to_an_obstacle_plans_on_a_finer_grid() {
+    // 0.1 from obstacle o2 (centre (35, 30), radius 4): the default grid's cell holding it
+    // has its centre in o2. It was refused (exit 2, "falls in an occupied cell"); a robot
+    // stopped next to a rock must re-plan from where it stands.
+    let v = plan_json(
+        "fixtures/scenes/field.yaml",
+        &["--start", "30.9,30"],
+        "near-rock.json",
+    );
+    let c = chosen_class(&v);
+    let (clear, proven) = (
+        c["min_clearance"].as_f64().unwrap(),
+        c["certified_clearance"].as_f64().unwrap(),
+    );
+    assert_eq!(c["collision_free"], true);
+    // It leaves from the start's clearance, 0.1.
+    assert!(
+        proven > 0.0 && (clear - 0.1).abs() < 1e-3,
+        "{clear} {proven}"
+    );
+    // Closer than any grid within the limit can tell: refused, naming the end and what it
+    // is near.
+    assert_refused(
+        &[
+            "plan",
+            "fixtures/scenes/field.yaml",
+            "--start",
+            "30.99999999,30",
+        ],
+        "the start [30.99999999, 30] is 1e-8 from obstacle 'o2', closer than a grid of",
+    );
+}

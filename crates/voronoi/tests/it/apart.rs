@@ -126,3 +126,45 @@ fn a_wall_across_the_bounds_is_named() {
     };
     assert!(homospline_voronoi::build(&open, 4.0).is_ok());
 }
+
+#[test]
+fn an_end_closer_to_a_circle_than_a_cell_gets_a_finer_grid() {
+    let scene = |start_x: f64| Scene {
+        name: "near".into(),
+        bounds: Bounds {
+            min: Point::new(0.0, 0.0),
+            max: Point::new(60.0, 60.0),
+        },
+        start: Point::new(start_x, 30.0),
+        goal: Point::new(55.0, 30.0),
+        robot_radius: 0.0,
+        obstacles: vec![Obstacle {
+            name: "rock".into(),
+            circles: vec![Circle::new(20.2, 30.0, 10.0)],
+        }],
+        danger_points: vec![],
+        critical_points: vec![],
+        hazards: vec![],
+    };
+    // At 2 cells per unit the cell [10, 10.5] holding (10.05, 30), 0.15 from the rock, has
+    // its centre in it (it was refused: "falls in an occupied cell"); a grid of cells no
+    // wider than the clearance holds it in a free cell, joined to the graph.
+    for x in [10.05, 10.1] {
+        let clearance = 20.2 - 10.0 - x;
+        let (grid, _, g) = homospline_voronoi::build(&scene(x), 2.0).unwrap();
+        assert!(grid.cell() <= clearance, "{x}: {}", grid.cell());
+        assert!(g.connected(g.start.unwrap(), g.goal.unwrap()), "{x}");
+    }
+    // A start the default grid holds is built on it, as before.
+    let (grid, _, _) = homospline_voronoi::build(&scene(5.0), 2.0).unwrap();
+    assert_eq!(grid.cell(), 0.5);
+    // Too close for any grid within the limit: refused, naming the end and the obstacle.
+    let e = homospline_voronoi::build(&scene(10.2 - 1e-6), 2.0).unwrap_err();
+    assert!(
+        matches!(e, BuildError::Graph(GraphError::TooClose { .. }))
+            && e.to_string().starts_with(
+                "the start [10.199999, 30] is 0.000001 from obstacle 'rock', closer than a grid of 2 cells per unit can tell"
+            ),
+        "{e}"
+    );
+}
