@@ -15,7 +15,7 @@ use homospline_voronoi::VoronoiGraph;
 
 use crate::args::PlanArgs;
 use crate::input::{Reads, load_input, parse_point, parse_weights, read_graph};
-use crate::out::{TimedOut, bad, check_outputs, map_error, no_plan, write};
+use crate::out::{NoPlan, TimedOut, bad, check_outputs, map_error, no_plan, write};
 use crate::picture;
 
 /// Exit code when no plan could be found.
@@ -40,7 +40,23 @@ pub fn plan(a: PlanArgs) -> anyhow::Result<u8> {
         ],
     )?;
     let wants_picture = a.svg.is_some() || a.png.is_some();
-    let done = outcome(&a, input, ends, wants_picture)?;
+    let name = input_name(&input).to_owned();
+    let done = match outcome(&a, input, ends, wants_picture) {
+        // No route is an answer: the JSON says so (best null, the reason), so that no older
+        // file's plan stands in its place.
+        Err(e) if e.downcast_ref::<NoPlan>().is_some() => {
+            if let Some(p) = &a.json {
+                let seed = a.seed.name();
+                write(
+                    p,
+                    "plan JSON",
+                    report::no_route_json(&name, seed, &e.to_string()).as_bytes(),
+                )?;
+            }
+            return Err(e);
+        }
+        other => other?,
+    };
     let scene = match &done.input {
         Input::Scene(s) => Some(s),
         Input::Map(_) => None,

@@ -193,6 +193,47 @@ pub fn plan_json_with(plan: &Plan, optima: &[Option<Optimum>]) -> String {
     serde_json::to_string_pretty(&doc).unwrap_or_default() + "\n"
 }
 
+/// The plan result of a plan that found no route (`plan` exits 1 with `why`): the contract's
+/// fields with no class (`classes` empty, `best` null, zero times) and `no_route`, the
+/// reason; so that a pipeline reading the file, not the exit code, finds no plan rather
+/// than an older file's.
+///
+/// # Examples
+///
+/// ```
+/// let json = homospline_front::report::no_route_json("field", "voronoi", "no route: ...");
+/// let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+/// assert!(v["best"].is_null() && v["classes"].as_array().unwrap().is_empty());
+/// assert_eq!(v["no_route"], "no route: ...");
+/// ```
+pub fn no_route_json(scene: &str, seed: &str, why: &str) -> String {
+    #[derive(Serialize)]
+    struct NoRoute<'a> {
+        scene: &'a str,
+        seed: &'a str,
+        classes: [(); 0],
+        best: Option<usize>,
+        pareto: [usize; 0],
+        timing_ms: TimingJson,
+        no_route: &'a str,
+    }
+    let doc = NoRoute {
+        scene,
+        seed,
+        classes: [],
+        best: None,
+        pareto: [],
+        timing_ms: TimingJson {
+            voronoi: 0.0,
+            classes: 0.0,
+            optimize: 0.0,
+            total: 0.0,
+        },
+        no_route: why,
+    };
+    serde_json::to_string_pretty(&doc).unwrap_or_default() + "\n"
+}
+
 /// The table `homospline plan` prints, classes named as `names` says.
 pub fn plan_table(plan: &Plan, names: ClassNames) -> String {
     let mut s = String::new();

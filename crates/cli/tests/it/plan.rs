@@ -1134,3 +1134,45 @@ fn a_start_next_to_an_obstacle_plans_on_a_finer_grid() {
         "the start [30.99999999, 30] is 1e-8 from obstacle 'o2', closer than a grid of",
     );
 }
+
+#[test]
+fn no_route_writes_a_json_without_a_plan_over_an_older_one() {
+    // A pipeline that reads the file, not the exit code, must not drive an older plan.
+    let json = tmp("no-route.json");
+    let map = [
+        "plan",
+        "fixtures/maps/movingai/room-32-32-4.map",
+        "--start",
+        "2.5,2.5",
+        "--goal",
+        "30.5,30.5",
+        "--json",
+        json.to_str().unwrap(),
+    ];
+    assert_ok(
+        &homospline()
+            .args(map)
+            .args(["--robot-radius", "0.3"])
+            .output()
+            .unwrap(),
+    );
+    assert_eq!(read_json(&json)["best"], 1);
+    let out = homospline()
+        .args(map)
+        .args(["--robot-radius", "1"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let v = read_json(&json);
+    assert!(
+        v["best"].is_null() && v["classes"].as_array().unwrap().is_empty(),
+        "{v}"
+    );
+    assert!(
+        v["no_route"]
+            .as_str()
+            .unwrap()
+            .starts_with("no route for a robot of radius 1: the widest route"),
+        "{v}"
+    );
+}
