@@ -37,6 +37,11 @@ const A_WHOLE: &str = "a whole number >= 0 (without quotes)";
 
 /// The problem of a string (quoted or not) where a number belongs.
 fn quoted<E: de::Error>(v: &str, what: &str) -> E {
+    let bare = v.trim_start_matches(['+', '-']).to_ascii_lowercase();
+    if ["nan", "inf", "infinity"].contains(&bare.as_str()) {
+        // JSON's and other languages' spellings of what is no finite number.
+        return E::custom(format!("expected {what}, not '{v}': it must be finite"));
+    }
     E::custom(format!("expected {what}, not the string '{v}'"))
 }
 
@@ -159,7 +164,7 @@ pub fn locate(text: &str, e: &serde_saphyr::Error, fallback: &str) -> YamlFault 
     };
     // A string where a number belongs already names what was found ([`Number`]).
     if problem.starts_with("expected a")
-        && !problem.contains(", not the string '")
+        && !problem.contains(", not ")
         && let Some(l) = loc
         && let Some(found) = token_at(text, l.line(), l.column())
     {
@@ -374,6 +379,10 @@ pub fn from_yaml_within<T: de::DeserializeOwned>(
     // [`Number`] reads through `deserialize_any`: NaN and infinities reach it as numbers,
     // and the checks after reading name them ("radius is infinite", "x is NaN").
     options.non_finite_float_policy = serde_saphyr::options::NonFiniteFloatPolicy::PassThrough;
+    // Spellings that YAML readers take differently are strings, which [`Number`] refuses:
+    // `1_0` (10 to YAML 1.1, a string to 1.2) and `010` (8 to YAML 1.1, 10 to 1.2).
+    options.underscored_numbers_as_strings = true;
+    options.leading_zero_numbers_as_strings = true;
     serde_saphyr::from_str_with_options(text, options)
 }
 
@@ -639,6 +648,15 @@ mod tests {
             ("[5, -2.5, 3e-2, 7]", Ok([5.0, -2.5, 0.03, 7.0])),
             // YAML 1.2's integer forms are numbers, read exactly.
             ("[0x10, 0o10, -0, 1e2]", Ok([16.0, 8.0, 0.0, 100.0])),
+            // Spellings that YAML 1.1 and 1.2 read differently are refused.
+            ("[1_0, 0, 0, 0]", Err("not the string '1_0'")),
+            ("[010, 0, 0, 0]", Err("not the string '010'")),
+            ("[0.5, 00.5, 0, 0]", Ok([0.5, 0.5, 0.0, 0.0])),
+            ("[NaN, 0, 0, 0]", Err("not 'NaN': it must be finite")),
+            (
+                "[-Infinity, 0, 0, 0]",
+                Err("not '-Infinity': it must be finite"),
+            ),
             ("[5, '30', 1, 1]", Err("not the string '30'")),
             ("[\"5\", 30, 1, 1]", Err("not the string '5'")),
             ("[five, 30, 1, 1]", Err("not the string 'five'")),

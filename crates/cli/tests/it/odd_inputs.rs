@@ -168,7 +168,7 @@ fn parser_messages_name_the_key_and_what_was_found() {
         (
             "flow.json",
             r#"{"name":"j","bounds":{"min":[0,0],"max":[NaN,60]},"start":[5,30],"goal":[55,30],"obstacles":[]}"#.to_owned(),
-            ":1:42: bounds.max: expected a number (such as 2, -1.5 or 3e-2, without quotes), not the string 'NaN'",
+            ":1:42: bounds.max: expected a number (such as 2, -1.5 or 3e-2, without quotes), not 'NaN': it must be finite",
         ),
         (
             "escape.yaml",
