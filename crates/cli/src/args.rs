@@ -73,7 +73,7 @@ pub struct PlanArgs {
     /// The robot's radius in map units (metres on a ROS map); replaces a scene's.
     ///
     /// Plans keep it from every obstacle; a start or goal closer than it is refused.
-    #[arg(long, value_name = "R", help_heading = INPUT)]
+    #[arg(long, allow_negative_numbers = true, value_name = "R", help_heading = INPUT)]
     pub robot_radius: Option<f64>,
     /// A passage found blocked: the disc X,Y,R becomes an obstacle (repeatable).
     ///
@@ -84,13 +84,13 @@ pub struct PlanArgs {
     #[arg(long, value_name = "FILE.msgpack", help_heading = INPUT)]
     pub graph: Option<PathBuf>,
     /// Grid cells per unit for a scene's Voronoi graph [default: 256 along the longer side].
-    #[arg(long, help_heading = INPUT)]
+    #[arg(long, allow_negative_numbers = true, help_heading = INPUT)]
     pub resolution: Option<f64>,
     /// How the splines are seeded.
     #[arg(long, value_parser = choice::<Seed>(), default_value = "voronoi", help_heading = CLASSES)]
     pub seed: Seed,
     /// Homotopy classes to optimise, 1 to 64; --seed straight plans one [default: 5].
-    #[arg(long, help_heading = CLASSES)]
+    #[arg(long, allow_negative_numbers = true, help_heading = CLASSES)]
     pub classes: Option<usize>,
     /// Leave this class out, by its id or signature as printed (repeatable).
     #[arg(long = "avoid", value_name = "CLASS", allow_hyphen_values = true, help_heading = CLASSES)]
@@ -100,13 +100,13 @@ pub struct PlanArgs {
     /// A class is taken only if at most this fraction of its graph path's length is shared
     /// with every class taken before it (k shortest paths with limited overlap); each
     /// class's overlap with the chosen one is in the JSON.
-    #[arg(long, value_name = "F", help_heading = CLASSES)]
+    #[arg(long, allow_negative_numbers = true, value_name = "F", help_heading = CLASSES)]
     pub diverse: Option<f64>,
     /// Successive halving of a scene's classes after their first round [default: 1.5].
     ///
     /// A class whose cost exceeds RATIO times that of the best class keeping dm runs no
     /// further rounds (marked `pruned`); `off` runs every class to its end.
-    #[arg(long, value_name = "RATIO|off", value_parser = prune_arg, help_heading = CLASSES)]
+    #[arg(long, allow_negative_numbers = true, value_name = "RATIO|off", value_parser = prune_arg, help_heading = CLASSES)]
     pub prune: Option<OrOff<f64>>,
     /// Cost preset.
     #[arg(long, value_parser = choice::<Preset>(), default_value = "paper-voronoi", help_heading = COST)]
@@ -120,7 +120,7 @@ pub struct PlanArgs {
     /// Hard margin, map units: the chosen class must be certified at least this clear.
     ///
     /// Candidates less clear than this are rejected; 0 rejects only collisions.
-    #[arg(long, value_name = "X", default_value_t = PlanConfig::default().clearance_floor, help_heading = COST)]
+    #[arg(long, allow_negative_numbers = true, value_name = "X", default_value_t = PlanConfig::default().clearance_floor, help_heading = COST)]
     pub clearance_floor: f64,
     /// Let dm act only through the safety penalty D, as in the paper's cost alone.
     ///
@@ -153,13 +153,13 @@ pub struct PlanArgs {
     #[arg(long, value_parser = choice::<Optimizer>(), help_heading = ADVANCED)]
     pub optimizer: Option<Optimizer>,
     /// Worker threads (the result does not depend on it).
-    #[arg(long, help_heading = ADVANCED)]
+    #[arg(long, allow_negative_numbers = true, help_heading = ADVANCED)]
     pub threads: Option<usize>,
     /// Most via-points a spline may have [default: 10 for scenes, 32 for maps].
-    #[arg(long, help_heading = ADVANCED)]
+    #[arg(long, allow_negative_numbers = true, help_heading = ADVANCED)]
     pub max_via: Option<usize>,
     /// Rounds of the growth loop, the paper's iteration limit [default: 3].
-    #[arg(long, help_heading = ADVANCED)]
+    #[arg(long, allow_negative_numbers = true, help_heading = ADVANCED)]
     pub rounds: Option<usize>,
     /// Where m(C) is searched between quadrature nodes [default: worst-node].
     ///
@@ -172,7 +172,7 @@ pub struct PlanArgs {
     /// simplex and ending with an interior-point finish (L-BFGS with a barrier on the
     /// clearance), kept only if the class stays collision-free, safe if it was, at the
     /// floor and no dearer.
-    #[arg(long, value_name = "N", default_value_t = PlanConfig::default().polish, help_heading = ADVANCED)]
+    #[arg(long, allow_negative_numbers = true, value_name = "N", default_value_t = PlanConfig::default().polish, help_heading = ADVANCED)]
     pub polish: usize,
     /// Work budget in evaluations for a scene's chosen-class finish [default: 1500].
     ///
@@ -180,7 +180,7 @@ pub struct PlanArgs {
     /// the chosen class gets an interior-point finish (half a round's budget, at most what
     /// is left of N), kept only as a polish round is. Evaluations, not time, so plans stay
     /// the same on any machine; `off` never; `--polish` replaces it.
-    #[arg(long, value_name = "N|off", value_parser = finish_arg, help_heading = ADVANCED)]
+    #[arg(long, allow_negative_numbers = true, value_name = "N|off", value_parser = finish_arg, help_heading = ADVANCED)]
     pub finish_within: Option<OrOff<usize>>,
     /// Stop planning after this many milliseconds: no plan, exit 4.
     ///
@@ -188,7 +188,7 @@ pub struct PlanArgs {
     /// its next growth round or class seed once the limit has passed; building the graph
     /// and preparing a map run to their end. A plan done within the limit is the plan
     /// without one.
-    #[arg(long, value_name = "MS", help_heading = ADVANCED)]
+    #[arg(long, allow_negative_numbers = true, value_name = "MS", help_heading = ADVANCED)]
     pub time_limit: Option<f64>,
 }
 
@@ -200,12 +200,12 @@ pub struct GraphArgs {
     #[arg(required = true)]
     pub scene: Vec<PathBuf>,
     /// Grid cells per unit for a scene [default: 256 along the longer side].
-    #[arg(long, help_heading = INPUT)]
+    #[arg(long, allow_negative_numbers = true, help_heading = INPUT)]
     pub resolution: Option<f64>,
     /// The robot's radius in map units: the graph of the free space it can occupy.
     ///
     /// Metres on a ROS map. On a scene it replaces the file's `robot_radius`.
-    #[arg(long, value_name = "R", help_heading = INPUT)]
+    #[arg(long, allow_negative_numbers = true, value_name = "R", help_heading = INPUT)]
     pub robot_radius: Option<f64>,
     /// Save the graph as MessagePack, to reuse with `plan --graph`.
     #[arg(long, value_name = "FILE.msgpack", help_heading = OUTPUT)]
@@ -236,30 +236,30 @@ pub struct SimulateArgs {
     /// map), what it no longer has, and the team.
     pub world: PathBuf,
     /// Scouts to fly [default: every UAV of the world; more are added at the start].
-    #[arg(long, help_heading = TEAM)]
+    #[arg(long, allow_negative_numbers = true, help_heading = TEAM)]
     pub scouts: Option<usize>,
     /// How the scouts are used [default: the library's, `Policy::default()`].
     #[arg(long, value_parser = policy_arg(), help_heading = TEAM)]
     pub policy: Option<Policy>,
     /// Homotopy classes per plan, 1 to 64.
-    #[arg(long, default_value_t = MissionConfig::default().plan.classes, help_heading = CLASSES)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = MissionConfig::default().plan.classes, help_heading = CLASSES)]
     pub classes: usize,
     /// Limited overlap between the classes (see `plan --diverse`).
-    #[arg(long, value_name = "F", help_heading = CLASSES)]
+    #[arg(long, allow_negative_numbers = true, value_name = "F", help_heading = CLASSES)]
     pub diverse: Option<f64>,
     /// Time step, seconds, 0.001 to 10.
-    #[arg(long, default_value_t = MissionConfig::default().dt, help_heading = ADVANCED)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = MissionConfig::default().dt, help_heading = ADVANCED)]
     pub dt: f64,
     /// Hysteresis: relative cost margin a class must win by to replace a valid plan.
-    #[arg(long, default_value_t = MissionConfig::default().switch_margin, help_heading = ADVANCED)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = MissionConfig::default().switch_margin, help_heading = ADVANCED)]
     pub switch_margin: f64,
     /// Hysteresis: seconds between voluntary class switches.
-    #[arg(long, default_value_t = MissionConfig::default().min_switch_interval, help_heading = ADVANCED)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = MissionConfig::default().min_switch_interval, help_heading = ADVANCED)]
     pub min_switch_interval: f64,
     /// Blockage prior P, 0 to 10: a class costs 1 + P x (the share of its route no robot
     /// has seen) times its plan's cost when the UGV re-plans; 0 plans as if the unseen were
     /// clear.
-    #[arg(long, value_name = "P", default_value_t = MissionConfig::default().blockage_prior, help_heading = TEAM)]
+    #[arg(long, allow_negative_numbers = true, value_name = "P", default_value_t = MissionConfig::default().blockage_prior, help_heading = TEAM)]
     pub blockage_prior: f64,
     /// Write the mission (timeline and every trajectory) as JSON.
     #[arg(long, value_name = "FILE", help_heading = OUTPUT)]
@@ -269,7 +269,7 @@ pub struct SimulateArgs {
     pub svg: Option<PathBuf>,
     /// Make the pictures a still of the mission at T seconds: tracks and plans up to then,
     /// the robots where they were, what had been found drawn as found.
-    #[arg(long, value_name = "T", help_heading = OUTPUT)]
+    #[arg(long, allow_negative_numbers = true, value_name = "T", help_heading = OUTPUT)]
     pub svg_at: Option<f64>,
     /// Write a still of the mission as a PNG here, at twice the SVG's size (at `--svg-at`,
     /// else at the end of the mission).
@@ -288,10 +288,10 @@ pub struct BenchArgs {
     #[arg(required = true)]
     pub scen: Vec<PathBuf>,
     /// Plan N scenarios of each file, spread evenly over the whole file (every bucket).
-    #[arg(long, help_heading = INPUT)]
+    #[arg(long, allow_negative_numbers = true, help_heading = INPUT)]
     pub sample: Option<usize>,
     /// Plan only the first N scenarios of each file (the shortest only: a `.scen` is sorted).
-    #[arg(long, help_heading = INPUT)]
+    #[arg(long, allow_negative_numbers = true, help_heading = INPUT)]
     pub limit: Option<usize>,
     /// Plan only slice K of N interleaved slices of the scenarios picked.
     ///
@@ -303,16 +303,16 @@ pub struct BenchArgs {
     ///
     /// A scenario whose start or goal is closer to one is an error row that names its
     /// clearance.
-    #[arg(long, value_name = "R", help_heading = INPUT)]
+    #[arg(long, allow_negative_numbers = true, value_name = "R", help_heading = INPUT)]
     pub robot_radius: Option<f64>,
     /// Homotopy classes per plan, 1 to 64.
-    #[arg(long, default_value_t = PlanConfig::maps().classes, help_heading = CLASSES)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = PlanConfig::maps().classes, help_heading = CLASSES)]
     pub classes: usize,
     /// Set a weight or parameter over the map defaults, e.g. --weight dm=1 (repeatable).
     #[arg(long = "weight", value_name = "NAME=VALUE", help_heading = COST)]
     pub weights: Vec<String>,
     /// A plan still running after this many milliseconds is stopped and counts as a timeout.
-    #[arg(long, value_name = "MS", help_heading = ADVANCED)]
+    #[arg(long, allow_negative_numbers = true, value_name = "MS", help_heading = ADVANCED)]
     pub time_limit: Option<f64>,
     /// Write one line per scenario here.
     #[arg(long, value_name = "FILE", help_heading = OUTPUT)]
@@ -333,6 +333,6 @@ pub struct ServeArgs {
     pub port: u16,
     /// The server's memory limit in MB (its `ulimit -v`): a map or scene too large for it
     /// gets the command line's out-of-memory message instead of the allocator's abort.
-    #[arg(long, value_name = "MB")]
+    #[arg(long, allow_negative_numbers = true, value_name = "MB")]
     pub memory_limit: Option<u64>,
 }

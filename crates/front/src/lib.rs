@@ -81,7 +81,7 @@ pub fn unseen_obstacles(scene: &Scene, resolution: f64) -> Option<String> {
 pub fn avoid_notes(avoid: &[String], plan: &homospline_optim::Plan) -> Vec<String> {
     avoid
         .iter()
-        .filter(|a| !plan.avoided.contains(a))
+        .filter(|a| !plan.avoided.contains(&options::class_as_printed(a)))
         .map(|a| {
             format!(
                 "note: --avoid '{a}' matched none of the classes the search found, so it left \

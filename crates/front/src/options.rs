@@ -433,7 +433,7 @@ impl PlanOptions {
             threads: self.threads,
             clearance_floor: self.clearance_floor,
             dm_rule: base.dm_rule && !self.soft_dm,
-            avoid: self.avoid.clone(),
+            avoid: self.avoid.iter().map(|a| class_as_printed(a)).collect(),
             diverse: self.diverse,
             prune,
             polish: self.polish,
@@ -494,4 +494,51 @@ impl PlanOptions {
         }
         Ok(())
     }
+}
+
+/// A class given to `--avoid` as plans print it: an id's hex digits in lower case
+/// (`#DEADBEEF` is `#deadbeef`), and ray crossings with each crossing that the next one
+/// undoes taken out (`+1-1` is `e`, `-2+3-3` is `-2`). Anything else is kept as it is, for
+/// the planner's check to name.
+///
+/// # Examples
+///
+/// ```
+/// use homospline_front::options::class_as_printed;
+///
+/// assert_eq!(class_as_printed("#DEADBEEF"), "#deadbeef");
+/// assert_eq!(class_as_printed("+1-1"), "e");
+/// assert_eq!(class_as_printed("-2+3-3+4"), "-2+4");
+/// assert_eq!(class_as_printed("-1+2"), "-1+2");
+/// assert_eq!(class_as_printed("abc"), "abc");
+/// ```
+pub fn class_as_printed(text: &str) -> String {
+    if let Some(hex) = text.strip_prefix('#') {
+        return format!("#{}", hex.to_ascii_lowercase());
+    }
+    // Crossings `+k` or `-k`, each sign followed by digits; else not a word to reduce.
+    let mut word: Vec<(char, &str)> = Vec::new();
+    let mut rest = text;
+    while let Some(sign) = rest.chars().next().filter(|c| *c == '+' || *c == '-') {
+        let digits = rest[1..]
+            .find(['+', '-'])
+            .map_or(&rest[1..], |end| &rest[1..1 + end]);
+        if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
+            return text.to_owned();
+        }
+        match word.last() {
+            Some(&(s, d)) if d == digits && s != sign => {
+                word.pop();
+            }
+            _ => word.push((sign, digits)),
+        }
+        rest = &rest[1 + digits.len()..];
+    }
+    if !rest.is_empty() || text.is_empty() {
+        return text.to_owned();
+    }
+    if word.is_empty() {
+        return "e".to_owned();
+    }
+    word.iter().map(|(s, d)| format!("{s}{d}")).collect()
 }

@@ -275,6 +275,25 @@ fn bad_options_exit_2_with_the_option_named() {
         ),
         (vec!["plan", "--classes", "0"], "--classes 0"),
         (vec!["plan", "--resolution", "0"], "--resolution 0"),
+        // A negative value is the option's, not a flag of its own ("unexpected argument
+        // '-1'"): the message names the option.
+        (
+            vec!["plan", "--clearance-floor", "-1"],
+            "--clearance-floor -1: must be a finite number >= 0",
+        ),
+        (
+            vec!["plan", "--finish-within", "-1"],
+            "invalid value '-1' for '--finish-within <N|off>'",
+        ),
+        (
+            vec![
+                "simulate",
+                "fixtures/worlds/field-blocked.yaml",
+                "--svg-at",
+                "-1",
+            ],
+            "--svg-at -1: must be a time in seconds, >= 0",
+        ),
         // Found by an adversarial run: each of these was accepted.
         (
             vec!["plan", "--threads", "5000"],
