@@ -269,14 +269,18 @@ fn map_sizes(p: &Picked) -> Result<BTreeMap<PathBuf, MapSize>, String> {
     Ok(sizes)
 }
 
+/// A map prepared for the sweep, or why it has no room for the robot (no point keeps its
+/// radius: every scenario on it is that error's row, and the sweep goes on).
+type Prepared = Result<PreparedMap, String>;
+
 /// The maps this shard plans on, each read again and prepared (a read map is dropped once
 /// prepared: the prepared map holds its own copy), and the time that took, ms.
 fn prepare(
     p: &Picked,
     sizes: &BTreeMap<PathBuf, MapSize>,
     robot_radius: f64,
-) -> Result<(BTreeMap<PathBuf, PreparedMap>, f64), String> {
-    let mut maps: BTreeMap<PathBuf, PreparedMap> = BTreeMap::new();
+) -> Result<(BTreeMap<PathBuf, Prepared>, f64), String> {
+    let mut maps: BTreeMap<PathBuf, Prepared> = BTreeMap::new();
     let mut prepare_ms = 0.0;
     for &(f, k) in &p.items {
         let s = &p.scenarios[f][k];
@@ -299,7 +303,12 @@ fn prepare(
         crate::memory::check_map(&map_path.display().to_string(), &map, robot_radius)
             .map_err(|e| e.to_string())?;
         let t = std::time::Instant::now();
-        let prepared = PreparedMap::for_robot(&map, robot_radius).map_err(|e| e.to_string())?;
+        let prepared = match PreparedMap::for_robot(&map, robot_radius) {
+            Ok(m) => Ok(m),
+            // An answer about this map at this radius, not bad input.
+            Err(e) if e.is_no_route() => Err(format!("{}: {e}", map_path.display())),
+            Err(e) => return Err(e.to_string()),
+        };
         prepare_ms += t.elapsed().as_secs_f64() * 1e3;
         maps.insert(map_path, prepared);
     }
@@ -318,9 +327,11 @@ pub fn run_files(
     let mut rows = Vec::with_capacity(p.items.len());
     for (done, &(f, k)) in p.items.iter().enumerate() {
         let s = &p.scenarios[f][k];
-        let prepared = &maps[&map_beside(&p.files[f], &s.map)];
         let file = p.files[f].display().to_string();
-        rows.push(sweep::run(prepared, &file, k, s, &cfg, job.time_limit));
+        rows.push(match &maps[&map_beside(&p.files[f], &s.map)] {
+            Ok(prepared) => sweep::run(prepared, &file, k, s, &cfg, job.time_limit),
+            Err(why) => sweep::unplanned(&file, k, s, why),
+        });
         progress(done + 1, p.items.len());
     }
     let info = BenchInfo {

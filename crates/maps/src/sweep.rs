@@ -494,6 +494,17 @@ pub fn run(
         Err(MapError::Plan(PlanError::Interrupted)) => Outcome::Timeout { length: f64::NAN },
         Err(e) => Outcome::Error(e.to_string()),
     };
+    row(file, index, s, outcome, ms)
+}
+
+/// The row of scenario `index` of `file` that was not planned because its map cannot be
+/// (`why`: no point of it keeps the robot's radius): an error row, in 0 ms.
+pub fn unplanned(file: &str, index: usize, s: &Scenario, why: &str) -> Row {
+    row(file, index, s, Outcome::Error(why.to_owned()), 0.0)
+}
+
+/// The row of scenario `index` of `file`: `outcome` in `ms`.
+fn row(file: &str, index: usize, s: &Scenario, outcome: Outcome, ms: f64) -> Row {
     Row {
         file: file.to_owned(),
         index,

@@ -520,3 +520,34 @@ fn the_time_limit_stops_a_plan_at_the_limit() {
         stdout_of(&merged)
     );
 }
+
+#[test]
+fn a_map_without_room_for_the_robot_is_each_scenario_s_error_row() {
+    // No point of room-32-32-4 keeps a radius of 2 (its doors are one cell wide): the sweep
+    // aborted (exit 2, no CSV). Each of its scenarios is now a row saying so, as the guide
+    // promises per-scenario errors and exit 0.
+    let csv = tmp("no-room.csv");
+    let out = homospline()
+        .args([
+            "bench-scen",
+            "fixtures/maps/movingai/room-32-32-4-random-1.scen",
+            "--sample",
+            "3",
+            "--robot-radius",
+            "2",
+            "--csv",
+        ])
+        .arg(&csv)
+        .output()
+        .unwrap();
+    assert_ok(&out);
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<&str> = text.lines().skip(1).collect();
+    assert_eq!(rows.len(), 3, "{text}");
+    for r in rows {
+        assert!(
+            r.ends_with("false,0.000,error: fixtures/maps/movingai/room-32-32-4.map: no route: no point of the map keeps the robot radius 2"),
+            "{r}"
+        );
+    }
+}
