@@ -134,6 +134,21 @@ fn check_thread_env() -> anyhow::Result<()> {
 /// `check`: the summary of a scene, a map (MovingAI or ROS) or a world file, each read as
 /// `plan` and `simulate` read them.
 fn check(path: &std::path::Path) -> anyhow::Result<u8> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    let not_taken = match ext.as_deref() {
+        Some("scen") => Some("a MovingAI scenario file (`bench-scen` plans its scenarios)"),
+        Some("pgm" | "png") => Some("an image (a ROS map is checked through its YAML)"),
+        _ => None,
+    };
+    if let Some(what) = not_taken {
+        return Err(out::bad(format!(
+            "{}: {what}; check takes a scene, a map (.map or ROS map YAML) or a world file",
+            path.display()
+        )));
+    }
     let reads = input::Reads::default();
     let bytes = reads
         .read(path)
@@ -141,6 +156,8 @@ fn check(path: &std::path::Path) -> anyhow::Result<u8> {
     let world = std::str::from_utf8(&bytes).is_ok_and(homospline_front::check::is_world);
     let summary = if world {
         let w = homospline_mission::world::load_any(path, |p| reads.read(p)).map_err(out::bad)?;
+        homospline_front::check::world_fits(&w)
+            .map_err(|e| out::bad(format!("{}: {e}", path.display())))?;
         homospline_front::check::world_summary(&w)
     } else {
         match input::load_input(path, &reads)? {

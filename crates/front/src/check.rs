@@ -85,6 +85,18 @@ fn count(n: usize, word: &str) -> String {
     format!("{n} {word}{}", if n == 1 { "" } else { "s" })
 }
 
+/// Whether `world`'s mission can run as `simulate` sets it up at its defaults: its time
+/// steps fit ([`homospline_mission::sim::check_team`]); else the reason, as `simulate`
+/// gives it.
+pub fn world_fits(world: &AnyWorld) -> Result<(), homospline_mission::sim::MissionError> {
+    let cfg = homospline_mission::sim::MissionConfig::default();
+    let (team, start, goal) = match world {
+        AnyWorld::Scene(w) => (&w.team, w.prior.start, w.prior.goal),
+        AnyWorld::Map(w) => (&w.team, w.start, w.goal),
+    };
+    homospline_mission::sim::check_team(team, &cfg, start, goal)
+}
+
 /// What `check` says about a world: its prior and truth, what the truth hides or clears,
 /// and the team.
 pub fn world_summary(world: &AnyWorld) -> String {

@@ -31,6 +31,7 @@ pub use config::{
     MAX_SCOUTS, MAX_STEPS, MIN_DT, MissionConfig, MissionConfigError, MissionError, MissionSetting,
     TURN_ANGLE_DEG, time_step,
 };
+pub use mission::check_team;
 pub use policy::{Policy, ScoutPolicy};
 pub use record::{Adopted, Event, EventKind, MissionResult, Robot, Track};
 pub use replan::should_switch;

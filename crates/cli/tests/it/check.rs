@@ -55,13 +55,36 @@ fn maps_and_worlds_are_checked_as_plan_and_simulate_read_them() {
             assert!(text.contains(l), "{file}: {l}\n{text}");
         }
     }
-    // A world is read as `simulate` reads it: the scene it names must be there.
+    // A world is read as `simulate` reads it: the scene it names must be there, and its
+    // mission must fit in the steps `simulate` allows.
     let dir = tmp("check-world");
     std::fs::create_dir_all(&dir).unwrap();
     let w = dir.join("w.yaml");
     std::fs::write(&w, "scene: nowhere.yaml\n").unwrap();
     let err = refused(&["check", w.to_str().unwrap()]);
     assert!(err.contains("scene: cannot read"), "{err}");
+    let scene = root().join("fixtures/scenes/field.yaml");
+    std::fs::write(
+        &w,
+        format!(
+            "scene: {}\nteam:\n  ugv: {{speed: 1e-9, sensor_range: 4}}\n",
+            scene.display()
+        ),
+    )
+    .unwrap();
+    let err = refused(&["check", w.to_str().unwrap()]);
+    assert!(err.contains("the mission would take"), "{err}");
+    // What check does not take is named.
+    for (file, what) in [
+        (
+            "fixtures/maps/movingai/room-32-32-4-random-1.scen",
+            "a MovingAI scenario file",
+        ),
+        ("fixtures/maps/ros/nav2/tb3_sandbox.pgm", "an image"),
+    ] {
+        let err = refused(&["check", file]);
+        assert!(err.contains(&format!("{file}: {what}")), "{err}");
+    }
 }
 
 #[test]

@@ -58,6 +58,36 @@ pub(super) struct Mission<'a, K: Known> {
     done: bool,
 }
 
+/// The mission's time limit and time step, once the limit is known to fit in [`super::MAX_STEPS`]
+/// steps of it ([`check_steps`]): `cfg.max_time`, or 20 times the straight drive from
+/// `start` to `goal` and a minute.
+fn steps_fit(
+    team: &Team,
+    cfg: &MissionConfig,
+    start: Point,
+    goal: Point,
+    scouts: &[Scout],
+) -> Result<(Real, Real), MissionError> {
+    let max_time = cfg
+        .max_time
+        .unwrap_or_else(|| 20.0 * (goal - start).norm() / team.ugv.speed + 60.0);
+    let dt = time_step(cfg.dt, &team.ugv, scouts.iter().map(|sc| &sc.uav));
+    check_steps(cfg, max_time, dt)?;
+    Ok((max_time, dt))
+}
+
+/// Whether a mission of `team` from `start` to `goal` can run under `cfg` as set up: its
+/// time steps within [`super::MAX_STEPS`] (what `homospline check` asks of a world before
+/// `simulate` would refuse it).
+pub fn check_team(
+    team: &Team,
+    cfg: &MissionConfig,
+    start: Point,
+    goal: Point,
+) -> Result<(), MissionError> {
+    steps_fit(team, cfg, start, goal, &launch(team, cfg, start)).map(|_| ())
+}
+
 impl<'a, K: Known> Mission<'a, K> {
     /// The mission on `known` with `team`, planned offline: the classes are named on
     /// `rays`; `truth_plan_length` is the best plan's on the true world.
@@ -71,11 +101,7 @@ impl<'a, K: Known> Mission<'a, K> {
     ) -> Result<Self, MissionError> {
         let (start, goal) = (known.start(), known.goal());
         let scouts = launch(team, cfg, start);
-        let max_time = cfg
-            .max_time
-            .unwrap_or_else(|| 20.0 * (goal - start).norm() / team.ugv.speed + 60.0);
-        let dt = time_step(cfg.dt, &team.ugv, scouts.iter().map(|sc| &sc.uav));
-        check_steps(cfg, max_time, dt)?;
+        let (max_time, dt) = steps_fit(team, cfg, start, goal, &scouts)?;
         let cell = coverage_cell(&team.ugv, &scouts);
         let team_known = team_known.filter(|_| cfg.policy.get().verifies());
         let mut mission = Self {
