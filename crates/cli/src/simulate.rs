@@ -78,6 +78,14 @@ pub fn run(a: &SimulateArgs, world: &AnyWorld, wants: (bool, bool)) -> anyhow::R
             Num(t)
         )));
     }
+    if let Some(t) = a.svg_at
+        && wants == (false, false)
+    {
+        return Err(bad(format!(
+            "--svg-at {}: draws the picture of --svg or --png, and neither is asked for",
+            Num(t)
+        )));
+    }
     // The profile of the world's kind; the options go on top.
     let base = match world {
         AnyWorld::Scene(_) => MissionConfig::default(),

@@ -157,6 +157,25 @@ pub fn locate(text: &str, e: &serde_saphyr::Error, fallback: &str) -> YamlFault 
             _ => Some(key),
         }
     });
+    // A missing field is placed at a key of the mapping that lacks it: that mapping's path
+    // (`team: missing field ugv`), none at the top level, whose fields the message names.
+    let field = field.or_else(|| {
+        let l = loc.filter(|_| problem.starts_with("missing field"))?;
+        let key = key_at(text, l.line(), l.column())?;
+        // A flow mapping is placed at its first key, right after its `{`: there the key
+        // found is already the mapping's own.
+        let line = text
+            .lines()
+            .nth(usize::try_from(l.line()).ok()?.checked_sub(1)?)?;
+        let before: String = line
+            .chars()
+            .take(usize::try_from(l.column()).ok()?.saturating_sub(1))
+            .collect();
+        if before.trim_end().ends_with('{') {
+            return Some(key);
+        }
+        key.rsplit_once('.').map(|(parent, _)| parent.to_owned())
+    });
     // The items of the sequences on the way, counted (`obstacles[3].circles[1]`).
     let field = match (field, loc) {
         (Some(f), Some(l)) => Some(indexed(text, &f, (l.line(), l.column())).unwrap_or(f)),
@@ -640,6 +659,45 @@ mod tests {
         // Not YAML, or a path the text does not hold: none (the caller keeps its key).
         assert_eq!(indexed("a: [1, 2", "a", (1, 1)), None);
         assert_eq!(indexed("a: 1\n", "b", (1, 1)), None);
+    }
+
+    #[test]
+    fn a_missing_field_is_blamed_on_the_mapping_that_lacks_it() {
+        #[derive(serde::Deserialize, Debug)]
+        #[allow(dead_code)]
+        struct Doc {
+            #[serde(default)]
+            name: String,
+            team: Team,
+            #[serde(default)]
+            points: Vec<Team>,
+        }
+        #[derive(serde::Deserialize, Debug)]
+        #[allow(dead_code)]
+        struct Team {
+            ugv: u32,
+            #[serde(default)]
+            uavs: Vec<u32>,
+        }
+        for (text, want) in [
+            ("name: x\nteam:\n  uavs: []\n", Some("team")),
+            ("name: x\nteam: {uavs: []}\n", Some("team")),
+            ("{\"name\": \"x\", \"team\": {\"uavs\": []}}", Some("team")),
+            (
+                "team: {ugv: 1}\npoints:\n  - {ugv: 2}\n  - {uavs: []}\n",
+                Some("points[1]"),
+            ),
+            ("name: x\n", None),
+        ] {
+            let e = from_yaml::<Doc>(text).unwrap_err();
+            let f = locate(text, &e, "malformed");
+            assert!(
+                f.problem.starts_with("missing field"),
+                "{text}: {}",
+                f.problem
+            );
+            assert_eq!(f.field.as_deref(), want, "{text}");
+        }
     }
 
     #[test]

@@ -140,13 +140,15 @@ pub enum GridError {
 /// extent `ex x ey` keeps to [`MAX_CELLS`] (walls included).
 fn finest_resolution(ex: Real, ey: Real) -> Real {
     let cells = |r: Real| ((ex * r).ceil() + 2.0) * ((ey * r).ceil() + 2.0);
-    let mut r = (MAX_CELLS as Real / (ex * ey).max(Real::MIN_POSITIVE)).sqrt();
-    let digits = 10f64.powf(r.log10().floor() - 2.0);
-    r = (r / digits).floor() * digits;
-    while r > 0.0 && cells(r) > MAX_CELLS as Real {
-        r -= digits;
+    let r = (MAX_CELLS as Real / (ex * ey).max(Real::MIN_POSITIVE)).sqrt();
+    // `k / per` with `k` whole: a quotient prints as short as it is (81, not the
+    // 81.00000000000001 of `810 * 0.1`).
+    let per = 10f64.powf(2.0 - r.log10().floor());
+    let mut k = (r * per).floor();
+    while k > 0.0 && cells(k / per) > MAX_CELLS as Real {
+        k -= 1.0;
     }
-    r
+    k / per
 }
 
 /// A grid of square cells. Cell `(i, j)` covers `[x0 + i h, x0 + (i + 1) h] x

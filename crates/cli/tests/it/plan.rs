@@ -294,6 +294,16 @@ fn bad_options_exit_2_with_the_option_named() {
             ],
             "--svg-at -1: must be a time in seconds, >= 0",
         ),
+        // A still with no picture to draw it in was silently ignored.
+        (
+            vec![
+                "simulate",
+                "fixtures/worlds/field-blocked.yaml",
+                "--svg-at",
+                "5",
+            ],
+            "--svg-at 5: draws the picture of --svg or --png, and neither is asked for",
+        ),
         // Found by an adversarial run: each of these was accepted.
         (
             vec!["plan", "--threads", "5000"],
