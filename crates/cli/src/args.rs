@@ -83,7 +83,7 @@ pub struct PlanArgs {
     /// Reuse a graph saved by `homospline graph --out`.
     #[arg(long, value_name = "FILE.msgpack", help_heading = INPUT)]
     pub graph: Option<PathBuf>,
-    /// Grid cells per unit for a scene's Voronoi graph [default: 256 along the longer side].
+    /// Grid cells per unit for a scene's Voronoi graph [default: 256 along the longer side of its working area].
     #[arg(long, allow_negative_numbers = true, help_heading = INPUT)]
     pub resolution: Option<f64>,
     /// How the splines are seeded.
@@ -199,7 +199,7 @@ pub struct GraphArgs {
     /// `.map` files, only with `--out-dir`).
     #[arg(required = true)]
     pub scene: Vec<PathBuf>,
-    /// Grid cells per unit for a scene [default: 256 along the longer side].
+    /// Grid cells per unit for a scene [default: 256 along the longer side of its working area].
     #[arg(long, allow_negative_numbers = true, help_heading = INPUT)]
     pub resolution: Option<f64>,
     /// The robot's radius in map units: the graph of the free space it can occupy.

@@ -110,7 +110,7 @@ pub fn check_map(name: &str, map: &OccupancyMap, radius: f64) -> Result<(), OutO
 /// The grid cells of a scene's graph at `resolution` cells per unit: its bounds' extent and
 /// a wall ring (as `homospline_voronoi::Grid::from_scene`), saturating.
 pub fn scene_cells(scene: &homospline_geom::Scene, resolution: f64) -> u64 {
-    let ext = scene.bounds.extent();
+    let ext = homospline_voronoi::grid::scene_area(scene, resolution).extent();
     let across = |e: f64| ((e * resolution).ceil() + 2.0).clamp(0.0, u32::MAX as f64) as u64;
     across(ext.x).saturating_mul(across(ext.y))
 }

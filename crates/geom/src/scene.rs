@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 use serde_saphyr::Spanned;
 use thiserror::Error;
 
-use crate::math::{Num, Point, Real, Short};
+use crate::math::{Num, Point, Real, Short, Vector};
 use crate::query::CircleSet;
 use crate::shape::{Bounds, Circle, Obstacle, TopoObstacle, topological_obstacles};
 pub use crate::yaml::{MAX_YAML_NODES, from_yaml, from_yaml_within, yaml_problem};
@@ -661,6 +661,47 @@ impl Scene {
             .iter()
             .flat_map(|o| o.circles.iter().map(|c| c.inflated(self.robot_radius)))
             .collect()
+    }
+
+    /// The part of the bounds where a route has anything to go round: the box of the
+    /// (inflated) circles, the start and the goal, grown on every side by its longer side,
+    /// within the bounds. Outside it there is no obstacle, so every homotopy class has a path
+    /// inside it (push a path's points that leave it back onto its sides: the straight
+    /// homotopy between the two meets no obstacle). A scene's Voronoi grid covers this area:
+    /// bounds of a billion units round a rock of radius 1 put the rock inside one cell of a
+    /// grid over the bounds, and its two classes became one. For scenes whose bounds are
+    /// within three times their contents, it is the bounds.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use homospline_geom::Scene;
+    ///
+    /// let huge = Scene::from_str(
+    ///     "bounds: {min: [-1e9, -1e9], max: [1e9, 1e9]}\nstart: [-10, 0]\ngoal: [10, 0]\n\
+    ///      obstacles:\n  - name: rock\n    circles: [[0, 0, 1]]\n",
+    ///     "huge.yaml",
+    /// )?;
+    /// let a = huge.working_area();
+    /// assert_eq!((a.min.x, a.min.y, a.max.x, a.max.y), (-30.0, -21.0, 30.0, 21.0));
+    /// # Ok::<(), homospline_geom::SceneError>(())
+    /// ```
+    pub fn working_area(&self) -> Bounds {
+        let (mut lo, mut hi) = (self.start.inf(&self.goal), self.start.sup(&self.goal));
+        for c in self.circles() {
+            let r = Vector::new(c.radius, c.radius);
+            lo = lo.inf(&(c.center - r));
+            hi = hi.sup(&(c.center + r));
+        }
+        let grow = (hi - lo).max();
+        if !(grow.is_finite() && grow > 0.0) {
+            return self.bounds;
+        }
+        let g = Vector::new(grow, grow);
+        Bounds {
+            min: (lo - g).sup(&self.bounds.min),
+            max: (hi + g).inf(&self.bounds.max),
+        }
     }
 
     /// The inflated circles ready for queries.

@@ -59,9 +59,11 @@ pub use world::{
 
 use report::ms;
 
-/// The default grid resolution for a scene: about 256 cells along the longer side.
+/// The default grid resolution for a scene: about 256 cells along the longer side of its
+/// working area ([`Scene::working_area`]: the bounds, unless they are more than three times
+/// the box of its obstacles and ends).
 pub fn default_resolution(scene: &Scene) -> Real {
-    let e = scene.bounds.extent();
+    let e = scene.working_area().extent();
     256.0 / e.x.max(e.y)
 }
 

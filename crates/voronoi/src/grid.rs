@@ -151,6 +151,20 @@ fn finest_resolution(ex: Real, ey: Real) -> Real {
     k / per
 }
 
+/// The area a scene's grid at `resolution` covers: its working area
+/// ([`Scene::working_area`]), or its bounds when the area would be under
+/// [`MIN_CELLS_ACROSS`] cells across (so that a `--resolution` that suits the bounds is
+/// never refused for the area's sake).
+pub fn scene_area(scene: &Scene, resolution: Real) -> homospline_geom::Bounds {
+    let area = scene.working_area();
+    let e = area.extent();
+    if e.x.max(e.y) * resolution < MIN_CELLS_ACROSS as Real {
+        scene.bounds
+    } else {
+        area
+    }
+}
+
 /// A grid of square cells. Cell `(i, j)` covers `[x0 + i h, x0 + (i + 1) h] x
 /// [y0 + j h, y0 + (j + 1) h]` with `(x0, y0) = origin`, `h = cell`. The outermost ring of
 /// cells is always occupied: it is the wall that bounds the free space.
@@ -209,15 +223,18 @@ impl Grid {
         Ok(g)
     }
 
-    /// Rasterises a scene at `resolution` cells per map unit: the scene's bounds plus a
-    /// one-cell wall ring; a cell is occupied when its centre is inside or on an (inflated)
-    /// circle.
+    /// Rasterises a scene at `resolution` cells per map unit: its working area (the bounds
+    /// where they are within three times the box of the obstacles and ends,
+    /// [`Scene::working_area`]) plus a one-cell wall ring; a cell is occupied when its
+    /// centre is inside or on an (inflated) circle. An area too small for the grid's least
+    /// size at this resolution is the bounds.
     pub fn from_scene(scene: &Scene, resolution: Real) -> Result<Self, GridError> {
         if !(resolution.is_finite() && resolution > 0.0) {
             return Err(GridError::Resolution(resolution));
         }
         let h = 1.0 / resolution;
-        let ext = scene.bounds.extent();
+        let area = scene_area(scene, resolution);
+        let ext = area.extent();
         let w = (ext.x / h).ceil();
         let hh = (ext.y / h).ceil();
         if w.max(hh) < MIN_CELLS_ACROSS as Real {
@@ -234,7 +251,7 @@ impl Grid {
             });
         }
         let (width, height) = (w as usize + 2, hh as usize + 2);
-        let origin = Point::new(scene.bounds.min.x - h, scene.bounds.min.y - h);
+        let origin = Point::new(area.min.x - h, area.min.y - h);
         let mut g = Self::new(width, height, origin, h)?;
         for c in scene.circles() {
             g.fill_disc(&c.center, c.radius);

@@ -123,7 +123,7 @@ fn build_for_ends(
     let clear = |q: &Point| set.clearance(q).map_or(Real::INFINITY, |c| c.distance);
     let (c_end, c) = (clear(&p), clear(&scene.start).min(clear(&scene.goal)));
     let finer = (1.0001 / c).max(resolution);
-    let ext = scene.bounds.extent();
+    let ext = scene.working_area().extent();
     let cells = ((ext.x * finer).ceil() + 2.0) * ((ext.y * finer).ceil() + 2.0);
     let owner = set
         .clearance(&p)
@@ -165,7 +165,7 @@ fn build_apart(
     };
     // A hair finer than the need, so that the grid is sure to meet it.
     let finer = 1.0001 / n.need;
-    let ext = scene.bounds.extent();
+    let ext = scene.working_area().extent();
     let cells = ((ext.x * finer).ceil() + 2.0) * ((ext.y * finer).ceil() + 2.0);
     if cells > apart::REFINE_MAX_CELLS as Real {
         return Err(GraphError::Unresolved {

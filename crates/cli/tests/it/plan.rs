@@ -1205,3 +1205,25 @@ fn no_route_writes_a_json_without_a_plan_over_an_older_one() {
         "{v}"
     );
 }
+
+#[test]
+fn huge_bounds_round_a_small_rock_plan_both_classes() {
+    // Bounds of 2e9 round a rock of radius 1: a grid over the bounds put the rock inside one
+    // cell, one class was found, and the plan went 252 units round it (the optimum is 21.8).
+    // The grid covers the scene's working area instead: both classes, each near the optimum.
+    let scene = tmp("huge.yaml");
+    std::fs::write(
+        &scene,
+        "name: huge\nbounds: {min: [-1e9, -1e9], max: [1e9, 1e9]}\nstart: [-10, 0]\ngoal: [10, 0]\n\
+         obstacles:\n  - name: rock\n    circles: [[0, 0, 1]]\n",
+    )
+    .unwrap();
+    let v = plan_json(scene.to_str().unwrap(), &[], "huge.json");
+    let classes = v["classes"].as_array().unwrap();
+    assert_eq!(classes.len(), 2, "{}", v["classes"]);
+    for c in classes {
+        assert_eq!(c["collision_free"], true);
+        let length = c["length"].as_f64().unwrap();
+        assert!(length < 22.5, "{length}");
+    }
+}
