@@ -520,6 +520,16 @@ impl VoronoiGraph {
         {
             return bad("an obstacle's representative point is not finite".into());
         }
+        // A graph is built with its start and goal joined (or refused): one whose edges no
+        // longer join them was changed since, and would plan "no class" without a reason.
+        if let (Some(s), Some(g)) = (self.start, self.goal)
+            && !self.connected(s, g)
+        {
+            return bad(format!(
+                "its edges do not join the start (node {s}) and the goal (node {g}), as every \
+                 graph homospline builds does: it was changed after it was saved"
+            ));
+        }
         Ok(())
     }
 }

@@ -62,6 +62,23 @@ fn graphs_round_trip_through_messagepack_and_json() {
 }
 
 #[test]
+fn a_saved_graph_whose_edges_no_longer_join_start_and_goal_is_refused() {
+    // A hand-edited graph without the goal's edges planned "0 classes" with no reason.
+    let scene = fixture_scenes().remove(0);
+    let (_, _, mut g) = build(&scene, 2.0).unwrap();
+    let goal = g.goal.unwrap();
+    g.edges.retain(|e| e.from != goal && e.to != goal);
+    let e = VoronoiGraph::from_msgpack(&g.to_msgpack())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("its edges do not join the start (node")
+            && e.contains("changed after it was saved"),
+        "{e}"
+    );
+}
+
+#[test]
 fn short_dead_end_spurs_are_pruned_and_long_ones_kept() {
     use homospline_voronoi::{Edge, Node, NodeKind};
     let node = |id: usize, x: f64, kind: NodeKind| Node {
