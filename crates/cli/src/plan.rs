@@ -237,7 +237,7 @@ pub fn edit_input(a: &PlanArgs, input: Input) -> anyhow::Result<(Input, Option<(
             }
             scene
                 .validate(&scene.name.clone())
-                .map_err(|e| bad(blame_option(a, listed, &e)))?;
+                .map_err(|e| bad(blame_option(a, &scene, listed, &e)))?;
             Input::Scene(scene)
         }
         Input::Map(mut map) => {
@@ -266,29 +266,54 @@ pub fn edit_input(a: &PlanArgs, input: Input) -> anyhow::Result<(Input, Option<(
 /// scene with `listed` obstacles of its own), blamed on the option at fault: `--block X,Y,R`
 /// for a blocked disc's field or one that covers an end, `--start`, `--goal` or
 /// `--robot-radius` for theirs.
-fn blame_option(a: &PlanArgs, listed: usize, e: &homospline_geom::SceneError) -> String {
+fn blame_option(
+    a: &PlanArgs,
+    scene: &Scene,
+    listed: usize,
+    e: &homospline_geom::SceneError,
+) -> String {
     let field = e.field.as_deref().unwrap_or("");
-    // The blocked discs are the obstacles after the scene's own, named `blocked-K`: a
-    // disc's own field (its radius) or an end it covers.
+    // The blocked discs are the obstacles after the scene's own: a disc's own field (its
+    // radius), or an end inside the obstacle the message names.
     let own = field
         .strip_prefix("obstacles[")
         .and_then(|r| r.split(']').next())
-        .and_then(|k| k.parse::<usize>().ok())
-        .and_then(|k| k.checked_sub(listed));
+        .and_then(|k| k.parse::<usize>().ok());
     let covers = || {
-        let k = e.problem.split("'blocked-").nth(1)?.split('\'').next()?;
-        k.parse::<usize>().ok()
+        let name = e
+            .problem
+            .split(" inside obstacle '")
+            .nth(1)?
+            .split('\'')
+            .next()?;
+        scene.obstacles.iter().rposition(|o| o.name == name)
     };
-    match (
-        own.and_then(|k| a.block.get(k)),
-        covers().and_then(|k| a.block.get(k)),
-    ) {
+    let block = |k: Option<usize>| {
+        k.and_then(|k| k.checked_sub(listed))
+            .and_then(|k| a.block.get(k))
+    };
+    match (block(own), block(covers())) {
         (Some(b), _) => return format!("--block {b}: {}: {}", e.source_name, e.problem),
         (None, Some(b)) => return format!("--block {b}: {}: {}", e.source_name, with_field(e)),
         (None, None) => {}
     }
-    if let Some(r) = a.robot_radius
+    // An end that the radius put inside an obstacle: outside every circle, inside one
+    // grown by the radius.
+    let end = match field {
+        "start" => Some(scene.start),
+        "goal" => Some(scene.goal),
+        _ => None,
+    };
+    let bare = |p: Point| {
+        scene
+            .obstacles
+            .iter()
+            .flat_map(|o| &o.circles)
+            .all(|c| (p - c.center).norm() > c.radius)
+    };
+    if let (Some(r), Some(p)) = (a.robot_radius, end)
         && e.problem.contains("after inflating by robot_radius")
+        && bare(p)
     {
         return format!(
             "--robot-radius {}: {}: {}",

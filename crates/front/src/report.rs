@@ -336,27 +336,37 @@ fn no_plan_line(plan: &Plan, names: ClassNames) -> String {
             class_id(&c.signature)
         )
     };
+    // The floor is met by the certified clearance; a curve is judged by its own.
     let clearest = |free: bool| {
+        let key = |c: &homospline_optim::ClassPlan| match free {
+            true => c.certified_clearance,
+            false => c.min_clearance,
+        };
         plan.classes
             .iter()
-            .filter(|c| c.collision_free == free)
-            .max_by(|a, b| a.min_clearance.total_cmp(&b.min_clearance))
+            .filter(|c| c.collision_free == free && key(c).is_finite())
+            .max_by(|a, b| key(a).total_cmp(&key(b)))
     };
     let n = plan.classes.len();
     match (clearest(true), clearest(false)) {
         (Some(c), _) => format!(
             "no collision-free class meets the clearance floor {} (the clearest, class {}, \
-             keeps {:.3}): no plan",
+             is certified {:.3} clear): no plan",
             homospline_geom::math::Num(plan.clearance_floor),
             name(c),
-            c.min_clearance
+            c.certified_clearance
         ),
         (None, Some(c)) => format!(
-            "no collision-free curve in the {n} class{} found (the closest, class {}, comes \
-             {:.3} into an obstacle): {}; no plan",
+            "no collision-free curve in the {n} class{} found (the closest, class {}, {}): \
+             {}; no plan",
             if n == 1 { "" } else { "es" },
             name(c),
-            -c.min_clearance,
+            if c.min_clearance > 0.0 {
+                // Clear of every obstacle, so it is the bounds that it leaves.
+                "leaves the bounds".to_owned()
+            } else {
+                format!("comes {:.3} into an obstacle", -c.min_clearance)
+            },
             match plan.seed {
                 homospline_optim::Seed::Voronoi => {
                     "the graph joins start and goal, but no smooth curve found keeps clear"

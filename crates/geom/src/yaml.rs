@@ -197,6 +197,9 @@ pub fn locate(text: &str, e: &serde_saphyr::Error, fallback: &str) -> YamlFault 
     }
 }
 
+/// The most nodes [`indexed`] reads a file's tree of.
+const INDEXED_NODES: usize = 1_000_000;
+
 /// A YAML node and the place each of its items starts: the tree in which a parser's error
 /// is placed, to count the sequence items on the way to it ([`indexed`]).
 enum Node {
@@ -300,7 +303,9 @@ impl<'de> Deserialize<'de> for Key {
 /// numbers does not (`start`). `None` when the text does not read as YAML or the path does
 /// not lead through it (the caller keeps `key`).
 fn indexed(text: &str, key: &str, at: (u64, u64)) -> Option<String> {
-    let root: serde_saphyr::Spanned<Node> = from_yaml(text).ok()?;
+    // A tree of every node costs tens of bytes a node: a file past a million nodes keeps
+    // its key without indices rather than take gigabytes to print an error.
+    let root: serde_saphyr::Spanned<Node> = from_yaml_within(text, INDEXED_NODES).ok()?;
     let item = |items| holding(items, at);
     let mut node = &root;
     let mut out = String::new();

@@ -204,15 +204,21 @@ pub enum GraphError {
     /// A scene's start or goal is closer to a circle than a grid within
     /// [`crate::apart::REFINE_MAX_CELLS`] can tell (or touches it): no grid was built.
     #[error(
-        "the {what} [{}, {}] is {} from obstacle{obstacle}, closer than a grid of {} cells per unit can tell: {}",
+        "the {what} [{}, {}] {} obstacle{obstacle}, closer than a grid of {} cells per unit can tell: {}",
         homospline_geom::math::Num(at[0]),
         homospline_geom::math::Num(at[1]),
-        homospline_geom::math::Num(significant(*clearance)),
+        if *clearance > 0.0 {
+            format!("is {} from", homospline_geom::math::Num(significant(*clearance)))
+        } else {
+            "touches".to_owned()
+        },
         homospline_geom::math::Num(significant(*resolution)),
         if *fits {
             format!("--resolution {} plans it", homospline_geom::math::Num(significant_up(*needed)))
-        } else {
+        } else if *clearance > 0.0 {
             "it needs a grid over the limit; move it farther from the obstacle or scale the scene's units up".to_owned()
+        } else {
+            "move it off the obstacle".to_owned()
         }
     )]
     TooClose {

@@ -153,12 +153,16 @@ fn finest_resolution(ex: Real, ey: Real) -> Real {
 
 /// The area a scene's grid at `resolution` covers: its working area
 /// ([`Scene::working_area`]), or its bounds when the area would be under
-/// [`MIN_CELLS_ACROSS`] cells across (so that a `--resolution` that suits the bounds is
-/// never refused for the area's sake).
+/// [`MIN_CELLS_ACROSS`] cells across and the bounds' grid is within [`MAX_CELLS`] (so that
+/// a `--resolution` that suits the bounds is never refused for the area's sake).
 pub fn scene_area(scene: &Scene, resolution: Real) -> homospline_geom::Bounds {
     let area = scene.working_area();
-    let e = area.extent();
-    if e.x.max(e.y) * resolution < MIN_CELLS_ACROSS as Real {
+    let (e, b) = (area.extent(), scene.bounds.extent());
+    // The bounds only where their grid is within the limit: else the area's refusal
+    // (too coarse) names what it needs, where the bounds' (too fine) would suggest a grid
+    // that cannot see the obstacles.
+    let bounds_fit = (b.x * resolution).ceil() * (b.y * resolution).ceil() <= MAX_CELLS as Real;
+    if e.x.max(e.y) * resolution < MIN_CELLS_ACROSS as Real && bounds_fit {
         scene.bounds
     } else {
         area

@@ -121,9 +121,17 @@ fn build_for_ends(
 ) -> Result<(Grid, DistanceField, VoronoiGraph), BuildError> {
     let set = scene.circle_set();
     let clear = |q: &Point| set.clearance(q).map_or(Real::INFINITY, |c| c.distance);
-    let (c_end, c) = (clear(&p), clear(&scene.start).min(clear(&scene.goal)));
+    // The end nearer a circle decides the grid, and the message names it.
+    let (what, p) = if clear(&scene.goal) < clear(&scene.start) {
+        ("goal", scene.goal)
+    } else if clear(&scene.start) < clear(&p) {
+        ("start", scene.start)
+    } else {
+        (what, p)
+    };
+    let c = clear(&p);
     let finer = (1.0001 / c).max(resolution);
-    let ext = scene.working_area().extent();
+    let ext = grid::scene_area(scene, finer).extent();
     let cells = ((ext.x * finer).ceil() + 2.0) * ((ext.y * finer).ceil() + 2.0);
     let owner = set
         .clearance(&p)
@@ -134,7 +142,7 @@ fn build_for_ends(
         return Err(GraphError::TooClose {
             what,
             at: [p.x, p.y],
-            clearance: c_end,
+            clearance: c,
             obstacle: owner,
             resolution,
             needed: finer,
@@ -165,7 +173,7 @@ fn build_apart(
     };
     // A hair finer than the need, so that the grid is sure to meet it.
     let finer = 1.0001 / n.need;
-    let ext = scene.working_area().extent();
+    let ext = grid::scene_area(scene, finer).extent();
     let cells = ((ext.x * finer).ceil() + 2.0) * ((ext.y * finer).ceil() + 2.0);
     if cells > apart::REFINE_MAX_CELLS as Real {
         return Err(GraphError::Unresolved {
