@@ -366,7 +366,17 @@ fn plan_scene(
         homospline_front::memory::scene_cells(scene, resolution),
     )?;
     let result = plan_with_graph(scene, saved, cfg).map_err(|e| {
-        let msg = format!("{}: {e}", scene.name);
+        let msg = match &e {
+            // A setting the scene refuses (an avoided class of rays it has not), as the
+            // option spells it.
+            PlanError::Config(c) => format!(
+                "{}: {}",
+                scene.name,
+                homospline_front::OptionError::from(c.clone())
+                    .spelled(homospline_front::Spelling::Flag)
+            ),
+            e => format!("{}: {e}", scene.name),
+        };
         if matches!(e, PlanError::Interrupted) {
             timed_out(a, &scene.name)
         } else if e.is_no_route() {
@@ -430,6 +440,11 @@ fn plan_map(
     };
     let mut result = prepared.plan(s, g, cfg).map_err(|e| match e {
         MapError::Plan(PlanError::Interrupted) => timed_out(a, &map.name),
+        MapError::Plan(PlanError::Config(c)) => bad(format!(
+            "{}: {}",
+            map.name,
+            homospline_front::OptionError::from(c).spelled(homospline_front::Spelling::Flag)
+        )),
         e => map_error(e),
     })?;
     // A map's plan does not copy the query's graph out of the map's; the picture draws it.

@@ -313,7 +313,7 @@ fn bad_options_exit_2_with_the_option_named() {
         ),
         (
             vec!["plan", "--avoid", "abc"],
-            "avoid 'abc': not a class: e, ray crossings such as -1+2, or an id such as #3f9a01c2",
+            "narrow-pass: --avoid 'abc': not a class: e, ray crossings such as -1+2, or an id such as #3f9a01c2",
         ),
         (
             vec!["plan", "--avoid", "-9"],
