@@ -64,6 +64,12 @@ pub fn needed(cells: u64) -> u64 {
     BASE_BYTES.saturating_add(cells.saturating_mul(BYTES_PER_CELL))
 }
 
+/// The most grid cells whose [`needed`] memory the process's address-space limit allows;
+/// `None` without a limit.
+pub fn cells_within_limit() -> Option<u64> {
+    address_space_limit().map(|l| l.saturating_sub(BASE_BYTES) / BYTES_PER_CELL)
+}
+
 /// The grid cells `map` is prepared on for a robot of `radius`: the lattice of
 /// [`Lattice::of`] for a disc (half-cell, or the cell centres on maps too large for it),
 /// the map's own cells for a point.

@@ -434,6 +434,14 @@ impl PlanOptions {
             clearance_floor: self.clearance_floor,
             dm_rule: base.dm_rule && !self.soft_dm,
             avoid: self.avoid.iter().map(|a| class_as_printed(a)).collect(),
+            // A finer grid within the memory the process may use, as the first one is.
+            max_refined_cells: crate::memory::cells_within_limit().map_or(
+                base.max_refined_cells,
+                |c| {
+                    base.max_refined_cells
+                        .min(usize::try_from(c).unwrap_or(usize::MAX))
+                },
+            ),
             diverse: self.diverse,
             prune,
             polish: self.polish,

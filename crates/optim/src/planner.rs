@@ -172,7 +172,7 @@ pub fn plan_with_graph(
         || match graph {
             Some(g) => Ok(PlanGraph::Whole(g)),
             None => Ok(PlanGraph::Whole(
-                homospline_voronoi::build(scene, resolution)?.2,
+                homospline_voronoi::build_within(scene, resolution, cfg.max_refined_cells)?.2,
             )),
         },
         cfg,

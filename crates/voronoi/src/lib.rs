@@ -89,22 +89,56 @@ pub enum BuildError {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 ///
-/// See also [`MapGraph`] (the complete graph of a map, prepared once for many queries).
+/// See also [`build_within`] (a finer grid's cells limited), [`MapGraph`] (the complete
+/// graph of a map, prepared once for many queries).
 pub fn build(
     scene: &Scene,
     resolution: Real,
 ) -> Result<(Grid, DistanceField, VoronoiGraph), BuildError> {
+    build_within(scene, resolution, apart::REFINE_MAX_CELLS)
+}
+
+/// [`build`], with a finer grid (for a gap narrower than a few cells that may join start
+/// and goal, or an end closer to a circle than a cell) of at most `max_cells` cells: a front
+/// end gives the cells its process's memory allows (the first grid is its to check), so
+/// that a refinement is refused with its message rather than run out of memory. At most
+/// [`apart::REFINE_MAX_CELLS`] either way.
+///
+/// # Examples
+///
+/// ```
+/// use homospline_geom::Scene;
+/// use homospline_voronoi::{BuildError, GraphError};
+///
+/// // A start 0.15 from the rock, in a cell whose centre is in it at 2 cells per unit: the
+/// // finer grid it needs (about 50,000 cells) is over a limit of 10,000.
+/// let scene = Scene::from_str(
+///     "bounds: {min: [0, 0], max: [60, 60]}\nstart: [10.05, 30]\ngoal: [55, 30]\n\
+///      obstacles:\n  - name: rock\n    circles: [[20.2, 30, 10]]\n",
+///     "near.yaml",
+/// )?;
+/// let refused = homospline_voronoi::build_within(&scene, 2.0, 10_000);
+/// assert!(matches!(refused, Err(BuildError::Graph(GraphError::TooClose { .. }))));
+/// assert!(homospline_voronoi::build_within(&scene, 2.0, 1 << 20).is_ok());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn build_within(
+    scene: &Scene,
+    resolution: Real,
+    max_cells: usize,
+) -> Result<(Grid, DistanceField, VoronoiGraph), BuildError> {
+    let max_cells = max_cells.min(apart::REFINE_MAX_CELLS);
     let grid = match build_at(scene, resolution) {
         Ok(built) => return Ok(built),
         // A start or goal closer to a circle than this grid's cells can tell (its cell's
         // centre inside the circle): a grid fine enough for it, built once.
         Err(BuildAtError::Other(BuildError::Graph(GraphError::Occupied(what, x, y)))) => {
-            return build_for_ends(scene, resolution, what, Point::new(x, y));
+            return build_for_ends(scene, resolution, what, Point::new(x, y), max_cells);
         }
         Err(BuildAtError::Other(e)) => return Err(e),
         Err(BuildAtError::Apart(grid)) => grid,
     };
-    build_apart(scene, resolution, grid)
+    build_apart(scene, resolution, grid, max_cells)
 }
 
 /// [`build`] on a grid whose cells are at most the ends' clearance across, after `what` at
@@ -112,12 +146,13 @@ pub fn build(
 /// a circle; on that grid the centre of the cell holding an end is within `0.71 h` of it,
 /// so outside every circle: the end's cell is free. Refused, naming the end, its clearance
 /// and the `--resolution` that plans it, when that grid is over
-/// [`apart::REFINE_MAX_CELLS`] (or the end touches a circle).
+/// `max_cells` (or the end touches a circle).
 fn build_for_ends(
     scene: &Scene,
     resolution: Real,
     what: &'static str,
     p: Point,
+    max_cells: usize,
 ) -> Result<(Grid, DistanceField, VoronoiGraph), BuildError> {
     let set = scene.circle_set();
     let clear = |q: &Point| set.clearance(q).map_or(Real::INFINITY, |c| c.distance);
@@ -138,7 +173,7 @@ fn build_for_ends(
         .and_then(|n| scene.circle_owners().get(n.nearest).copied())
         .and_then(|o| scene.obstacles.get(o))
         .map_or_else(String::new, |o| format!(" '{}'", o.name));
-    if !(c > 0.0 && finer.is_finite() && cells <= apart::REFINE_MAX_CELLS as Real) {
+    if !(c > 0.0 && finer.is_finite() && cells <= max_cells as Real) {
         return Err(GraphError::TooClose {
             what,
             at: [p.x, p.y],
@@ -153,7 +188,7 @@ fn build_for_ends(
     match build_at(scene, finer) {
         Ok(built) => Ok(built),
         Err(BuildAtError::Other(e)) => Err(e),
-        Err(BuildAtError::Apart(grid)) => build_apart(scene, finer, grid),
+        Err(BuildAtError::Apart(grid)) => build_apart(scene, finer, grid, max_cells),
     }
 }
 
@@ -162,6 +197,7 @@ fn build_apart(
     scene: &Scene,
     resolution: Real,
     grid: Grid,
+    max_cells: usize,
 ) -> Result<(Grid, DistanceField, VoronoiGraph), BuildError> {
     // Apart on this grid: a gap narrower than a few cells may be closed here and open
     // between the circles. Judged from the circles ([`apart`]): walled apart, or built again
@@ -175,7 +211,7 @@ fn build_apart(
     let finer = 1.0001 / n.need;
     let ext = grid::scene_area(scene, finer).extent();
     let cells = ((ext.x * finer).ceil() + 2.0) * ((ext.y * finer).ceil() + 2.0);
-    if cells > apart::REFINE_MAX_CELLS as Real {
+    if cells > max_cells as Real {
         return Err(GraphError::Unresolved {
             resolution,
             width: n.width,

@@ -139,3 +139,29 @@ fn a_signal_during_a_write_leaves_no_temporary_file() {
         assert_eq!(std::fs::read_to_string(&json).unwrap(), "old", "SIG{name}");
     }
 }
+
+/// A start 0.05 from an obstacle needs a finer grid (2 million cells at 20 cells a unit);
+/// under `ulimit -v 300000` that grid is more than the process may use. It is refused
+/// with the resolution it needs (exit 2), and that resolution with what it needs (exit 3),
+/// never aborted by the allocator; without the limit it plans.
+#[test]
+fn a_finer_grid_keeps_to_the_memory_the_process_may_use() {
+    let near = ["plan", "fixtures/scenes/field.yaml", "--start", "30.95,30"];
+    let out = under_ulimit(300_000, &near);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("the start [30.95, 30] is 0.05 from obstacle 'o2'")
+            && err.contains("--resolution 20.1 plans it"),
+        "{err}"
+    );
+    let out = under_ulimit(300_000, &[&near[..], &["--resolution", "20.1"]].concat());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("ulimit -v") && !err.contains("memory allocation"),
+        "{err}"
+    );
+    let out = homospline().args(near).output().unwrap();
+    assert_ok(&out);
+}

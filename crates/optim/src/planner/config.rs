@@ -149,6 +149,11 @@ pub struct PlanConfig {
     /// as far as before, and `safe` says whether the path keeps this margin. `None`: the
     /// cost's `dm` as it is (a scene, or a map given `--weight dm=`).
     pub map_dm: Option<Real>,
+    /// The most cells of a scene's finer grid, when the first one cannot tell a narrow gap
+    /// or an end next to a circle ([`homospline_voronoi::build_within`]); at most, and by
+    /// default, [`homospline_voronoi::apart::REFINE_MAX_CELLS`]. Front ends set it from the
+    /// memory their process may use, as they check the first grid.
+    pub max_refined_cells: usize,
     /// A flag another thread may raise to end the plan early (a front end's Ctrl-C): no
     /// further growth round starts once it is raised, and the plan returns
     /// [`PlanError::Interrupted`]. Not a setting: two configurations compare equal whatever
@@ -284,6 +289,7 @@ impl Default for PlanConfig {
             finish_within: Some(DEFAULT_FINISH_WITHIN),
             detour: None,
             map_dm: None,
+            max_refined_cells: homospline_voronoi::apart::REFINE_MAX_CELLS,
             interrupt: Interrupt::default(),
         }
     }
