@@ -2,6 +2,7 @@
 //! `tests/NAME.rs` (one link instead of one per file: most of a cold `cargo test` was
 //! linking). Run one with `cargo test -p homospline-cli --test it NAME::`.
 
+mod answers;
 mod bench_scen;
 mod check;
 mod common;

@@ -1,0 +1,249 @@
+//! `homospline plan`'s answers a robot acts on, end to end: a time limit, a start next to an
+//! obstacle, no route written to the JSON, huge bounds round a small obstacle, and why there
+//! is no plan.
+
+use crate::common::*;
+use crate::plan::{chosen_class, plan_json};
+
+/// `v` without its times (`timing_ms`, each class's `time_ms`), which differ run to run.
+fn without_times(mut v: serde_json::Value) -> serde_json::Value {
+    v.as_object_mut().unwrap().remove("timing_ms");
+    for c in v["classes"].as_array_mut().unwrap() {
+        c.as_object_mut().unwrap().remove("time_ms");
+    }
+    v
+}
+
+#[test]
+fn a_time_limit_withholds_a_late_plan_and_never_changes_one() {
+    // A millisecond for plans of 64 classes and 100 rounds, which take a tenth of a second
+    // and more (so that a watchdog woken late still stops them), on a scene or a map:
+    // exit 4, the limit named, nothing written.
+    for (input, extra, name) in [
+        ("fixtures/scenes/field.yaml", &[][..], "field"),
+        (
+            "fixtures/maps/movingai/room-32-32-4.map",
+            &["--start", "2.5,2.5", "--goal", "30.5,30.5"][..],
+            "room-32-32-4",
+        ),
+    ] {
+        let json = tmp(&format!("late-{name}.json"));
+        let out = homospline()
+            .args(["plan", input, "--time-limit", "1", "--json"])
+            .arg(&json)
+            .args(["--classes", "64", "--rounds", "100"])
+            .args(extra)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(4), "{input}: {err}");
+        assert!(
+            err.contains(&format!("{name}: no plan within --time-limit 1 ms")),
+            "{err}"
+        );
+        assert!(!json.exists(), "{input}: a withheld plan writes nothing");
+    }
+    // A limit the plan meets: the plan without one, class for class.
+    let scene = "fixtures/scenes/concave-cup.yaml";
+    let free = plan_json(scene, &[], "limit-none.json");
+    let limited = plan_json(scene, &["--time-limit", "600000"], "limit-long.json");
+    assert_eq!(without_times(free), without_times(limited));
+    for v in ["0", "-1", "nan", "inf"] {
+        assert_refused(
+            &["plan", scene, &format!("--time-limit={v}")],
+            "must be a positive number of ms",
+        );
+    }
+}
+
+#[test]
+fn a_start_next_to_an_obstacle_plans_on_a_finer_grid() {
+    // 0.1 from obstacle o2 (centre (35, 30), radius 4): the default grid's cell holding it
+    // has its centre in o2. It was refused (exit 2, "falls in an occupied cell"); a robot
+    // stopped next to a rock must re-plan from where it stands.
+    let v = plan_json(
+        "fixtures/scenes/field.yaml",
+        &["--start", "30.9,30"],
+        "near-rock.json",
+    );
+    let c = chosen_class(&v);
+    let (clear, proven) = (
+        c["min_clearance"].as_f64().unwrap(),
+        c["certified_clearance"].as_f64().unwrap(),
+    );
+    assert_eq!(c["collision_free"], true);
+    // It leaves from the start's clearance, 0.1.
+    assert!(
+        proven > 0.0 && (clear - 0.1).abs() < 1e-3,
+        "{clear} {proven}"
+    );
+    // Closer than any grid within the limit can tell: refused, naming the end and what it
+    // is near.
+    assert_refused(
+        &[
+            "plan",
+            "fixtures/scenes/field.yaml",
+            "--start",
+            "30.99999999,30",
+        ],
+        "the start [30.99999999, 30] is 1e-8 from obstacle 'o2', closer than a grid of",
+    );
+}
+
+#[test]
+fn no_route_writes_a_json_without_a_plan_over_an_older_one() {
+    // A pipeline that reads the file, not the exit code, must not drive an older plan.
+    let json = tmp("no-route.json");
+    let map = [
+        "plan",
+        "fixtures/maps/movingai/room-32-32-4.map",
+        "--start",
+        "2.5,2.5",
+        "--goal",
+        "30.5,30.5",
+        "--json",
+        json.to_str().unwrap(),
+    ];
+    assert_ok(
+        &homospline()
+            .args(map)
+            .args(["--robot-radius", "0.3"])
+            .output()
+            .unwrap(),
+    );
+    assert_eq!(read_json(&json)["best"], 1);
+    let out = homospline()
+        .args(map)
+        .args(["--robot-radius", "1"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let v = read_json(&json);
+    assert!(
+        v["best"].is_null() && v["classes"].as_array().unwrap().is_empty(),
+        "{v}"
+    );
+    assert!(
+        v["no_route"]
+            .as_str()
+            .unwrap()
+            .starts_with("no route for a robot of radius 1: the widest route"),
+        "{v}"
+    );
+}
+
+#[test]
+fn huge_bounds_round_a_small_rock_plan_both_classes() {
+    // Bounds of 2e9 round a rock of radius 1: a grid over the bounds put the rock inside one
+    // cell, one class was found, and the plan went 252 units round it (the optimum is 21.8).
+    // The grid covers the scene's working area instead: both classes, each near the optimum.
+    let scene = tmp("huge.yaml");
+    std::fs::write(
+        &scene,
+        "name: huge\nbounds: {min: [-1e9, -1e9], max: [1e9, 1e9]}\nstart: [-10, 0]\ngoal: [10, 0]\n\
+         obstacles:\n  - name: rock\n    circles: [[0, 0, 1]]\n",
+    )
+    .unwrap();
+    let v = plan_json(scene.to_str().unwrap(), &[], "huge.json");
+    let classes = v["classes"].as_array().unwrap();
+    assert_eq!(classes.len(), 2, "{}", v["classes"]);
+    for c in classes {
+        assert_eq!(c["collision_free"], true);
+        let length = c["length"].as_f64().unwrap();
+        assert!(length < 22.5, "{length}");
+    }
+}
+
+#[test]
+fn the_straight_seed_in_the_cup_finds_no_plan_and_exits_1() {
+    // `--classes 1` is the straight seed's one class, so it is accepted (any other count is
+    // refused: see the bad-options table).
+    for extra in [&[][..], &["--classes", "1"][..]] {
+        let out = homospline()
+            .args([
+                "plan",
+                "fixtures/scenes/concave-cup.yaml",
+                "--seed",
+                "straight",
+            ])
+            .args(extra)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(1), "{extra:?}");
+        let stdout = String::from_utf8(out.stdout).unwrap();
+        assert!(
+            stdout.contains(
+                "no collision-free curve in the 1 class found (the closest, class A (id -1), \
+                 comes 0.976 into an obstacle): the straight seed tries one class"
+            ),
+            "{stdout}"
+        );
+        assert!(stdout.contains("seed straight  1 classes"), "{stdout}");
+    }
+    // A floor no class meets: the clearest class is named, with its clearance.
+    let out = homospline()
+        .args([
+            "plan",
+            "fixtures/scenes/field.yaml",
+            "--clearance-floor",
+            "12",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        stdout.contains(
+            "no collision-free class meets the clearance floor 12 (the clearest, class D (id -1-3-4-6), is certified"
+        ),
+        "{stdout}"
+    );
+    // A radius that leaves a door a two-thousandth of a cell: the map's classes are found
+    // (a route exists), but no curve keeps clear; the line says so, not "no route".
+    let out = homospline()
+        .args([
+            "plan",
+            "fixtures/maps/movingai/room-32-32-4.map",
+            "--start",
+            "2.5,2.5",
+            "--goal",
+            "30.5,30.5",
+            "--robot-radius",
+            "0.4995",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        stdout.contains("no collision-free curve in the 5 classes found")
+            && stdout
+                .contains("the graph joins start and goal, but no smooth curve found keeps clear"),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn a_change_that_makes_the_scene_invalid_is_named_by_its_option() {
+    for (args, msg) in [
+        // Each change that makes the scene invalid is named by its option.
+        (
+            vec!["plan", "--block", "60,60,1", "--block", "5,47,3"],
+            "--block 5,47,3: narrow-pass: start: [5, 47] is inside obstacle 'blocked-1'",
+        ),
+        (
+            vec!["plan", "--block", "40,30,1e10"],
+            "--block 40,30,1e10: narrow-pass: radius = 1e10 is too large",
+        ),
+        (
+            vec!["plan", "--start", "200,20"],
+            "--start 200,20: narrow-pass: [200, 20] is outside the bounds",
+        ),
+        (
+            vec!["plan", "--robot-radius", "45"],
+            "--robot-radius 45: narrow-pass: start: [5, 47] is inside obstacle",
+        ),
+    ] {
+        assert_refused(&args, msg);
+    }
+}
