@@ -169,6 +169,13 @@ pub fn scene_area(scene: &Scene, resolution: Real) -> homospline_geom::Bounds {
     }
 }
 
+/// The cells of a scene's grid at `resolution` ([`Grid::from_scene`]): its area
+/// ([`scene_area`]) and the wall ring, as a real so that a grid past any limit still counts.
+pub fn scene_cells(scene: &Scene, resolution: Real) -> Real {
+    let e = scene_area(scene, resolution).extent();
+    ((e.x * resolution).ceil() + 2.0) * ((e.y * resolution).ceil() + 2.0)
+}
+
 /// A grid of square cells. Cell `(i, j)` covers `[x0 + i h, x0 + (i + 1) h] x
 /// [y0 + j h, y0 + (j + 1) h]` with `(x0, y0) = origin`, `h = cell`. The outermost ring of
 /// cells is always occupied: it is the wall that bounds the free space.

@@ -166,8 +166,7 @@ fn build_for_ends(
     };
     let c = clear(&p);
     let finer = (1.0001 / c).max(resolution);
-    let ext = grid::scene_area(scene, finer).extent();
-    let cells = ((ext.x * finer).ceil() + 2.0) * ((ext.y * finer).ceil() + 2.0);
+    let cells = grid::scene_cells(scene, finer);
     let owner = set
         .clearance(&p)
         .and_then(|n| scene.circle_owners().get(n.nearest).copied())
@@ -209,8 +208,7 @@ fn build_apart(
     };
     // A hair finer than the need, so that the grid is sure to meet it.
     let finer = 1.0001 / n.need;
-    let ext = grid::scene_area(scene, finer).extent();
-    let cells = ((ext.x * finer).ceil() + 2.0) * ((ext.y * finer).ceil() + 2.0);
+    let cells = grid::scene_cells(scene, finer);
     if cells > max_cells as Real {
         return Err(GraphError::Unresolved {
             resolution,
