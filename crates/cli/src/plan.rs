@@ -131,6 +131,15 @@ fn time_limit(a: &PlanArgs) -> anyhow::Result<Option<std::time::Duration>> {
     Ok(std::time::Duration::try_from_secs_f64(ms / 1e3).ok())
 }
 
+/// A setting that the input refuses at plan time (an avoided class of rays it has not),
+/// on `name`, spelled as its option (`--avoid 'abc': ...`).
+fn refused_setting(name: &str, c: homospline_optim::planner::ConfigError) -> String {
+    format!(
+        "{name}: {}",
+        homospline_front::OptionError::from(c).spelled(homospline_front::Spelling::Flag)
+    )
+}
+
 /// The error of a plan that `--time-limit` stopped (exit 4), naming `name`.
 fn timed_out(a: &PlanArgs, name: &str) -> anyhow::Error {
     TimedOut(format!(
@@ -369,12 +378,7 @@ fn plan_scene(
         let msg = match &e {
             // A setting the scene refuses (an avoided class of rays it has not), as the
             // option spells it.
-            PlanError::Config(c) => format!(
-                "{}: {}",
-                scene.name,
-                homospline_front::OptionError::from(c.clone())
-                    .spelled(homospline_front::Spelling::Flag)
-            ),
+            PlanError::Config(c) => refused_setting(&scene.name, c.clone()),
             e => format!("{}: {e}", scene.name),
         };
         if matches!(e, PlanError::Interrupted) {
@@ -440,11 +444,7 @@ fn plan_map(
     };
     let mut result = prepared.plan(s, g, cfg).map_err(|e| match e {
         MapError::Plan(PlanError::Interrupted) => timed_out(a, &map.name),
-        MapError::Plan(PlanError::Config(c)) => bad(format!(
-            "{}: {}",
-            map.name,
-            homospline_front::OptionError::from(c).spelled(homospline_front::Spelling::Flag)
-        )),
+        MapError::Plan(PlanError::Config(c)) => bad(refused_setting(&map.name, c)),
         e => map_error(e),
     })?;
     // A map's plan does not copy the query's graph out of the map's; the picture draws it.
