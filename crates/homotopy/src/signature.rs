@@ -409,6 +409,52 @@ impl Rays {
         (0..from.len() - 1).all(|k| self.quad_is_clear([from[k], from[k + 1], to[k + 1], to[k]]))
     }
 
+    /// How far each point of `polyline` may move, its ends fixed, with its signature
+    /// unchanged: the least distance from an origin to the polyline, less a margin far
+    /// beyond rounding (that of [`Rays::sweep_is_clear`], for the polyline's own box), and 0
+    /// when nothing is left or there is no polyline. Another polyline of as many points and
+    /// the same ends, whose point `k` lies less than this from point `k` of `polyline`, has
+    /// the same signature: the straight-line homotopy between them stays within that
+    /// distance of `polyline` (a point of a segment between two moved points moves by at
+    /// most the larger move), so it meets no origin. For a caller that checks many small
+    /// moves of one polyline known to be in a class: one pass over the origins here, then
+    /// a distance per move instead of a signature. `+inf` with no origins.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use homospline_geom::Point;
+    /// use homospline_homotopy::Rays;
+    ///
+    /// let rays = Rays::new(vec![Point::new(0.0, 0.0)]);
+    /// let above = [Point::new(-5.0, 2.0), Point::new(0.0, 2.0), Point::new(5.0, 2.0)];
+    /// let margin = rays.word_margin(&above);
+    /// assert!(margin > 1.99 && margin < 2.0);
+    /// let lower = [above[0], Point::new(0.0, 0.5), above[2]];
+    /// assert!((lower[1] - above[1]).norm() < margin);
+    /// assert_eq!(rays.signature(&lower), rays.signature(&above));
+    /// ```
+    ///
+    /// # See also
+    /// [`Rays::sweep_is_clear`], which proves a move of any size clear of the origins.
+    pub fn word_margin(&self, polyline: &[Point]) -> Real {
+        if polyline.len() < 2 {
+            return 0.0;
+        }
+        let (_, _, rounding) = self.margin_box(polyline);
+        let least = self
+            .origins
+            .iter()
+            .map(|o| {
+                polyline
+                    .windows(2)
+                    .map(|w| homospline_geom::math::distance_point_segment(o, &w[0], &w[1]))
+                    .fold(Real::INFINITY, Real::min)
+            })
+            .fold(Real::INFINITY, Real::min);
+        (least - 2.0 * rounding).max(0.0)
+    }
+
     /// Whether no origin lies in or near the convex hull of the quadrilateral `[a, b, c, d]`
     /// ([`Rays::sweep_is_clear`]): the loop round it is then contractible.
     fn quad_is_clear(&self, [a, b, c, d]: [Point; 4]) -> bool {

@@ -27,7 +27,7 @@ pub use config::{GrowthConfig, Optimizer};
 pub use finish::{FINISH_SAMPLES, FINISH_WEIGHTS, MIN_FINISH_EVALUATIONS};
 pub use guard::{
     DIRECT_SIGNATURE_RAYS, Guard, LOCAL_PROOF_RAYS, MAX_REPORT_SAMPLES, SHORT_OF_TARGET,
-    STRICT_SLACK, admissible, in_class_beside, report_spacing, stays_in_bounds,
+    STRICT_SLACK, Tube, admissible, in_class_beside, report_spacing, stays_in_bounds,
 };
 pub use state::{Grown, Growth, Round};
 

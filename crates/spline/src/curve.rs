@@ -419,6 +419,54 @@ impl Spline {
             .collect()
     }
 
+    /// A bound on how far apart this curve and `other` come at any one parameter,
+    /// `max over t of |q(t) - other(t)|`, from the Bezier control points of their
+    /// difference segment by segment (the difference of each segment lies in their convex
+    /// hull); `None` unless both have the same knots. Never below the true largest gap, but
+    /// for rounding (of the order of `1e-16` times the coefficients).
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use homospline_geom::Point;
+    /// use homospline_spline::{EndCondition, Parametrization, Spline};
+    ///
+    /// let s = Point::new(0.0, 0.0);
+    /// let t = Point::new(10.0, 0.0);
+    /// let build = |y| {
+    ///     Spline::new(&[s, Point::new(5.0, y), t], Parametrization::Uniform, EndCondition::Natural)
+    ///         .unwrap()
+    /// };
+    /// let (a, b) = (build(2.0), build(2.5));
+    /// let bound = a.deviation_bound(&b).unwrap();
+    /// // The via-point moved by 0.5, the ends not at all: the bound is at least 0.5.
+    /// assert!(bound >= 0.5 && bound < 1.0, "{bound}");
+    /// assert!((a.position(0.5) - b.position(0.5)).norm() <= bound);
+    /// ```
+    ///
+    /// # See also
+    /// [`Spline::segment_box`], the same control points' box of one curve.
+    pub fn deviation_bound(&self, other: &Spline) -> Option<Real> {
+        if self.knots != other.knots {
+            return None;
+        }
+        let mut bound: Real = 0.0;
+        for (i, (p, q)) in self.coef.iter().zip(&other.coef).enumerate() {
+            let h = self.knots[i + 1] - self.knots[i];
+            let (a, b, c, d) = (p[0] - q[0], p[1] - q[1], p[2] - q[2], p[3] - q[3]);
+            let controls = [
+                a,
+                a + b * (h / 3.0),
+                a + b * (2.0 * h / 3.0) + c * (h * h / 3.0),
+                a + b * h + c * (h * h) + d * (h * h * h),
+            ];
+            for v in controls {
+                bound = bound.max(v.norm());
+            }
+        }
+        Some(bound)
+    }
+
     /// A control-polygon bound of segment `i`: the box of its Bezier control points, which
     /// contains the segment (convex hull property).
     pub fn segment_box(&self, i: usize) -> (Point, Point) {

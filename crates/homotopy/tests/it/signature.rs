@@ -232,6 +232,42 @@ proptest! {
         }
     }
 
+    /// A polyline whose every point moves by less than `word_margin` (ends kept) has the
+    /// same signature, for moves up to the margin itself; and the margin is the least
+    /// distance from an origin to the polyline, less rounding.
+    #[test]
+    fn a_move_within_the_word_margin_keeps_the_signature(
+        reps in prop::collection::vec((-30.0..30.0, -30.0..30.0), 0..60),
+        inner in prop::collection::vec((-30.0..30.0, -30.0..30.0), 1..12),
+        moves in prop::collection::vec((-1.0..1.0, -1.0..1.0), 12),
+        share in 0.0..1.0f64,
+    ) {
+        let origins: Vec<Point> = reps.iter().map(|&(x, y)| Point::new(x, y)).collect();
+        let rays = Rays::new(origins.clone());
+        let from = path_through(&inner);
+        let margin = rays.word_margin(&from);
+        let least = origins
+            .iter()
+            .map(|o| {
+                from.windows(2)
+                    .map(|w| homospline_geom::math::distance_point_segment(o, &w[0], &w[1]))
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .fold(f64::INFINITY, f64::min);
+        if origins.is_empty() {
+            prop_assert_eq!(margin, f64::INFINITY);
+            return Ok(());
+        }
+        prop_assert!(margin <= least && margin >= (least - 1e-6).max(0.0), "{} {}", margin, least);
+        // Each inner point moved by at most `share` of the margin (each move's length is at
+        // most sqrt(2) before scaling).
+        let to = moved_inner(&from, &moves, share * margin / 2f64.sqrt());
+        prop_assert!(from.iter().zip(&to).all(|(a, b)| (a - b).norm() < margin || margin == 0.0));
+        if margin > 0.0 {
+            prop_assert_eq!(rays.signature(&from), rays.signature(&to));
+        }
+    }
+
     /// Whenever the local proof decides, it says what the signatures say: for moves of every
     /// size, for polylines of other point counts (the same path with points added, and
     /// another path altogether), among few and many origins.

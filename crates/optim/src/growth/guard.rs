@@ -39,6 +39,20 @@ pub struct Guard<'a> {
     /// map with thousands of obstacles the signature of every candidate was most of the
     /// optimisation's time.
     pub proven: RefCell<Option<Vec<Point>>>,
+    /// The last candidate whose class was proven by its signature among few obstacles, and
+    /// how far its samples may move and keep it ([`Rays::word_margin`]); start with
+    /// `Default::default()`. A candidate of the same knots whose curve stays that close to
+    /// it ([`Spline::deviation_bound`]) is in the class without its samples' signature. The
+    /// answer is the signature's: only the work differs.
+    pub tube: RefCell<Option<Tube>>,
+}
+
+/// A curve known to be in its class, with how far its guard samples may move and keep it
+/// ([`Guard::tube`]).
+#[derive(Clone, Debug)]
+pub struct Tube {
+    spline: Spline,
+    margin: Real,
 }
 
 impl Guard<'_> {
@@ -151,12 +165,26 @@ pub const LOCAL_PROOF_RAYS: usize = 1024;
 /// samples ([`Rays::sweep_is_clear`]) and, beyond [`LOCAL_PROOF_RAYS`], by the words of the
 /// loops where it is not clear ([`Rays::same_class`]), the signature computed only when
 /// those do not decide; the samples in the class become
-/// the guard's new reference. The collision test of a guarded candidate
+/// the guard's new reference. Up to [`DIRECT_SIGNATURE_RAYS`] obstacles, a candidate whose
+/// curve stays within the guard's [`Tube`] (the last curve whose samples' signature was
+/// computed, and how far they may move keeping it) is in the class without a signature;
+/// and a curve whose Bezier control boxes are inside the bounds needs no samples for them
+/// (an optimiser's steps are small: on the paper scenes most candidates are decided so,
+/// with the same answers). The collision test of a guarded candidate
 /// is the cost's own `m(C)` (every quadrature node, refined near the worst one), checked
 /// after the evaluation; a round's result is certified.
 pub fn admissible(spline: &Spline, guard: &Guard<'_>, samples_per_segment: usize) -> bool {
+    // The curve's Bezier boxes inside the bounds put every sample inside.
+    let boxed = boxes_in_bounds(spline, &guard.bounds);
+    if boxed {
+        match guard.class {
+            None => return true,
+            Some(_) if in_tube(spline, guard) => return true,
+            Some(_) => {}
+        }
+    }
     let pts = spline.sample_uniform(spline.segments() * samples_per_segment.max(2));
-    if !pts.iter().all(|p| guard.bounds.contains(p)) {
+    if !boxed && !pts.iter().all(|p| guard.bounds.contains(p)) {
         return false;
     }
     match guard.class {
@@ -164,12 +192,41 @@ pub fn admissible(spline: &Spline, guard: &Guard<'_>, samples_per_segment: usize
             let mut proven = guard.proven.borrow_mut();
             let same = in_class_beside(rays, sig, proven.as_deref(), &pts);
             if same {
+                if rays.len() <= DIRECT_SIGNATURE_RAYS {
+                    *guard.tube.borrow_mut() = Some(Tube {
+                        spline: spline.clone(),
+                        margin: rays.word_margin(&pts),
+                    });
+                }
                 *proven = Some(pts);
             }
             same
         }
         None => true,
     }
+}
+
+/// Whether every segment's Bezier control box lies inside `bounds` (then so does the curve).
+fn boxes_in_bounds(spline: &Spline, bounds: &Bounds) -> bool {
+    (0..spline.segments()).all(|i| {
+        let (lo, hi) = spline.segment_box(i);
+        bounds.contains(&lo) && bounds.contains(&hi)
+    })
+}
+
+/// Whether `spline` is proven in the guard's class by its tube: it has the tube curve's
+/// knots and ends, and comes nowhere as far from it as the tube's margin, so each of its
+/// guard samples lies closer than that to the tube curve's sample at the same parameter.
+fn in_tube(spline: &Spline, guard: &Guard<'_>) -> bool {
+    let tube = guard.tube.borrow();
+    let Some(tube) = tube.as_ref() else {
+        return false;
+    };
+    let ends = |s: &Spline| (s.points().first().copied(), s.points().last().copied());
+    ends(spline) == ends(&tube.spline)
+        && spline
+            .deviation_bound(&tube.spline)
+            .is_some_and(|gap| gap < tube.margin)
 }
 
 /// Whether the polyline `pts` is in the class `sig`, given `known`, a polyline known to be
@@ -211,13 +268,15 @@ pub fn report_spacing(length: Real) -> Real {
 /// Whether the curve stays inside `bounds`: certified per segment by its Bezier control box,
 /// else checked at the samples of the reported path (`report_spacing`).
 pub fn stays_in_bounds(spline: &Spline, bounds: &Bounds) -> bool {
-    let boxed = (0..spline.segments()).all(|i| {
-        let (lo, hi) = spline.segment_box(i);
-        bounds.contains(&lo) && bounds.contains(&hi)
-    });
-    boxed
+    boxes_in_bounds(spline, bounds)
         || spline
             .sample_by_arc_length(report_spacing(spline.length()))
             .iter()
             .all(|(_, p)| bounds.contains(p))
+}
+
+/// [`in_tube`], for the unit tests.
+#[cfg(test)]
+pub(super) fn in_tube_for_test(spline: &Spline, guard: &Guard<'_>) -> bool {
+    in_tube(spline, guard)
 }

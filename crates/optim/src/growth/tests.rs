@@ -1,5 +1,5 @@
-//! The growth loop's unit tests: the guard's ranking of candidates short of the target, a
-//! round called off, and the shrinking round budget.
+//! The growth loop's unit tests: the guard's ranking of candidates short of the target, its
+//! tube, a round called off, and the shrinking round budget.
 
 use super::*;
 use homospline_geom::{Bounds, Real};
@@ -17,6 +17,7 @@ fn a_candidate_short_of_the_target_ranks_after_every_one_that_keeps_it() {
         clearance_floor: Real::NEG_INFINITY,
         clearance_target: 3.0,
         proven: Default::default(),
+        tube: Default::default(),
     };
     let at = |m: Real, total: Real| CostTerms {
         min_clearance: m,
@@ -67,6 +68,7 @@ fn a_round_called_off_leaves_the_loop_as_it_was_and_one_not_called_off_is_a_step
         clearance_floor: Real::NEG_INFINITY,
         clearance_target: Real::NEG_INFINITY,
         proven: Default::default(),
+        tube: Default::default(),
     };
     let cfg = GrowthConfig::default();
     let mut stepped = Growth::new(&seed, &model, &cfg, &guard).unwrap();
@@ -126,4 +128,63 @@ fn long_curves_get_a_proportionally_smaller_budget_down_to_the_floor() {
         ..GrowthConfig::default()
     };
     assert_eq!(off.round_budget(10_000), 800);
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+
+    /// The guard's answer for a run of candidates, each a random move of the last from a
+    /// curve in the class, is the samples' signature and bounds check, whatever the guard's
+    /// tube holds; and small moves are decided by the tube (the shortcut is taken).
+    #[test]
+    fn the_tube_answers_as_the_signature(
+        origins in proptest::collection::vec((-20.0..20.0, -15.0..15.0), 1..8),
+        moves in proptest::collection::vec(
+            (0usize..3, -1.0..1.0f64, -1.0..1.0f64, 0.0..6.0f64), 1..40),
+    ) {
+        use homospline_homotopy::Rays;
+        use homospline_spline::{EndCondition, Parametrization, Spline};
+        let origins: Vec<Point> = origins.iter().map(|&(x, y)| Point::new(x, y)).collect();
+        let rays = Rays::new(origins);
+        let bounds = Bounds { min: Point::new(-30.0, -20.0), max: Point::new(30.0, 20.0) };
+        let mut pts = vec![
+            Point::new(-25.0, 0.0),
+            Point::new(-8.0, 16.0),
+            Point::new(0.0, 17.0),
+            Point::new(8.0, 16.0),
+            Point::new(25.0, 0.0),
+        ];
+        let build = |p: &[Point]| Spline::new(p, Parametrization::Uniform, EndCondition::Natural).unwrap();
+        let samples = |sp: &Spline| sp.sample_uniform(sp.segments() * 8);
+        let sig = rays.signature(&samples(&build(&pts)));
+        let guard = Guard {
+            class: Some((&rays, &sig)),
+            bounds,
+            collision_free: true,
+            clearance_floor: Real::NEG_INFINITY,
+            clearance_target: Real::NEG_INFINITY,
+            proven: Default::default(),
+            tube: Default::default(),
+        };
+        for (k, dx, dy, size) in moves {
+            pts[k + 1] += homospline_geom::Vector::new(dx, dy) * size;
+            let sp = build(&pts);
+            let s = samples(&sp);
+            let in_class = rays.signature(&s) == sig;
+            let expected = s.iter().all(|p| bounds.contains(p)) && in_class;
+            let tubed = guard::in_tube_for_test(&sp, &guard);
+            proptest::prop_assert_eq!(admissible(&sp, &guard, 8), expected);
+            if tubed {
+                proptest::prop_assert!(in_class);
+            }
+        }
+        // A tiny move of a curve just proven in the class is decided by the tube.
+        let sp = build(&pts);
+        if admissible(&sp, &guard, 8) {
+            pts[2] += homospline_geom::Vector::new(1e-9, 0.0);
+            let moved = build(&pts);
+            proptest::prop_assert!(guard::in_tube_for_test(&moved, &guard));
+            proptest::prop_assert!(admissible(&moved, &guard, 8));
+        }
+    }
 }

@@ -85,6 +85,7 @@ fn class_setup<'w>(
             _ => Real::NEG_INFINITY,
         },
         proven: Default::default(),
+        tube: Default::default(),
     };
     (growth, guard)
 }

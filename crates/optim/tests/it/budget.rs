@@ -231,6 +231,7 @@ fn scan_the_convergence() {
             clearance_floor: Real::NEG_INFINITY,
             clearance_target: defaults.growth.cost.dm + defaults.certify_tolerance,
             proven: Default::default(),
+            tube: Default::default(),
         };
         let inner = chosen.via_points.len() - 2;
         let one_round = |per_dimension: usize, seed: &[Point]| {

@@ -359,6 +359,45 @@ proptest! {
         }
     }
 
+    /// The deviation bound of two curves of the same knots is never below their gap at any
+    /// parameter (dense samples), and is the via-points' largest move or more; curves of
+    /// other knots have none.
+    #[test]
+    fn the_deviation_bound_bounds_the_gap(
+        pts in prop::collection::vec((0.0..60.0, 0.0..60.0), 3..10),
+        moves in prop::collection::vec((-3.0..3.0, -3.0..3.0), 10),
+        clamped in any::<bool>(),
+    ) {
+        let pts: Vec<Point> = pts.into_iter().map(|(x, y)| Point::new(x, y)).collect();
+        let n = pts.len();
+        let moved: Vec<Point> = pts
+            .iter()
+            .enumerate()
+            .map(|(k, p)| if k == 0 || k == n - 1 { *p } else { p + Vector::new(moves[k].0, moves[k].1) })
+            .collect();
+        let end = if clamped {
+            EndCondition::Clamped { start: Vector::new(1.0, 2.0), end: Vector::new(-3.0, 0.5) }
+        } else {
+            EndCondition::Natural
+        };
+        let (Ok(a), Ok(b)) = (
+            Spline::new(&pts, Parametrization::Uniform, end),
+            Spline::new(&moved, Parametrization::Uniform, end),
+        ) else { return Ok(()) };
+        let bound = a.deviation_bound(&b).unwrap();
+        prop_assert_eq!(b.deviation_bound(&a).unwrap(), bound);
+        let largest_move = pts.iter().zip(&moved).map(|(p, q)| (p - q).norm()).fold(0.0, f64::max);
+        prop_assert!(bound >= largest_move * (1.0 - 1e-12), "{} {}", bound, largest_move);
+        for k in 0..=2000 {
+            let t = k as f64 / 2000.0;
+            let gap = (a.position(t) - b.position(t)).norm();
+            prop_assert!(gap <= bound * (1.0 + 1e-12) + 1e-12, "t {} gap {} bound {}", t, gap, bound);
+        }
+        prop_assert_eq!(a.deviation_bound(&a).unwrap(), 0.0);
+        let fewer = Spline::new(&[pts[0], pts[n - 1]], Parametrization::Uniform, end).unwrap();
+        prop_assert!(a.deviation_bound(&fewer).is_none());
+    }
+
     #[test]
     fn an_evaluation_stopped_early_bounds_the_full_one_and_one_not_stopped_is_it(
         s in random_spline(),
