@@ -88,16 +88,16 @@ pub struct Roughness {
 pub fn roughness(spline: &Spline, form: RoughnessForm, partials: bool) -> Roughness {
     let n = spline.segments();
     let knots = spline.knots();
-    // q'' at every knot (continuous: a C2 spline).
-    let acc: Vec<Vector> = (0..=n)
-        .map(|i| {
-            if i < n {
-                spline.eval_segment(i, 0.0).2
-            } else {
-                spline.eval_segment(n - 1, knots[n] - knots[n - 1]).2
-            }
-        })
-        .collect();
+    // q'' at every knot (continuous: a C2 spline), each computed once, as the loop reaches
+    // it (no buffer: this runs at every evaluation).
+    let acc = |i: usize| {
+        if i < n {
+            spline.eval_segment(i, 0.0).2
+        } else {
+            spline.eval_segment(n - 1, knots[n] - knots[n - 1]).2
+        }
+    };
+    let mut next = acc(0);
     let mut value = 0.0;
     let mut knot_partials = if partials {
         vec![Vector::zeros(); n + 1]
@@ -106,7 +106,8 @@ pub fn roughness(spline: &Spline, form: RoughnessForm, partials: bool) -> Roughn
     };
     for i in 0..n {
         let h = knots[i + 1] - knots[i];
-        let (a0, a1) = (acc[i], acc[i + 1]);
+        let (a0, a1) = (next, acc(i + 1));
+        next = a1;
         let (f, g0, g1) = match form {
             RoughnessForm::Paper if partials => bending::<true>(a0, a1),
             RoughnessForm::Paper => bending::<false>(a0, a1),
