@@ -455,6 +455,36 @@ impl Rays {
         (least - 2.0 * rounding).max(0.0)
     }
 
+    /// How far `p` may move without crossing the line of any ray, less the same rounding
+    /// margin as [`Rays::word_margin`]'s: the least distance from `p` to a ray's whole line
+    /// (0 when nothing is left, `+inf` without rays). A polyline's end that moves by less
+    /// than this crosses no ray on the way, so the end of a polyline moved within its
+    /// [`Rays::word_margin`] may also move by that much (the computed last point of a curve
+    /// differs from its goal by rounding) and keep the word.
+    ///
+    /// # Examples
+    ///
+    /// ```
+    /// use homospline_geom::Point;
+    /// use homospline_homotopy::Rays;
+    ///
+    /// let rays = Rays::new(vec![Point::new(0.0, 0.0)]);
+    /// let on_the_line = Point::new(0.0, 0.0) + rays.direction() * 5.0;
+    /// assert_eq!(rays.line_gap(&on_the_line), 0.0);
+    /// assert!(rays.line_gap(&Point::new(0.0, 0.0)) == 0.0);
+    /// ```
+    pub fn line_gap(&self, p: &Point) -> Real {
+        let dir = self.direction();
+        let len = dir.norm();
+        let (_, _, rounding) = self.margin_box(std::slice::from_ref(p));
+        let least = self
+            .origins
+            .iter()
+            .map(|o| dir.perp(&(p - o)).abs() / len)
+            .fold(Real::INFINITY, Real::min);
+        (least - 2.0 * rounding).max(0.0)
+    }
+
     /// Whether no origin lies in or near the convex hull of the quadrilateral `[a, b, c, d]`
     /// ([`Rays::sweep_is_clear`]): the loop round it is then contractible.
     fn quad_is_clear(&self, [a, b, c, d]: [Point; 4]) -> bool {

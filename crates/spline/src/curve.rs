@@ -467,6 +467,15 @@ impl Spline {
         Some(bound)
     }
 
+    /// The size of segment `i`'s terms on its parameter interval, `|a| + |b| h + |c| h^2 +
+    /// |d| h^3` (largest coordinate of each): the scale of the rounding in a point computed
+    /// on it.
+    pub fn segment_size(&self, i: usize) -> Real {
+        let h = self.knots[i + 1] - self.knots[i];
+        let [a, b, c, d] = &self.coef[i];
+        a.amax() + b.amax() * h + c.amax() * h * h + d.amax() * h * h * h
+    }
+
     /// A control-polygon bound of segment `i`: the box of its Bezier control points, which
     /// contains the segment (convex hull property).
     pub fn segment_box(&self, i: usize) -> (Point, Point) {

@@ -3,7 +3,7 @@
 
 use std::cell::RefCell;
 
-use homospline_geom::{Bounds, Point, Real};
+use homospline_geom::{Bounds, Point, Real, Vector};
 use homospline_homotopy::{Rays, Signature};
 use homospline_spline::{
     ClearanceModel, CostTerms, Spline, evaluate_weighted_unless, is_clear_by, is_collision_free,
@@ -52,7 +52,14 @@ pub struct Guard<'a> {
 #[derive(Clone, Debug)]
 pub struct Tube {
     spline: Spline,
+    /// [`Rays::word_margin`] of its samples.
     margin: Real,
+    /// How many samples it was proven on.
+    samples: usize,
+    /// Its last sample (`q(1)` as computed, which may differ from the goal by rounding).
+    last: Point,
+    /// How far that last sample may move crossing no ray's line ([`Rays::line_gap`]).
+    end_gap: Real,
 }
 
 impl Guard<'_> {
@@ -174,16 +181,18 @@ pub const LOCAL_PROOF_RAYS: usize = 1024;
 /// is the cost's own `m(C)` (every quadrature node, refined near the worst one), checked
 /// after the evaluation; a round's result is certified.
 pub fn admissible(spline: &Spline, guard: &Guard<'_>, samples_per_segment: usize) -> bool {
-    // The curve's Bezier boxes inside the bounds put every sample inside.
-    let boxed = boxes_in_bounds(spline, &guard.bounds);
+    let n = spline.segments() * samples_per_segment.max(2);
+    // The curve's Bezier boxes inside the bounds, by more than the samples' rounding, put
+    // every sample inside.
+    let boxed = boxes_inside(spline, &guard.bounds, true);
     if boxed {
         match guard.class {
             None => return true,
-            Some(_) if in_tube(spline, guard) => return true,
+            Some(_) if in_tube(spline, guard, n) => return true,
             Some(_) => {}
         }
     }
-    let pts = spline.sample_uniform(spline.segments() * samples_per_segment.max(2));
+    let pts = spline.sample_uniform(n);
     if !boxed && !pts.iter().all(|p| guard.bounds.contains(p)) {
         return false;
     }
@@ -196,6 +205,9 @@ pub fn admissible(spline: &Spline, guard: &Guard<'_>, samples_per_segment: usize
                     *guard.tube.borrow_mut() = Some(Tube {
                         spline: spline.clone(),
                         margin: rays.word_margin(&pts),
+                        samples: n,
+                        last: pts[pts.len() - 1],
+                        end_gap: rays.line_gap(&pts[pts.len() - 1]),
                     });
                 }
                 *proven = Some(pts);
@@ -206,24 +218,37 @@ pub fn admissible(spline: &Spline, guard: &Guard<'_>, samples_per_segment: usize
     }
 }
 
-/// Whether every segment's Bezier control box lies inside `bounds` (then so does the curve).
-fn boxes_in_bounds(spline: &Spline, bounds: &Bounds) -> bool {
+/// Whether every segment's Bezier control box lies inside `bounds` (then so does the
+/// curve); with `rounding`, inside by more than a bound on the rounding of the curve's
+/// points as computed from the segment's coefficients (`1e-12` of their sizes, some ten
+/// thousand times the rounding), so that every computed sample is inside too.
+fn boxes_inside(spline: &Spline, bounds: &Bounds, rounding: bool) -> bool {
     (0..spline.segments()).all(|i| {
-        let (lo, hi) = spline.segment_box(i);
+        let (mut lo, mut hi) = spline.segment_box(i);
+        if rounding {
+            let e = 1e-12 * spline.segment_size(i);
+            lo -= Vector::new(e, e);
+            hi += Vector::new(e, e);
+        }
         bounds.contains(&lo) && bounds.contains(&hi)
     })
 }
 
-/// Whether `spline` is proven in the guard's class by its tube: it has the tube curve's
-/// knots and ends, and comes nowhere as far from it as the tube's margin, so each of its
-/// guard samples lies closer than that to the tube curve's sample at the same parameter.
-fn in_tube(spline: &Spline, guard: &Guard<'_>) -> bool {
+/// Whether `spline` is proven in the guard's class by its tube (for `samples` samples): it
+/// has the tube curve's knots and first point, comes nowhere as far from it as the tube's
+/// margin (so each of its samples lies closer than that to the tube curve's sample at the
+/// same parameter), and its last sample, which rounding may move off the goal, lies within
+/// both the margin and the tube's end gap of the tube's (so that the end's own move crosses
+/// no ray).
+fn in_tube(spline: &Spline, guard: &Guard<'_>, samples: usize) -> bool {
     let tube = guard.tube.borrow();
     let Some(tube) = tube.as_ref() else {
         return false;
     };
-    let ends = |s: &Spline| (s.points().first().copied(), s.points().last().copied());
-    ends(spline) == ends(&tube.spline)
+    let end_move = (spline.position(1.0) - tube.last).norm();
+    tube.samples == samples
+        && spline.points().first() == tube.spline.points().first()
+        && end_move < tube.end_gap.min(tube.margin)
         && spline
             .deviation_bound(&tube.spline)
             .is_some_and(|gap| gap < tube.margin)
@@ -268,7 +293,7 @@ pub fn report_spacing(length: Real) -> Real {
 /// Whether the curve stays inside `bounds`: certified per segment by its Bezier control box,
 /// else checked at the samples of the reported path (`report_spacing`).
 pub fn stays_in_bounds(spline: &Spline, bounds: &Bounds) -> bool {
-    boxes_in_bounds(spline, bounds)
+    boxes_inside(spline, bounds, false)
         || spline
             .sample_by_arc_length(report_spacing(spline.length()))
             .iter()
@@ -277,6 +302,6 @@ pub fn stays_in_bounds(spline: &Spline, bounds: &Bounds) -> bool {
 
 /// [`in_tube`], for the unit tests.
 #[cfg(test)]
-pub(super) fn in_tube_for_test(spline: &Spline, guard: &Guard<'_>) -> bool {
-    in_tube(spline, guard)
+pub(super) fn in_tube_for_test(spline: &Spline, guard: &Guard<'_>, samples: usize) -> bool {
+    in_tube(spline, guard, samples)
 }

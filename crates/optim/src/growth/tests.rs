@@ -172,7 +172,7 @@ proptest::proptest! {
             let s = samples(&sp);
             let in_class = rays.signature(&s) == sig;
             let expected = s.iter().all(|p| bounds.contains(p)) && in_class;
-            let tubed = guard::in_tube_for_test(&sp, &guard);
+            let tubed = guard::in_tube_for_test(&sp, &guard, sp.segments() * 8);
             proptest::prop_assert_eq!(admissible(&sp, &guard, 8), expected);
             if tubed {
                 proptest::prop_assert!(in_class);
@@ -183,8 +183,86 @@ proptest::proptest! {
         if admissible(&sp, &guard, 8) {
             pts[2] += homospline_geom::Vector::new(1e-9, 0.0);
             let moved = build(&pts);
-            proptest::prop_assert!(guard::in_tube_for_test(&moved, &guard));
+            proptest::prop_assert!(guard::in_tube_for_test(&moved, &guard, moved.segments() * 8));
             proptest::prop_assert!(admissible(&moved, &guard, 8));
         }
     }
+}
+
+/// A review's two counterexamples to the shortcuts of `admissible`, which must answer as the
+/// samples do: a curve whose last sample rounds past the bounds' edge (its goal on the edge)
+/// while its Bezier boxes are inside; and a candidate whose last sample rounds to the other
+/// side of a ray's line through the goal than the tube curve's.
+#[test]
+fn the_shortcuts_answer_as_the_samples_where_rounding_decides() {
+    use homospline_homotopy::Rays;
+    use homospline_spline::{EndCondition, Parametrization, Spline};
+    let build =
+        |p: &[Point]| Spline::new(p, Parametrization::Uniform, EndCondition::Natural).unwrap();
+    let by_samples = |sp: &Spline, bounds: &Bounds, class: Option<(&Rays, &_)>| {
+        let s = sp.sample_uniform(sp.segments() * 8);
+        s.iter().all(|p| bounds.contains(p))
+            && class.is_none_or(|(rays, sig): (&Rays, &homospline_homotopy::Signature)| {
+                &rays.signature(&s) == sig
+            })
+    };
+    // The goal on the bounds' edge.
+    let bounds = Bounds {
+        min: Point::new(0.0, 0.0),
+        max: Point::new(40.0, 20.0),
+    };
+    let edge = build(&[
+        Point::new(2.0, 10.0),
+        Point::new(28.945755071768232, 5.808958725325004),
+        Point::new(23.2893731860062, 4.309975630763914),
+        Point::new(15.244915412299763, 3.8160246481160023),
+        Point::new(40.0, 12.25),
+    ]);
+    let open = Guard {
+        class: None,
+        bounds,
+        collision_free: true,
+        clearance_floor: Real::NEG_INFINITY,
+        clearance_target: Real::NEG_INFINITY,
+        proven: Default::default(),
+        tube: Default::default(),
+    };
+    assert_eq!(
+        admissible(&edge, &open, 8),
+        by_samples(&edge, &bounds, None)
+    );
+    // The goal on a ray's line: the tube curve, then a candidate close to it.
+    let rays = Rays::new(vec![Point::new(20.0, 2.0)]);
+    let goal = Point::new(20.0, 2.0) + rays.direction() * 15.0;
+    let wide = Bounds {
+        min: Point::new(-100.0, -100.0),
+        max: Point::new(100.0, 100.0),
+    };
+    let through = |v: [(Real, Real); 3]| {
+        let mut p = vec![Point::new(2.0, 10.0)];
+        p.extend(v.iter().map(|&(x, y)| Point::new(x, y)));
+        p.push(goal);
+        build(&p)
+    };
+    let tube = through([
+        (13.548544783240848, 5.824289033636886),
+        (30.617862435174043, 17.86801577775511),
+        (7.656288327341107, 15.406827556469784),
+    ]);
+    let candidate = through([
+        (13.548723859586156, 5.824987502887981),
+        (30.618274652680405, 17.867478193980556),
+        (7.6555427932918505, 15.407739176347524),
+    ]);
+    let sig = rays.signature(&tube.sample_uniform(tube.segments() * 8));
+    let guard = Guard {
+        class: Some((&rays, &sig)),
+        bounds: wide,
+        ..open.clone()
+    };
+    assert!(admissible(&tube, &guard, 8));
+    assert_eq!(
+        admissible(&candidate, &guard, 8),
+        by_samples(&candidate, &wide, Some((&rays, &sig)))
+    );
 }

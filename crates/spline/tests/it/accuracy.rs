@@ -361,7 +361,8 @@ proptest! {
 
     /// The deviation bound of two curves of the same knots is never below their gap at any
     /// parameter (dense samples), and is the via-points' largest move or more; curves of
-    /// other knots have none.
+    /// other knots have none. Uniform samples begin at the start exactly and end at
+    /// `position(1)`.
     #[test]
     fn the_deviation_bound_bounds_the_gap(
         pts in prop::collection::vec((0.0..60.0, 0.0..60.0), 3..10),
@@ -394,6 +395,12 @@ proptest! {
             prop_assert!(gap <= bound * (1.0 + 1e-12) + 1e-12, "t {} gap {} bound {}", t, gap, bound);
         }
         prop_assert_eq!(a.deviation_bound(&a).unwrap(), 0.0);
+        // The guard's tube reads a curve's last sample as `position(1)`: the same bits.
+        for per in [2, 8] {
+            let s = a.sample_uniform(a.segments() * per);
+            prop_assert_eq!(s[s.len() - 1], a.position(1.0));
+            prop_assert_eq!(s[0], pts[0]);
+        }
         let fewer = Spline::new(&[pts[0], pts[n - 1]], Parametrization::Uniform, end).unwrap();
         prop_assert!(a.deviation_bound(&fewer).is_none());
     }
