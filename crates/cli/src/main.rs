@@ -46,7 +46,9 @@ struct Cli {
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Plan paths: a table of classes and the chosen one; exit 0 with a collision-free plan,
-    /// 1 when no collision-free class meets the clearance floor, 2 on bad input.
+    /// 1 when no collision-free class meets the clearance floor or no route exists, 2 on bad
+    /// input, 3 on another failure (an output that cannot be written, too little memory), 4
+    /// when --time-limit passes first.
     Plan(Box<PlanArgs>),
     /// Plan every scenario of a MovingAI `.scen` file (its map sits beside it) and report the
     /// success rate, time per plan and path length over the scenario's octile optimum.
