@@ -35,12 +35,43 @@ const A_NUMBER: &str = "a number (such as 2, -1.5 or 3e-2, without quotes)";
 /// What a [`Whole`] is, in an error.
 const A_WHOLE: &str = "a whole number >= 0 (without quotes)";
 
-/// The problem of a string (quoted or not) where a number belongs.
+/// The problem of a string (quoted or not) where a number belongs. The parser hands over as
+/// strings the plain scalars that look like numbers but that this reader refuses: a hex or
+/// octal number too large for 64 bits, and the spellings YAML 1.1 and 1.2 read differently
+/// (underscores between digits, a leading zero); each is named as what it is.
 fn quoted<E: de::Error>(v: &str, what: &str) -> E {
     let bare = v.trim_start_matches(['+', '-']).to_ascii_lowercase();
     if ["nan", "inf", "infinity"].contains(&bare.as_str()) {
         // JSON's and other languages' spellings of what is no finite number.
         return E::custom(format!("expected {what}, not '{v}': it must be finite"));
+    }
+    let digits = |s: &str, radix: u32| !s.is_empty() && s.chars().all(|c| c.is_digit(radix));
+    let radix = [("0x", 16), ("0o", 8)]
+        .into_iter()
+        .find_map(|(prefix, radix)| Some((bare.strip_prefix(prefix)?, radix)))
+        .filter(|&(rest, radix)| digits(rest, radix));
+    if let Some((rest, radix)) = radix
+        && u64::from_str_radix(rest, radix).is_err()
+    {
+        return E::custom(format!(
+            "expected {what}, not '{v}': too large for a whole number (at most 2^64 - 1)"
+        ));
+    }
+    let numeric = bare.starts_with(|c: char| c.is_ascii_digit())
+        && bare
+            .chars()
+            .all(|c| c.is_ascii_digit() || "_.e+-".contains(c));
+    if numeric && bare.contains('_') {
+        return E::custom(format!(
+            "expected {what}, not '{v}': YAML 1.1 reads digits with underscores as a number \
+             and YAML 1.2 as a string; write it without underscores"
+        ));
+    }
+    if bare.len() > 1 && bare.starts_with('0') && digits(&bare, 10) {
+        return E::custom(format!(
+            "expected {what}, not '{v}': YAML 1.1 reads a leading zero as octal and YAML 1.2 \
+             as decimal; write it without the leading zero"
+        ));
     }
     E::custom(format!("expected {what}, not the string '{v}'"))
 }
@@ -712,8 +743,25 @@ mod tests {
             // YAML 1.2's integer forms are numbers, read exactly.
             ("[0x10, 0o10, -0, 1e2]", Ok([16.0, 8.0, 0.0, 100.0])),
             // Spellings that YAML 1.1 and 1.2 read differently are refused.
-            ("[1_0, 0, 0, 0]", Err("not the string '1_0'")),
-            ("[010, 0, 0, 0]", Err("not the string '010'")),
+            (
+                "[1_0, 0, 0, 0]",
+                Err("not '1_0': YAML 1.1 reads digits with underscores"),
+            ),
+            (
+                "[010, 0, 0, 0]",
+                Err("not '010': YAML 1.1 reads a leading zero as octal"),
+            ),
+            // A hex or octal number beyond 64 bits is named as too large.
+            (
+                "[0xFFFFFFFFFFFFFFFFFFFF, 0, 0, 0]",
+                Err("not '0xFFFFFFFFFFFFFFFFFFFF': too large for a whole number"),
+            ),
+            (
+                "[0o7777777777777777777777777, 0, 0, 0]",
+                Err("too large for a whole number"),
+            ),
+            // Quoted, a hex number that fits is a string like any other.
+            ("['0x10', 0, 0, 0]", Err("not the string '0x10'")),
             ("[0.5, 00.5, 0, 0]", Ok([0.5, 0.5, 0.0, 0.0])),
             ("[NaN, 0, 0, 0]", Err("not 'NaN': it must be finite")),
             (
