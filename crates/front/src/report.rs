@@ -361,9 +361,20 @@ fn no_plan_line(plan: &Plan, names: ClassNames) -> String {
              {}; no plan",
             if n == 1 { "" } else { "es" },
             name(c),
-            if c.min_clearance > 0.0 {
-                // Clear of every obstacle, so it is the bounds that it leaves.
+            if c.min_clearance > 0.0 && c.certified_clearance > 0.0 {
+                // Proven clear of every obstacle, so it is the bounds that it leaves.
                 "leaves the bounds".to_owned()
+            } else if c.min_clearance > 0.0 {
+                // Clear where sampled, but its certificate does not prove it clear.
+                let x = c.certified_clearance;
+                format!(
+                    "is not proven clear of the obstacles (its certificate: {})",
+                    if x.abs() < 1e-3 {
+                        format!("{x:.1e}")
+                    } else {
+                        format!("{x:.3}")
+                    }
+                )
             } else {
                 format!("comes {:.3} into an obstacle", -c.min_clearance)
             },

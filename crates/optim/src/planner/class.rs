@@ -16,7 +16,7 @@ use super::rank::Score;
 use super::report::{ClassPlan, Origin, ms, report_class};
 use super::via::{SEED_MAX_GAP, last_resort, seed_points, subdivided_seed};
 use super::world::{World, keeps_dm};
-use crate::growth::{Growth, GrowthConfig, Guard, SHORT_OF_TARGET};
+use crate::growth::{Growth, GrowthConfig, Guard, SHORT_OF_TARGET, stays_in_bounds};
 
 /// A scene's dense seed (a last resort that stayed in collision) has at most this many times
 /// the points of a normal one (`max_via_points` and the ends); past that it is not tried.
@@ -68,7 +68,11 @@ fn class_setup<'w>(
         // The target is `dm` plus the certification's tolerance: a curve held exactly at `dm`
         // certifies up to that tolerance below it and would be reported unsafe (and ranked
         // after costlier safe classes) by the tolerance's chance.
-        clearance_target: match signature {
+        // A clearance floor above that target is the target: the floor alone only stops the
+        // clearance falling (a ratchet), and a class that could keep it stayed below it, so
+        // that `--clearance-floor 6` on narrow-pass answered "no plan" where the class
+        // keeps 6 once asked to climb.
+        clearance_target: floor_target(signature, cfg).max(match signature {
             Some(sig) if cfg.dm_rule => {
                 let dm = growth.cost.dm + cfg.certify_tolerance.max(0.0);
                 let share = DM_RULE_SHARE * bottleneck(seed_poly, world.model);
@@ -83,11 +87,22 @@ fn class_setup<'w>(
                 }
             }
             _ => Real::NEG_INFINITY,
-        },
+        }),
         proven: Default::default(),
         tube: Default::default(),
     };
     (growth, guard)
+}
+
+/// The clearance a class's curve must climb to for the plan's floor: the floor plus the
+/// certification's tolerance (as for `dm`), for a class (with a signature) under a positive
+/// floor; else `-inf`.
+fn floor_target(signature: Option<&Signature>, cfg: &PlanConfig) -> Real {
+    if signature.is_some() && cfg.clearance_floor > 0.0 {
+        cfg.clearance_floor + cfg.certify_tolerance.max(0.0)
+    } else {
+        Real::NEG_INFINITY
+    }
 }
 
 /// A guard that only keeps candidates in the class, in bounds and clear: a seed need only be
@@ -315,10 +330,14 @@ impl<'w> ClassTask<'w> {
             .state
             .as_ref()
             .map(|g| g.result(model, &self.growth, &self.guard));
+        // A last resort that stayed in collision, or that leaves the bounds (a class path
+        // along a wall, from a start or goal on it: a spline through it bulges out at the
+        // corner), is worth the dense pass, which pulls the path taut first.
         let retry = self.resorted
-            && grown
-                .as_ref()
-                .is_none_or(|g| !is_collision_free(&g.spline, model));
+            && grown.as_ref().is_none_or(|g| {
+                !is_collision_free(&g.spline, model)
+                    || !stays_in_bounds(&g.spline, &self.guard.bounds)
+            });
         let plan = report_class(world, self.origin(), cfg, grown, self.seed.clone());
         (
             ClassPlan {
@@ -331,12 +350,13 @@ impl<'w> ClassTask<'w> {
     }
 
     /// The dense second pass of a class marked by [`ClassTask::report`] (it runs only when
-    /// no class of the plan came out clear): the graph's path, if it is clear, is pulled taut
+    /// no class of the plan came out clear, or inside the bounds): the graph's path, if it is clear, is pulled taut
     /// in its class as a map's is, and the via-points follow it, up to [`DENSE_SEED_SHARE`]
     /// times as many (a winding passage or a field of small obstacles that a spline through
     /// `max_via_points` via-points cannot keep to; L-BFGS cannot even start from a colliding
     /// seed). Its round's budget is that of a round at `max_via_points`. `Some` only if the
-    /// curve comes out clear; its evaluations and time include the first pass's.
+    /// curve comes out clear and inside the bounds; its evaluations and time include the
+    /// first pass's.
     ///
     /// Pulling taut first matters in clutter: a graph path winding between many small
     /// obstacles has a point per cell, far more than the via-points can follow; taut, it
@@ -387,7 +407,9 @@ impl<'w> ClassTask<'w> {
         }
         g.repair(model, growth, guard);
         let mut grown = g.result(model, growth, guard);
-        if !is_collision_free(&grown.spline, model) {
+        if !is_collision_free(&grown.spline, model)
+            || !stays_in_bounds(&grown.spline, &guard.bounds)
+        {
             return None;
         }
         grown.evaluations += first.evaluations;

@@ -168,3 +168,46 @@ fn an_end_closer_to_a_circle_than_a_cell_gets_a_finer_grid() {
         "{e}"
     );
 }
+
+/// A gap narrower than the grid that would resolve it for certain, within the cell limit:
+/// the finest grid within the limit opens it all the same, and the graph joins start and
+/// goal through it (a review's case, where the plan was refused as bad input while
+/// `--resolution 50` planned it); and where that grid joins them only along its border
+/// cells, outside the bounds, no verdict is claimed, as before.
+#[test]
+fn a_gap_finer_than_the_limit_allows_is_tried_on_the_finest_grid_within_it() {
+    let wall = |gap: f64| Scene {
+        name: "wall".into(),
+        bounds: Bounds {
+            min: Point::new(0.0, 0.0),
+            max: Point::new(20.0, 20.0),
+        },
+        start: Point::new(3.0, 10.0),
+        goal: Point::new(17.0, 10.0),
+        robot_radius: 0.0,
+        obstacles: vec![
+            Obstacle {
+                name: "low".into(),
+                circles: vec![Circle::new(10.0, 5.0, 5.0)],
+            },
+            Obstacle {
+                name: "high".into(),
+                circles: vec![Circle::new(10.0, 15.0 + gap, 5.0)],
+            },
+        ],
+        danger_points: vec![],
+        critical_points: vec![],
+        hazards: vec![],
+    };
+    // A gap of 0.05, which the refinement would resolve at about 120 cells per unit (some
+    // 6 M cells): within a million cells (51 per unit, cells under 0.02) the grid opens it.
+    let (grid, _, graph) = homospline_voronoi::build_within(&wall(0.05), 1.0, 1 << 20).unwrap();
+    assert!(grid.resolution() > 40.0, "{}", grid.resolution());
+    assert!(graph.connected(graph.start.unwrap(), graph.goal.unwrap()));
+    // The high circle overhangs the top bound by a hair (its top at 20.0005): a coarse
+    // grid's border cells there are free, but that way round is outside the bounds.
+    let e = homospline_voronoi::build_within(&wall(0.0005), 1.0, 1 << 20)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("no plan is claimed"), "{e}");
+}
