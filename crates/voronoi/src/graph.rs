@@ -322,8 +322,13 @@ pub const MAX_EDGES: usize = 1 << 31;
 impl VoronoiGraph {
     /// Whether nodes `a` and `b` are joined by edges.
     pub fn connected(&self, a: usize, b: usize) -> bool {
+        self.connected_by(a, b, |_| true)
+    }
+
+    /// Whether nodes `a` and `b` are joined by edges that `keep` takes.
+    pub fn connected_by(&self, a: usize, b: usize, keep: impl Fn(&Edge) -> bool) -> bool {
         let mut parent: Vec<usize> = (0..self.nodes.len()).collect();
-        for e in &self.edges {
+        for e in self.edges.iter().filter(|e| keep(e)) {
             let (x, y) = (find_root(&mut parent, e.from), find_root(&mut parent, e.to));
             parent[x] = y;
         }

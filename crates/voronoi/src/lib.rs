@@ -56,8 +56,6 @@ pub use grid::{Grid, GridError};
 pub use query::QueryGraph;
 
 use homospline_geom::{Bounds, Point, Real, Scene};
-
-use crate::union_find::find_root;
 use thiserror::Error;
 
 /// Why [`build`] failed.
@@ -254,16 +252,11 @@ fn joined_inside(graph: &VoronoiGraph, bounds: &Bounds) -> bool {
     let (Some(start), Some(goal)) = (graph.start, graph.goal) else {
         return false;
     };
-    let mut parent: Vec<usize> = (0..graph.nodes.len()).collect();
-    for e in graph.edges.iter().filter(|e| {
+    graph.connected_by(start, goal, |e| {
         e.polyline
             .iter()
             .all(|p| bounds.contains(&Point::new(p[0], p[1])))
-    }) {
-        let (x, y) = (find_root(&mut parent, e.from), find_root(&mut parent, e.to));
-        parent[x] = y;
-    }
-    find_root(&mut parent, start) == find_root(&mut parent, goal)
+    })
 }
 
 /// Why [`build_at`] failed: start and goal apart on the grid (which it returns), or

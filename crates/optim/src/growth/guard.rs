@@ -176,8 +176,7 @@ pub const LOCAL_PROOF_RAYS: usize = 1024;
 /// curve stays within the guard's [`Tube`] (the last curve whose samples' signature was
 /// computed, and how far they may move keeping it) is in the class without a signature;
 /// and a curve whose Bezier control boxes are inside the bounds needs no samples for them
-/// (an optimiser's steps are small: on the paper scenes most candidates are decided so,
-/// with the same answers). The collision test of a guarded candidate
+/// (an optimiser's steps are small; the answers are the same). The collision test of a guarded candidate
 /// is the cost's own `m(C)` (every quadrature node, refined near the worst one), checked
 /// after the evaluation; a round's result is certified.
 pub fn admissible(spline: &Spline, guard: &Guard<'_>, samples_per_segment: usize) -> bool {
@@ -220,8 +219,8 @@ pub fn admissible(spline: &Spline, guard: &Guard<'_>, samples_per_segment: usize
 
 /// Whether every segment's Bezier control box lies inside `bounds` (then so does the
 /// curve); with `rounding`, inside by more than a bound on the rounding of the curve's
-/// points as computed from the segment's coefficients (`1e-12` of their sizes, some ten
-/// thousand times the rounding), so that every computed sample is inside too.
+/// points as computed from the segment's coefficients (`1e-12` of their sizes, thousands of
+/// times the rounding), so that every computed sample is inside too.
 fn boxes_inside(spline: &Spline, bounds: &Bounds, rounding: bool) -> bool {
     (0..spline.segments()).all(|i| {
         let (mut lo, mut hi) = spline.segment_box(i);

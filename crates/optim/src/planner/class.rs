@@ -16,7 +16,7 @@ use super::rank::Score;
 use super::report::{ClassPlan, Origin, ms, report_class};
 use super::via::{SEED_MAX_GAP, last_resort, seed_points, subdivided_seed};
 use super::world::{World, keeps_dm};
-use crate::growth::{Growth, GrowthConfig, Guard, SHORT_OF_TARGET, stays_in_bounds};
+use crate::growth::{Growth, GrowthConfig, Guard, SHORT_OF_TARGET};
 
 /// A scene's dense seed (a last resort that stayed in collision) has at most this many times
 /// the points of a normal one (`max_via_points` and the ends); past that it is not tried.
@@ -96,9 +96,10 @@ fn class_setup<'w>(
 
 /// The clearance a class's curve must climb to for the plan's floor: the floor plus the
 /// certification's tolerance (as for `dm`), for a class (with a signature) under a positive
-/// floor; else `-inf`.
+/// floor, where the dm rule holds (scenes, without `--soft-dm`); else `-inf`, and the floor
+/// is a ratchet only, as on maps.
 fn floor_target(signature: Option<&Signature>, cfg: &PlanConfig) -> Real {
-    if signature.is_some() && cfg.clearance_floor > 0.0 {
+    if signature.is_some() && cfg.dm_rule && cfg.clearance_floor > 0.0 {
         cfg.clearance_floor + cfg.certify_tolerance.max(0.0)
     } else {
         Real::NEG_INFINITY
@@ -330,15 +331,11 @@ impl<'w> ClassTask<'w> {
             .state
             .as_ref()
             .map(|g| g.result(model, &self.growth, &self.guard));
-        // A last resort that stayed in collision, or that leaves the bounds (a class path
-        // along a wall, from a start or goal on it: a spline through it bulges out at the
-        // corner), is worth the dense pass, which pulls the path taut first.
-        let retry = self.resorted
-            && grown.as_ref().is_none_or(|g| {
-                !is_collision_free(&g.spline, model)
-                    || !stays_in_bounds(&g.spline, &self.guard.bounds)
-            });
         let plan = report_class(world, self.origin(), cfg, grown, self.seed.clone());
+        // A last resort whose curve is not reported collision-free (it stayed in collision,
+        // or it leaves the bounds: a class path along a wall, from a start or goal on it,
+        // bulges out at the corner) is worth the dense pass, which pulls the path taut first.
+        let retry = self.resorted && !plan.collision_free;
         (
             ClassPlan {
                 time_ms: self.time_ms + ms(t),
@@ -350,13 +347,13 @@ impl<'w> ClassTask<'w> {
     }
 
     /// The dense second pass of a class marked by [`ClassTask::report`] (it runs only when
-    /// no class of the plan came out clear, or inside the bounds): the graph's path, if it is clear, is pulled taut
-    /// in its class as a map's is, and the via-points follow it, up to [`DENSE_SEED_SHARE`]
+    /// no class of the plan came out collision-free and inside the bounds): the graph's
+    /// path, if it is clear, is pulled taut in its class as a map's is, and the via-points follow it, up to [`DENSE_SEED_SHARE`]
     /// times as many (a winding passage or a field of small obstacles that a spline through
     /// `max_via_points` via-points cannot keep to; L-BFGS cannot even start from a colliding
     /// seed). Its round's budget is that of a round at `max_via_points`. `Some` only if the
-    /// curve comes out clear and inside the bounds; its evaluations and time include the
-    /// first pass's.
+    /// curve is reported collision-free (clear and inside the bounds); its evaluations and
+    /// time include the first pass's.
     ///
     /// Pulling taut first matters in clutter: a graph path winding between many small
     /// obstacles has a point per cell, far more than the via-points can follow; taut, it
@@ -407,14 +404,12 @@ impl<'w> ClassTask<'w> {
         }
         g.repair(model, growth, guard);
         let mut grown = g.result(model, growth, guard);
-        if !is_collision_free(&grown.spline, model)
-            || !stays_in_bounds(&grown.spline, &guard.bounds)
-        {
+        if !is_collision_free(&grown.spline, model) {
             return None;
         }
         grown.evaluations += first.evaluations;
         let plan = report_class(world, self.origin(), cfg, Some(grown), dense);
-        Some(ClassPlan {
+        plan.collision_free.then(|| ClassPlan {
             time_ms: first.time_ms + ms(t),
             ..plan
         })
