@@ -17,7 +17,15 @@ use crate::out::{bad, check_outputs, write};
 /// `simulate`: exit 0 when the UGV reaches the goal, 1 when not.
 pub fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
     let reads = Reads::default();
-    let world = homospline_mission::world::load_any(&a.world, |p| reads.read(p)).map_err(bad)?;
+    let world = homospline_mission::world::load_any(&a.world, |p| reads.read(p)).map_err(|e| {
+        // A scene or a map: say which command takes it, not the parser's complaint.
+        let text = homospline_front::read_regular(&a.world).ok();
+        let text = text.as_deref().and_then(|b| std::str::from_utf8(b).ok());
+        match homospline_front::check::other_command(&a.world, text, true) {
+            Some(hint) => bad(format!("{}: {hint}", a.world.display())),
+            None => bad(e),
+        }
+    })?;
     // The world and the maps it names: none of them is overwritten.
     let inputs = reads.paths();
     check_outputs(

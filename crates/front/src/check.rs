@@ -1,7 +1,9 @@
-//! `check` on every kind of input: which kind a file is (a world file by its keys), and the
-//! summaries of an occupancy map and of a world (a scene's is [`crate::summary`]).
+//! `check` on every kind of input: which kind a file is (a world file by its keys), which
+//! command takes a file another refused, and the summaries of an occupancy map and of a
+//! world (a scene's is [`crate::summary`]).
 
 use std::fmt::Write;
+use std::path::Path;
 
 use homospline_maps::OccupancyMap;
 use homospline_mission::world::AnyWorld;
@@ -35,6 +37,60 @@ pub fn is_world(text: &str) -> bool {
     type Keys = std::collections::BTreeMap<String, serde::de::IgnoredAny>;
     homospline_geom::scene::from_yaml::<Keys>(text)
         .is_ok_and(|keys| WORLD_KEYS.iter().any(|k| keys.contains_key(*k)))
+}
+
+/// What a file that a command refused is, and the command that takes it, for the message of
+/// a command given the wrong kind of file: `simulate` is `true` for the world command, else
+/// a command that takes a scene or a map (`plan`, `graph`). `None` when the file is of no
+/// other kind it knows (its own parser's message then stands).
+///
+/// # Examples
+///
+/// ```
+/// use std::path::Path;
+/// use homospline_front::check::other_command;
+///
+/// let world = "scene: field.yaml\nteam:\n  ugv: {speed: 1, sensor_range: 5}\n";
+/// let hint = other_command(Path::new("w.yaml"), Some(world), false).unwrap();
+/// assert!(hint.contains("homospline simulate w.yaml"), "{hint}");
+/// let scene = "bounds: {min: [0, 0], max: [9, 9]}\nstart: [1, 1]\ngoal: [8, 8]\n";
+/// let hint = other_command(Path::new("s.yaml"), Some(scene), true).unwrap();
+/// assert!(hint.contains("homospline plan s.yaml"), "{hint}");
+/// assert!(other_command(Path::new("s.yaml"), Some(scene), false).is_none());
+/// ```
+pub fn other_command(path: &Path, text: Option<&str>, simulate: bool) -> Option<String> {
+    let p = path.display();
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    type Keys = std::collections::BTreeMap<String, serde::de::IgnoredAny>;
+    let keys = text.and_then(|t| homospline_geom::scene::from_yaml::<Keys>(t).ok());
+    let has = |k: &str| keys.as_ref().is_some_and(|keys| keys.contains_key(k));
+    let world = text.is_some_and(is_world);
+    if simulate {
+        let what = if ext.as_deref() == Some("map") {
+            format!("a MovingAI map: `homospline plan {p} --start X,Y --goal X,Y` plans on it")
+        } else if !world && has("image") && has("resolution") {
+            format!("a ROS map: `homospline plan {p} --start X,Y --goal X,Y` plans on it")
+        } else if !world && has("bounds") {
+            format!("a scene: `homospline plan {p}` plans on it")
+        } else {
+            return None;
+        };
+        Some(format!(
+            "{what}; simulate takes a world file (a scene or map with a team and hidden obstacles)"
+        ))
+    } else {
+        let what = if ext.as_deref() == Some("scen") {
+            format!("a MovingAI scenario file: `homospline bench-scen {p}` plans its scenarios")
+        } else if world {
+            format!("a world file: `homospline simulate {p}` runs its mission")
+        } else {
+            return None;
+        };
+        Some(format!("{what}; this command takes a scene or a map"))
+    }
 }
 
 /// What `check` says about an occupancy map: its size, cell, origin and free cells.

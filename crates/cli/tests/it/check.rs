@@ -174,3 +174,38 @@ fn obstacles_meeting_or_beyond_the_bounds_are_not_counted_as_holes() {
         "{text}"
     );
 }
+
+#[test]
+fn a_file_of_another_command_is_named_with_that_command() {
+    // A review's case: `plan WORLD` answered the parser's "unknown field `scene`", `simulate
+    // SCENE` "unknown field `bounds`" and `plan SCEN` "expected mapping start".
+    for (args, needle) in [
+        (
+            &["plan", "fixtures/worlds/field-blocked.yaml"][..],
+            "a world file: `homospline simulate fixtures/worlds/field-blocked.yaml` runs its mission",
+        ),
+        (
+            &["graph", "fixtures/worlds/field-blocked.yaml"][..],
+            "this command takes a scene or a map",
+        ),
+        (
+            &["plan", "fixtures/maps/movingai/Boston_0_256.map.scen"][..],
+            "a MovingAI scenario file: `homospline bench-scen",
+        ),
+        (
+            &["simulate", "fixtures/scenes/field.yaml"][..],
+            "a scene: `homospline plan fixtures/scenes/field.yaml` plans on it; simulate takes a world file",
+        ),
+        (
+            &["simulate", "fixtures/maps/movingai/room-32-32-4.map"][..],
+            "a MovingAI map: `homospline plan fixtures/maps/movingai/room-32-32-4.map --start X,Y --goal X,Y`",
+        ),
+    ] {
+        assert_refused(args, needle);
+    }
+    // A scene with a mistake keeps its parser's message under plan.
+    assert_refused(
+        &["plan", "fixtures/invalid/wrong-type.yaml"],
+        "start: expected a number",
+    );
+}
