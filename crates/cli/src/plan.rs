@@ -261,8 +261,21 @@ pub fn edit_input(a: &PlanArgs, input: Input) -> anyhow::Result<(Input, Option<(
                     "--block changes the map: it cannot reuse a saved --graph"
                 ));
             }
-            for (c, r) in &blocks {
+            // A block that fills the cell of the start or the goal is named, as on scenes:
+            // the map's own check would call that cell occupied.
+            for ((c, r), text) in blocks.iter().zip(&a.block) {
+                let before = [s, g].map(|p| map.free_at(&p));
                 map.block_disc(c, *r);
+                for ((p, what), was) in [(s, "start"), (g, "goal")].into_iter().zip(before) {
+                    if was == Some(true) && map.free_at(&p) == Some(false) {
+                        bail!(bad(format!(
+                            "--block {text}: {}: the {what} [{}, {}] is inside the blocked disc",
+                            map.name,
+                            Num(p.x),
+                            Num(p.y)
+                        )));
+                    }
+                }
             }
             ends = Some((s, g));
             Input::Map(map)

@@ -244,6 +244,23 @@ fn a_change_that_makes_the_scene_invalid_is_named_by_its_option() {
             vec!["plan", "--robot-radius", "45"],
             "--robot-radius 45: narrow-pass: start: [5, 47] is inside obstacle",
         ),
+        // On a map too: the block over the start, whose cell the map has free, is named
+        // (it read "start [1.5, 1.5] is in an occupied cell").
+        (
+            vec![
+                "plan",
+                "fixtures/maps/movingai/room-32-32-4.map",
+                "--start",
+                "1.5,1.5",
+                "--goal",
+                "30.5,30.5",
+                "--block",
+                "20,20,1",
+                "--block",
+                "0,0,3",
+            ],
+            "--block 0,0,3: room-32-32-4: the start [1.5, 1.5] is inside the blocked disc",
+        ),
     ] {
         assert_refused(&args, msg);
     }
