@@ -44,15 +44,19 @@ pub fn parse_point(opt: &str, text: &str) -> anyhow::Result<Point> {
 
 /// Reads a scene, a MovingAI map or a ROS map YAML (with its image), by content and name.
 pub fn load_input(path: &Path, reads: &Reads) -> anyhow::Result<Input> {
-    homospline_maps::input::load(path, |p| reads.read(p)).map_err(|e| {
-        // A world or scenario file: say which command takes it, not the parser's complaint.
-        let text = homospline_front::read_regular(path).ok();
-        let text = text.as_deref().and_then(|b| std::str::from_utf8(b).ok());
-        match homospline_front::check::other_command(path, text, false) {
-            Some(hint) => bad(format!("{}: {hint}", path.display())),
-            None => bad(e),
-        }
-    })
+    homospline_maps::input::load(path, |p| reads.read(p)).map_err(|e| refused_input(path, e, false))
+}
+
+/// The error of an input that its command's reader refused with `e`: for a file of another
+/// command (a world or scenario file given to `plan`, a scene or map given to `simulate`
+/// when `simulate`), what it is and the command that takes it; else `e`.
+pub fn refused_input(path: &Path, e: impl Into<String>, simulate: bool) -> anyhow::Error {
+    let text = homospline_front::read_regular(path).ok();
+    let text = text.as_deref().and_then(|b| std::str::from_utf8(b).ok());
+    match homospline_front::check::other_command(path, text, simulate) {
+        Some(hint) => bad(format!("{}: {hint}", path.display())),
+        None => bad(e),
+    }
 }
 
 /// Reads input files (regular files only) and keeps every path read, so that the outputs

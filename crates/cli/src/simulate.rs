@@ -10,22 +10,15 @@ use homospline_optim::PlanConfig;
 use crate::args::SimulateArgs;
 use std::path::PathBuf;
 
-use crate::input::Reads;
+use crate::input::{Reads, refused_input};
 use crate::mission_svg;
 use crate::out::{bad, check_outputs, write};
 
 /// `simulate`: exit 0 when the UGV reaches the goal, 1 when not.
 pub fn simulate(a: SimulateArgs) -> anyhow::Result<u8> {
     let reads = Reads::default();
-    let world = homospline_mission::world::load_any(&a.world, |p| reads.read(p)).map_err(|e| {
-        // A scene or a map: say which command takes it, not the parser's complaint.
-        let text = homospline_front::read_regular(&a.world).ok();
-        let text = text.as_deref().and_then(|b| std::str::from_utf8(b).ok());
-        match homospline_front::check::other_command(&a.world, text, true) {
-            Some(hint) => bad(format!("{}: {hint}", a.world.display())),
-            None => bad(e),
-        }
-    })?;
+    let world = homospline_mission::world::load_any(&a.world, |p| reads.read(p))
+        .map_err(|e| refused_input(&a.world, e, true))?;
     // The world and the maps it names: none of them is overwritten.
     let inputs = reads.paths();
     check_outputs(

@@ -67,7 +67,8 @@ pub fn other_command(path: &Path, text: Option<&str>, simulate: bool) -> Option<
     type Keys = std::collections::BTreeMap<String, serde::de::IgnoredAny>;
     let keys = text.and_then(|t| homospline_geom::scene::from_yaml::<Keys>(t).ok());
     let has = |k: &str| keys.as_ref().is_some_and(|keys| keys.contains_key(k));
-    let world = text.is_some_and(is_world);
+    // `is_world` from the keys read once.
+    let world = WORLD_KEYS.iter().any(|k| has(k));
     if simulate {
         let what = if ext.as_deref() == Some("map") {
             format!("a MovingAI map: `homospline plan {p} --start X,Y --goal X,Y` plans on it")

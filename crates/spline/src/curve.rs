@@ -453,14 +453,8 @@ impl Spline {
         let mut bound: Real = 0.0;
         for (i, (p, q)) in self.coef.iter().zip(&other.coef).enumerate() {
             let h = self.knots[i + 1] - self.knots[i];
-            let (a, b, c, d) = (p[0] - q[0], p[1] - q[1], p[2] - q[2], p[3] - q[3]);
-            let controls = [
-                a,
-                a + b * (h / 3.0),
-                a + b * (2.0 * h / 3.0) + c * (h * h / 3.0),
-                a + b * h + c * (h * h) + d * (h * h * h),
-            ];
-            for v in controls {
+            let difference = [p[0] - q[0], p[1] - q[1], p[2] - q[2], p[3] - q[3]];
+            for v in bezier(&difference, h) {
                 bound = bound.max(v.norm());
             }
         }
@@ -480,12 +474,7 @@ impl Spline {
     /// contains the segment (convex hull property).
     pub fn segment_box(&self, i: usize) -> (Point, Point) {
         let h = self.knots[i + 1] - self.knots[i];
-        let [a, b, c, d] = &self.coef[i];
-        // Power basis -> Bezier control points for s in [0, h].
-        let p0 = *a;
-        let p1 = a + b * (h / 3.0);
-        let p2 = a + b * (2.0 * h / 3.0) + c * (h * h / 3.0);
-        let p3 = a + b * h + c * (h * h) + d * (h * h * h);
+        let [p0, p1, p2, p3] = bezier(&self.coef[i], h);
         let mut lo = p0;
         let mut hi = p0;
         for p in [p1, p2, p3] {
@@ -494,6 +483,17 @@ impl Spline {
         }
         (Point::from(lo), Point::from(hi))
     }
+}
+
+/// The Bezier control points of the cubic `a + b s + c s^2 + d s^3` for `s` in `[0, h]`
+/// (power basis to Bezier): the cubic lies in their convex hull.
+fn bezier([a, b, c, d]: &[Vector; 4], h: Real) -> [Vector; 4] {
+    [
+        *a,
+        a + b * (h / 3.0),
+        a + b * (2.0 * h / 3.0) + c * (h * h / 3.0),
+        a + b * h + c * (h * h) + d * (h * h * h),
+    ]
 }
 
 /// Second derivatives at the knots (the `M_i` of the classic formulation), by Thomas'
