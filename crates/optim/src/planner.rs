@@ -55,6 +55,7 @@ pub use seed::PlanGraph;
 pub use via::SEED_MAX_GAP;
 pub use world::{
     ExactCircles, KEEPS_DM_CIRCLES, KEEPS_DM_LENGTH, KEEPS_DM_STATES, World, keeps_dm,
+    taut_in_class,
 };
 
 use report::ms;

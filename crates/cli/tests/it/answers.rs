@@ -321,3 +321,25 @@ fn a_curve_not_proven_clear_is_not_said_to_leave_the_bounds() {
         "{stdout}"
     );
 }
+
+#[test]
+fn a_goal_on_a_wall_is_reached_straight_when_the_line_is_clear() {
+    // The class path ran right to the wall, then down it to the goal; no spline could be
+    // pulled off the wall (every candidate across it is out of bounds), and the plan was an
+    // L along the walls, 85.8 long, where the straight line, 62.2 long and 17 units clear of
+    // the disc, is in the class (a review's case). A seed along the bounds is now the
+    // class's taut path.
+    let scene = tmp("room60.yaml");
+    std::fs::write(
+        &scene,
+        "bounds: {min: [0, 0], max: [60, 60]}\nstart: [10, 40]\ngoal: [60, 3]\nobstacles:\n  - circles: [[30, 0, 3]]\n",
+    )
+    .unwrap();
+    let v = plan_json(scene.to_str().unwrap(), &[], "room60.json");
+    let best = chosen_class(&v);
+    let length = best["length"].as_f64().unwrap();
+    let straight = (50f64 * 50.0 + 37.0 * 37.0).sqrt();
+    assert!(length < straight * 1.001, "{length} against {straight}");
+    assert_eq!(best["collision_free"], true);
+    assert!(best["certified_clearance"].as_f64().unwrap() > 17.0);
+}

@@ -5,7 +5,7 @@
 use std::borrow::Cow;
 use std::time::Instant;
 
-use homospline_geom::{Point, Real};
+use homospline_geom::{Bounds, Point, Real};
 use homospline_homotopy::Signature;
 use homospline_spline::{ClearanceModel, EndCondition, evaluate_weighted, is_collision_free};
 
@@ -15,14 +15,16 @@ use super::pull::pull_taut;
 use super::rank::Score;
 use super::report::{ClassPlan, Origin, ms, report_class};
 use super::via::{SEED_MAX_GAP, last_resort, seed_points, subdivided_seed};
-use super::world::{World, keeps_dm};
+use super::world::{World, keeps_dm, taut_in_class};
 use crate::growth::{Growth, GrowthConfig, Guard, SHORT_OF_TARGET};
 
 /// A scene's dense seed (a last resort that stayed in collision) has at most this many times
 /// the points of a normal one (`max_via_points` and the ends); past that it is not tried.
 pub const DENSE_SEED_SHARE: usize = 8;
 
-/// A class's task from its seed: on a map the seed is first pulled taut in its class.
+/// A class's task from its seed: on a map the seed is first pulled taut in its class; on a
+/// scene a seed that runs along the bounds is replaced by the class's taut path
+/// ([`along_bounds`]).
 pub(super) fn start_class<'w>(
     world: &'w World<'_>,
     cfg: &'w PlanConfig,
@@ -35,9 +37,58 @@ pub(super) fn start_class<'w>(
         (Some(s), Some(cell)) if world.grid_is_exact => {
             pull_taut(poly, world.model, &world.rays, cell, s)
         }
+        (Some(s), Some(cell)) if along_bounds(poly, &world.bounds, cell) >= HUG_CELLS * cell => {
+            taut_seed(world, cfg, poly, s).unwrap_or_else(|| poly.to_vec())
+        }
         _ => poly.to_vec(),
     };
     ClassTask::new(world, poly, sig, gcost, cfg, cell)
+}
+
+/// A scene's seed that runs along the bounds for this many cells or more is replaced by its
+/// class's taut path ([`taut_seed`]).
+pub(super) const HUG_CELLS: Real = 8.0;
+
+/// How far `poly` runs along `bounds`: the length of its segments whose ends both lie within
+/// `cell` of the same side. A class path does that where the start or the goal
+/// is on a wall: its attach route follows the wall, and the curve through it does too. The
+/// optimiser cannot pull such a curve off the wall (every candidate that crosses the side is
+/// out of bounds), and planned an L along two walls, 85.8 long, where the straight line, 62.2
+/// long and 27 units clear, was in the class.
+pub(super) fn along_bounds(poly: &[Point], b: &Bounds, cell: Real) -> Real {
+    let near = |p: &Point| -> [bool; 4] {
+        [
+            p.x - b.min.x <= cell,
+            b.max.x - p.x <= cell,
+            p.y - b.min.y <= cell,
+            b.max.y - p.y <= cell,
+        ]
+    };
+    poly.windows(2)
+        .filter(|w| {
+            let (a, c) = (near(&w[0]), near(&w[1]));
+            (0..4).any(|k| a[k] && c[k])
+        })
+        .map(|w| (w[1] - w[0]).norm())
+        .sum()
+}
+
+/// The class's exact shortest path that keeps the dm rule's target (`dm` and the
+/// certification's tolerance) from every circle, inside the bounds, and no longer than
+/// [`KEEPS_DM_LENGTH`](super::world::KEEPS_DM_LENGTH) times `poly` (its class path), if
+/// there is one and its polyline has the class's signature. Scenes of circles only.
+fn taut_seed(
+    world: &World<'_>,
+    cfg: &PlanConfig,
+    poly: &[Point],
+    signature: &Signature,
+) -> Option<Vec<Point>> {
+    let circles = world.circles?;
+    let clearance = cfg.growth.cost.dm + cfg.certify_tolerance.max(0.0);
+    let length: Real = poly.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    let bound = super::world::KEEPS_DM_LENGTH * length;
+    taut_in_class(world, circles, signature, clearance, bound)
+        .filter(|p| p.len() >= 2 && world.rays.signature(p) == *signature)
 }
 
 /// A class's growth settings (with the robot's start heading, when it has one and the class

@@ -190,3 +190,33 @@ proptest! {
         prop_assert_eq!(least.to_bits(), model.polyline_clearance(&path).to_bits());
     }
 }
+
+#[test]
+fn a_path_along_a_side_of_the_bounds_is_measured_there_only() {
+    use super::class::along_bounds;
+    use homospline_geom::Bounds;
+    let b = Bounds {
+        min: Point::new(0.0, 0.0),
+        max: Point::new(60.0, 60.0),
+    };
+    // Right along the top, then down the right wall within a cell of it: 10 + 37.
+    let hug = [
+        Point::new(10.0, 40.0),
+        Point::new(50.0, 59.9),
+        Point::new(59.9, 59.9),
+        Point::new(59.95, 50.0),
+        Point::new(60.0, 3.0),
+    ];
+    let along = along_bounds(&hug, &b, 0.25);
+    assert!((along - (9.9 + 9.9 + 47.0)).abs() < 0.01, "{along}");
+    // Across the room: only the last step, within a cell of the right side and the bottom
+    // at both ends, counts.
+    let across = [
+        Point::new(0.0, 30.0),
+        Point::new(30.0, 30.0),
+        Point::new(59.9, 0.1),
+        Point::new(60.0, 0.0),
+    ];
+    assert!((along_bounds(&across, &b, 0.25) - 0.02f64.sqrt()).abs() < 1e-9);
+    assert_eq!(along_bounds(&across[..3], &b, 0.25), 0.0);
+}

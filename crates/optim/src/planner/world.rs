@@ -90,13 +90,12 @@ pub const KEEPS_DM_CIRCLES: usize = 128;
 
 /// Whether a path of the class `signature` keeps `clearance` from every circle and stays in
 /// the world's bounds, within [`KEEPS_DM_LENGTH`] times the length of `poly` (its graph
-/// path): the class's exact shortest path at that clearance
-/// ([`homospline_homotopy::shortest_in_class_within`]). The graph path's clearance (at its
-/// vertices, from the grid) does not say what the class can keep: about half of the classes
-/// whose graph path is less clear than `dm / 0.9` can keep `dm`. The rule aimed those at 0.9
-/// of it, and a class could end a hair below `dm` while a much longer safe class was chosen
-/// (measured: docs/performance.md, "Measurements behind the defaults"). `false` when the
-/// search gives up.
+/// path): the class's exact shortest path at that clearance ([`taut_in_class`]). The graph
+/// path's clearance (at its vertices, from the grid) does not say what the class can keep:
+/// about half of the classes whose graph path is less clear than `dm / 0.9` can keep `dm`.
+/// The rule aimed those at 0.9 of it, and a class could end a hair below `dm` while a much
+/// longer safe class was chosen (measured: docs/performance.md, "Measurements behind the
+/// defaults"). `false` when the search gives up.
 pub fn keeps_dm(
     world: &World<'_>,
     circles: &ExactCircles,
@@ -104,24 +103,49 @@ pub fn keeps_dm(
     signature: &Signature,
     clearance: Real,
 ) -> bool {
-    let Some(graph) = circles.graph(world, clearance) else {
-        return false;
-    };
     let length: Real = poly.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
-    let Ok(Some(path)) = shortest_in_class_within(
+    taut_in_class(
+        world,
+        circles,
+        signature,
+        clearance,
+        KEEPS_DM_LENGTH * length,
+    )
+    .is_some()
+}
+
+/// The class `signature`'s exact shortest path from the world's start to its goal that keeps
+/// `clearance` from every circle ([`homospline_homotopy::shortest_in_class_within`], at most
+/// [`KEEPS_DM_STATES`] states), if it is no longer than `bound` and stays in the world's
+/// bounds: as a polyline, its arcs with points a degree apart. `None` when there is none,
+/// when an end is less clear than `clearance`, or when the search gives up.
+pub fn taut_in_class(
+    world: &World<'_>,
+    circles: &ExactCircles,
+    signature: &Signature,
+    clearance: Real,
+    bound: Real,
+) -> Option<Vec<Point>> {
+    let graph = circles.graph(world, clearance)?;
+    let path = shortest_in_class_within(
         graph,
         &world.rays,
         |w| w == signature,
-        KEEPS_DM_LENGTH * length,
+        bound,
         KEEPS_DM_STATES,
-    ) else {
-        return false;
-    };
+    )
+    .ok()??;
+    let mut out: Vec<Point> = Vec::new();
+    for piece in &path.pieces {
+        for p in piece.points(ARC_STEP) {
+            if out.last() != Some(&p) {
+                out.push(p);
+            }
+        }
+    }
     // In bounds: every piece's ends and, on an arc, points a degree apart.
-    path.pieces.iter().all(|piece| {
-        piece
-            .points(0.0175)
-            .iter()
-            .all(|p| world.bounds.contains(p))
-    })
+    out.iter().all(|p| world.bounds.contains(p)).then_some(out)
 }
+
+/// The angle between consecutive points of [`taut_in_class`]'s arcs: a degree, in radians.
+const ARC_STEP: Real = 0.0175;
