@@ -9,7 +9,7 @@
 
 use base64::Engine as _;
 use base64::engine::general_purpose::STANDARD;
-use homospline_front::report::ClassNames;
+use homospline_front::report::{ClassNames, fault};
 use homospline_geom::{Bounds, Point, Real, Scene};
 use homospline_maps::OccupancyMap;
 use homospline_optim::Plan;
@@ -576,7 +576,7 @@ fn plan_legend(
                 "{}{}{}",
                 names.ranked(c.rank, &c.signature),
                 if chosen { " (chosen)" } else { "" },
-                if c.collision_free { "" } else { " COLLIDES" }
+                fault(c).map_or(String::new(), |f| format!(" {}", f.shout()))
             ),
             false,
         ));

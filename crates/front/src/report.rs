@@ -134,6 +134,41 @@ fn finite(x: f64) -> f64 {
     }
 }
 
+/// Why a class's curve is not collision-free ([`fault`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Fault {
+    /// Proven clear of every obstacle: it is the bounds that it leaves.
+    LeavesBounds,
+    /// Clear where sampled, but its certificate does not prove it clear.
+    Unproven,
+    /// It comes into an obstacle.
+    Collides,
+}
+
+impl Fault {
+    /// The fault in capitals, for a picture's legend.
+    pub fn shout(self) -> &'static str {
+        match self {
+            Self::LeavesBounds => "LEAVES THE BOUNDS",
+            Self::Unproven => "NOT PROVEN CLEAR",
+            Self::Collides => "COLLIDES",
+        }
+    }
+}
+
+/// What keeps the class's curve from being collision-free; `None` when it is.
+pub fn fault(c: &homospline_optim::ClassPlan) -> Option<Fault> {
+    if c.collision_free {
+        None
+    } else if c.min_clearance > 0.0 && c.certified_clearance > 0.0 {
+        Some(Fault::LeavesBounds)
+    } else if c.min_clearance > 0.0 {
+        Some(Fault::Unproven)
+    } else {
+        Some(Fault::Collides)
+    }
+}
+
 /// The plan as the JSON of `docs/formats.md` (plus `pareto`, `certified_clearance`, `safe`,
 /// `in_class`, `overlap`, `pruned` and every cost term).
 pub fn plan_json(plan: &Plan) -> String {
@@ -361,22 +396,20 @@ fn no_plan_line(plan: &Plan, names: ClassNames) -> String {
              {}; no plan",
             if n == 1 { "" } else { "es" },
             name(c),
-            if c.min_clearance > 0.0 && c.certified_clearance > 0.0 {
-                // Proven clear of every obstacle, so it is the bounds that it leaves.
-                "leaves the bounds".to_owned()
-            } else if c.min_clearance > 0.0 {
-                // Clear where sampled, but its certificate does not prove it clear.
-                let x = c.certified_clearance;
-                format!(
-                    "is not proven clear of the obstacles (its certificate: {})",
-                    if x.abs() < 1e-3 {
-                        format!("{x:.1e}")
-                    } else {
-                        format!("{x:.3}")
-                    }
-                )
-            } else {
-                format!("comes {:.3} into an obstacle", -c.min_clearance)
+            match fault(c) {
+                Some(Fault::LeavesBounds) => "leaves the bounds".to_owned(),
+                Some(Fault::Unproven) => {
+                    let x = c.certified_clearance;
+                    format!(
+                        "is not proven clear of the obstacles (its certificate: {})",
+                        if x.abs() < 1e-3 {
+                            format!("{x:.1e}")
+                        } else {
+                            format!("{x:.3}")
+                        }
+                    )
+                }
+                _ => format!("comes {:.3} into an obstacle", -c.min_clearance),
             },
             match plan.seed {
                 homospline_optim::Seed::Voronoi => {
@@ -500,4 +533,45 @@ pub fn optimum_table(plan: &Plan, optima: &[Option<Optimum>], names: ClassNames)
         };
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_curve_that_is_not_collision_free_is_told_by_what_it_fails() {
+        let scene = Scene::from_str(
+            "bounds: {min: [0, 0], max: [20, 10]}\nstart: [1, 5]\ngoal: [19, 5]\n\
+             obstacles:\n  - circles: [[10, 5, 2]]\n",
+            "t.yaml",
+        )
+        .unwrap();
+        let cfg = homospline_optim::PlanConfig {
+            classes: 1,
+            ..Default::default()
+        };
+        let mut plan = homospline_optim::plan(&scene, &cfg).unwrap();
+        let c = plan.classes[0].clone();
+        assert!(c.collision_free);
+        assert_eq!(fault(&c), None);
+        let with = |min: f64, certified: f64| homospline_optim::ClassPlan {
+            collision_free: false,
+            min_clearance: min,
+            certified_clearance: certified,
+            ..c.clone()
+        };
+        assert_eq!(fault(&with(2.0, 1.9)), Some(Fault::LeavesBounds));
+        assert_eq!(fault(&with(2.0, -1e-10)), Some(Fault::Unproven));
+        assert_eq!(fault(&with(-0.5, -0.5)), Some(Fault::Collides));
+        assert_eq!(Fault::LeavesBounds.shout(), "LEAVES THE BOUNDS");
+        // The no-plan line says the same.
+        plan.classes[0] = with(2.0, 1.9);
+        plan.best = None;
+        let line = no_plan_line(&plan, ClassNames::default());
+        assert!(line.contains("leaves the bounds"), "{line}");
+        plan.classes[0] = with(-0.5, -0.5);
+        let line = no_plan_line(&plan, ClassNames::default());
+        assert!(line.contains("comes 0.500 into an obstacle"), "{line}");
+    }
 }
