@@ -378,10 +378,14 @@ impl<'w> ClassTask<'w> {
     pub(super) fn report(&self, world: &World<'_>, cfg: &PlanConfig) -> ClassRun {
         let t = Instant::now();
         let model = world.model;
-        let grown = self
-            .state
-            .as_ref()
-            .map(|g| g.result(model, &self.growth, &self.guard));
+        // On a scene the segment S-T stands in for the loop's curve where it is better
+        // ([`Growth::straight_if_better`]).
+        let grown = self.state.as_ref().map(|g| {
+            (!world.grid_is_exact && self.signature.is_some())
+                .then(|| g.straight_if_better(model, &self.growth, &self.guard))
+                .flatten()
+                .unwrap_or_else(|| g.result(model, &self.growth, &self.guard))
+        });
         let plan = report_class(world, self.origin(), cfg, grown, self.seed.clone());
         // A last resort whose curve is not reported collision-free (it stayed in collision,
         // or it leaves the bounds: a class path along a wall, from a start or goal on it,
