@@ -381,3 +381,31 @@ fn a_class_whose_straight_segment_is_better_reports_the_segment() {
         assert_eq!(best["collision_free"], true);
     }
 }
+
+#[test]
+fn a_gap_between_a_disc_and_a_side_finer_than_the_grid_is_planned_through() {
+    // A wall of discs across the room leaves 0.1 between its top disc and the top side:
+    // the only way through (the bounds are not obstacles). The graph joins start and goal
+    // on the finest grid within the limit, but its path runs along border cells outside
+    // the bounds, and every curve came 0.6 into a disc: "no plan" (a review's case). The
+    // dense pass now starts from the class's exact taut path inside the bounds.
+    let scene = tmp("gap-at-side.yaml");
+    std::fs::write(
+        &scene,
+        "bounds: {min: [0, 0], max: [100, 60]}\nstart: [10, 30]\ngoal: [90, 30]\nobstacles:\n\
+         \x20 - circles: [[50, 0, 5], [50, 8, 5], [50, 16, 5], [50, 24, 5], [50, 32, 5], [50, 40, 5], [50, 48, 5], [50, 54.9, 5]]\n",
+    )
+    .unwrap();
+    let v = plan_json(scene.to_str().unwrap(), &[], "gap-at-side.json");
+    let best = chosen_class(&v);
+    assert_eq!(best["collision_free"], true);
+    let clear = best["certified_clearance"].as_f64().unwrap();
+    assert!(clear > 0.0 && clear < 0.1, "{clear}");
+    // Through the gap: every point of the path inside the bounds, one of them above the
+    // top disc.
+    let path = best["path"].as_array().unwrap();
+    assert!(path.iter().any(|p| p[1].as_f64().unwrap() > 59.9));
+    assert!(path.iter().all(|p| p[1].as_f64().unwrap() <= 60.0));
+    let length = best["length"].as_f64().unwrap();
+    assert!(length < 101.0, "{length}");
+}

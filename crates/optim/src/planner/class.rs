@@ -15,7 +15,7 @@ use super::pull::pull_taut;
 use super::rank::Score;
 use super::report::{ClassPlan, Origin, ms, report_class};
 use super::via::{SEED_MAX_GAP, last_resort, seed_points, subdivided_seed};
-use super::world::{World, keeps_dm, taut_in_class};
+use super::world::{KEEPS_DM_LENGTH, World, keeps_dm, taut_in_class, taut_within_bounds};
 use crate::growth::{Growth, GrowthConfig, Guard, SHORT_OF_TARGET};
 
 /// A scene's dense seed (a last resort that stayed in collision) has at most this many times
@@ -75,7 +75,7 @@ pub(super) fn along_bounds(poly: &[Point], b: &Bounds, cell: Real) -> Real {
 
 /// The class's exact shortest path that keeps the dm rule's target (`dm` and the
 /// certification's tolerance) from every circle, inside the bounds, and no longer than
-/// [`KEEPS_DM_LENGTH`](super::world::KEEPS_DM_LENGTH) times `poly` (its class path), if
+/// [`KEEPS_DM_LENGTH`] times `poly` (its class path), if
 /// there is one and its polyline has the class's signature. Scenes of circles only.
 fn taut_seed(
     world: &World<'_>,
@@ -86,7 +86,7 @@ fn taut_seed(
     let circles = world.circles?;
     let clearance = cfg.growth.cost.dm + cfg.certify_tolerance.max(0.0);
     let length: Real = poly.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
-    let bound = super::world::KEEPS_DM_LENGTH * length;
+    let bound = KEEPS_DM_LENGTH * length;
     taut_in_class(world, circles, signature, clearance, bound)
         .filter(|p| p.len() >= 2 && world.rays.signature(p) == *signature)
 }
@@ -420,6 +420,45 @@ impl<'w> ClassTask<'w> {
         graph_cell: Option<Real>,
         first: &ClassPlan,
     ) -> Option<ClassPlan> {
+        let model = world.model;
+        let pulled = graph_cell
+            .filter(|_| model.polyline_clearance(&self.seed_poly) > 0.0)
+            .map(|cell| {
+                let poly = match self.signature {
+                    Some(sig) => pull_taut(&self.seed_poly, model, &world.rays, cell, sig),
+                    None => self.seed_poly.clone(),
+                };
+                (poly, cell)
+            });
+        if let Some(plan) =
+            pulled.and_then(|(poly, cell)| self.dense_from(world, cfg, &poly, cell, first))
+        {
+            return Some(plan);
+        }
+        // A class path out of the bounds or into a circle (a gap between a circle and a
+        // side, narrower than the grid's cells): the class's exact taut path inside the
+        // bounds, on a scene of circles.
+        let sig = self.signature?;
+        let length: Real = self
+            .seed_poly
+            .windows(2)
+            .map(|w| (w[1] - w[0]).norm())
+            .sum();
+        let clearance = self.growth.cost.dm + cfg.certify_tolerance.max(0.0);
+        let taut = taut_within_bounds(world, sig, clearance, KEEPS_DM_LENGTH * length)?;
+        let cell = graph_cell.unwrap_or(length / 256.0);
+        self.dense_from(world, cfg, &taut, cell, first)
+    }
+
+    /// [`ClassTask::dense`] from the polyline `pulled`, its via-points spaced by `cell`.
+    fn dense_from(
+        &self,
+        world: &World<'_>,
+        cfg: &PlanConfig,
+        pulled: &[Point],
+        cell: Real,
+        first: &ClassPlan,
+    ) -> Option<ClassPlan> {
         let t = Instant::now();
         let model = world.model;
         let guard = &self.guard;
@@ -430,11 +469,6 @@ impl<'w> ClassTask<'w> {
             .max_evaluations_per_round
             .min(2 * growth.max_via_points.max(1) * growth.evaluations_per_dimension.max(1));
         let growth = &growth;
-        let cell = graph_cell.filter(|_| model.polyline_clearance(&self.seed_poly) > 0.0)?;
-        let pulled = match self.signature {
-            Some(sig) => pull_taut(&self.seed_poly, model, &world.rays, cell, sig),
-            None => self.seed_poly.clone(),
-        };
         // Via-points at most SEED_MAX_GAP cells apart, but no more of them than half the cap
         // at first: a fine grid's cell (`--resolution 10` on 100 x 100) would space them
         // too closely for the cap before a single one is added where the curve needs it.
@@ -442,15 +476,13 @@ impl<'w> ClassTask<'w> {
         let length: Real = pulled.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
         let spacing = cell.max(2.0 * length / (SEED_MAX_GAP * cap as Real));
         let dense = subdivided_seed(
-            &pulled,
+            pulled,
             model,
             &without_floor(guard),
             growth,
             spacing,
             Some(cap),
         )?;
-        // `grow`, with every round called off by an interrupt (the plan then returns
-        // `Interrupted`: this class's result is never read).
         let mut g = Growth::new(&dense, model, growth, guard).ok()?;
         let interrupted = || cfg.interrupt.is_raised();
         while g.step_unless(model, growth, guard, &interrupted) == Some(true) {}

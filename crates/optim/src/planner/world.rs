@@ -50,6 +50,17 @@ impl ExactCircles {
         }
     }
 
+    /// The tangent graph from the world's start to its goal at `clearance`, built anew (not
+    /// kept); `None` as for [`ExactCircles::graph`].
+    fn graph_at(&self, world: &World<'_>, clearance: Real) -> Option<TangentGraph> {
+        if self.circles.len() > KEEPS_DM_CIRCLES {
+            return None;
+        }
+        TangentGraph::build(&world.start, &world.goal, &self.circles, clearance)
+            .ok()
+            .flatten()
+    }
+
     /// The tangent graph from the world's start to its goal at `clearance` (`None` when an
     /// end is less clear, the input is not valid, or there are more than
     /// [`KEEPS_DM_CIRCLES`] circles).
@@ -114,6 +125,40 @@ pub fn keeps_dm(
     .is_some()
 }
 
+/// The class `signature`'s exact shortest path, as [`taut_in_class`] gives it, at the
+/// greatest clearance up to `clearance` at which it stays inside the bounds (found to 1/256
+/// of `clearance` by bisection), then at half that clearance: a route between a circle and
+/// a side of the bounds keeps as far from both as that lets it. For a class whose every
+/// smooth curve came out in collision or out of bounds (a gap of 0.1 between a circle and
+/// the bounds, narrower than the Voronoi grid's cells). `None` when the class has no path
+/// inside the bounds at any clearance tried, or the world has no circles.
+pub fn taut_within_bounds(
+    world: &World<'_>,
+    signature: &Signature,
+    clearance: Real,
+    bound: Real,
+) -> Option<Vec<Point>> {
+    let circles = world.circles?;
+    if let Some(p) = taut_in_class(world, circles, signature, clearance, bound) {
+        return Some(p);
+    }
+    let at = |c: Real| {
+        let graph = circles.graph_at(world, c)?;
+        taut_on(world, &graph, signature, bound)
+    };
+    let (mut lo, mut hi) = (0.0, clearance);
+    let mut found = None;
+    for _ in 0..8 {
+        let mid = 0.5 * (lo + hi);
+        if at(mid).is_some() {
+            (lo, found) = (mid, Some(mid));
+        } else {
+            hi = mid;
+        }
+    }
+    found.and_then(|c| at(0.5 * c))
+}
+
 /// The class `signature`'s exact shortest path from the world's start to its goal that keeps
 /// `clearance` from every circle ([`homospline_homotopy::shortest_in_class_within`], at most
 /// [`KEEPS_DM_STATES`] states), if it is no longer than `bound` and stays in the world's
@@ -126,7 +171,16 @@ pub fn taut_in_class(
     clearance: Real,
     bound: Real,
 ) -> Option<Vec<Point>> {
-    let graph = circles.graph(world, clearance)?;
+    taut_on(world, circles.graph(world, clearance)?, signature, bound)
+}
+
+/// [`taut_in_class`] on a tangent graph already built.
+fn taut_on(
+    world: &World<'_>,
+    graph: &TangentGraph,
+    signature: &Signature,
+    bound: Real,
+) -> Option<Vec<Point>> {
     let path = shortest_in_class_within(
         graph,
         &world.rays,
