@@ -142,10 +142,7 @@ pub fn taut_within_bounds(
     if let Some(p) = taut_in_class(world, circles, signature, clearance, bound) {
         return Some(p);
     }
-    let at = |c: Real| {
-        let graph = circles.graph_at(world, c)?;
-        taut_on(world, &graph, signature, bound)
-    };
+    let at = |c: Real| taut_at(world, signature, c, bound);
     let (mut lo, mut hi) = (0.0, clearance);
     let mut found = None;
     for _ in 0..8 {
@@ -157,6 +154,18 @@ pub fn taut_within_bounds(
         }
     }
     found.and_then(|c| at(0.5 * c))
+}
+
+/// [`taut_in_class`] on a tangent graph built for `clearance` alone (not kept), for a
+/// clearance other than the dm rule's.
+pub fn taut_at(
+    world: &World<'_>,
+    signature: &Signature,
+    clearance: Real,
+    bound: Real,
+) -> Option<Vec<Point>> {
+    let graph = world.circles?.graph_at(world, clearance)?;
+    taut_on(world, &graph, signature, bound)
 }
 
 /// The class `signature`'s exact shortest path from the world's start to its goal that keeps
