@@ -273,6 +273,12 @@ impl Growth {
             return None;
         }
         let points = vec![self.s, self.t];
+        // Most classes are not the segment's: its word settles that at once.
+        if let Some((rays, sig)) = guard.class
+            && rays.signature(&points) != *sig
+        {
+            return None;
+        }
         let spline = build(&points, EndCondition::Natural, cfg)?;
         if !(super::guard::admissible(&spline, guard, cfg.guard_samples)
             && guard.certifies(&spline, model))
