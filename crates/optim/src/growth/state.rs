@@ -286,7 +286,14 @@ impl Growth {
             return None;
         }
         let settings = self.settings(cfg);
-        let terms = evaluate(&spline, model, &settings.cost);
+        // The segment's least clearance searched along every stretch: its few nodes are far
+        // apart, and the worst node's neighbours alone can miss a dip (the loop's own curve
+        // gets that search in its repair round).
+        let searched = CostConfig {
+            clearance_search: ClearanceSearch::EveryStretch,
+            ..settings.cost.clone()
+        };
+        let terms = evaluate(&spline, model, &searched);
         let value = outer_value(guard, terms.min_clearance, guard.value(&terms));
         let (best_points, best_spline) = self.best(guard);
         let best_terms = evaluate(best_spline, model, &settings.cost);
@@ -296,7 +303,7 @@ impl Growth {
         }
         let exact = CostConfig {
             tolerance: 0.0,
-            ..settings.cost.clone()
+            ..searched
         };
         Some(Grown {
             terms: evaluate(&spline, model, &exact),

@@ -54,7 +54,7 @@ pub(super) const HUG_CELLS: Real = 8.0;
 /// is on a wall: its attach route follows the wall, and the curve through it does too. The
 /// optimiser cannot pull such a curve off the wall (every candidate that crosses the side is
 /// out of bounds), and planned an L along two walls, 85.8 long, where the straight line, 62.2
-/// long and 27 units clear, was in the class.
+/// long and 17.3 units clear, was in the class.
 pub(super) fn along_bounds(poly: &[Point], b: &Bounds, cell: Real) -> Real {
     let near = |p: &Point| -> [bool; 4] {
         [
@@ -80,7 +80,7 @@ pub(super) fn along_bounds(poly: &[Point], b: &Bounds, cell: Real) -> Real {
 /// is at most [`KEEPS_DM_LENGTH`] times as long as the class path and in the class. The
 /// optimiser cannot pull a curve off a wall (every candidate across it is out of bounds): a
 /// goal on a room's wall was reached by an L along two walls, 85.8 long, where the straight
-/// line of the class was 62.2 long and 17 units clear. [`ClassTask::new`] takes it only if a
+/// line of the class was 62.2 long and 17.3 units clear. [`ClassTask::new`] takes it only if a
 /// spline through it keeps the class's target, else the class path stands (on a scene 20,000
 /// units wide the taut path at `dm` took a class from 39.1 clear to 0.79). `None` otherwise,
 /// or with no circles.
@@ -242,13 +242,12 @@ impl<'w> ClassTask<'w> {
             clearance_floor: guard.clearance_target.max(guard.clearance_floor),
             ..guard.clone()
         };
+        // Its candidates are compared with it (in the class: `taut_seed` checked its word).
         let taut_points = taut.and_then(|p| {
+            *held.proven.borrow_mut() = Some(p.clone());
+            let points = seed_points(&p, model, &held, &growth)?;
             *guard.proven.borrow_mut() = Some(p.clone());
-            let points = seed_points(&p, model, &held, &growth);
-            if points.is_none() {
-                *guard.proven.borrow_mut() = Some(seed_poly.clone());
-            }
-            points.map(|points| (p, points))
+            Some((p, points))
         });
         let (seed_poly, seed) = match taut_points {
             Some((p, points)) => (p, Some(points)),
@@ -470,9 +469,12 @@ impl<'w> ClassTask<'w> {
     /// path, if it is clear, is pulled taut in its class as a map's is, and the via-points follow it, up to [`DENSE_SEED_SHARE`]
     /// times as many (a winding passage or a field of small obstacles that a spline through
     /// `max_via_points` via-points cannot keep to; L-BFGS cannot even start from a colliding
-    /// seed). Its round's budget is that of a round at `max_via_points`. `Some` only if the
-    /// curve is reported collision-free (clear and inside the bounds); its evaluations and
-    /// time include the first pass's.
+    /// seed). Its round's budget is that of a round at `max_via_points`. When the path is not
+    /// clear or its curve does not come out collision-free, the via-points follow the
+    /// class's exact taut path inside the bounds instead ([`taut_within_bounds`], scenes of
+    /// circles). `Some` only if the curve is reported collision-free (clear and inside the
+    /// bounds); its evaluations include the first pass's (not those of a dense try that
+    /// failed), its time both passes' and every try's.
     ///
     /// Pulling taut first matters in clutter: a graph path winding between many small
     /// obstacles has a point per cell, far more than the via-points can follow; taut, it
@@ -484,6 +486,7 @@ impl<'w> ClassTask<'w> {
         graph_cell: Option<Real>,
         first: &ClassPlan,
     ) -> Option<ClassPlan> {
+        let t = Instant::now();
         let model = world.model;
         let pulled = graph_cell
             .filter(|_| model.polyline_clearance(&self.seed_poly) > 0.0)
@@ -495,9 +498,12 @@ impl<'w> ClassTask<'w> {
                 (poly, cell)
             });
         if let Some(plan) =
-            pulled.and_then(|(poly, cell)| self.dense_from(world, cfg, &poly, cell, first))
+            pulled.and_then(|(poly, cell)| self.dense_from(world, cfg, &poly, cell, first, t))
         {
             return Some(plan);
+        }
+        if cfg.interrupt.is_raised() {
+            return None;
         }
         // A class path out of the bounds or into a circle (a gap between a circle and a
         // side, narrower than the grid's cells): the class's exact taut path inside the
@@ -511,10 +517,11 @@ impl<'w> ClassTask<'w> {
         let clearance = self.growth.cost.dm + cfg.certify_tolerance.max(0.0);
         let taut = taut_within_bounds(world, sig, clearance, KEEPS_DM_LENGTH * length)?;
         let cell = graph_cell.unwrap_or(length / 256.0);
-        self.dense_from(world, cfg, &taut, cell, first)
+        self.dense_from(world, cfg, &taut, cell, first, t)
     }
 
-    /// [`ClassTask::dense`] from the polyline `pulled`, its via-points spaced by `cell`.
+    /// [`ClassTask::dense`] from the polyline `pulled`, its via-points spaced by `cell`; `t`:
+    /// when the dense pass began.
     fn dense_from(
         &self,
         world: &World<'_>,
@@ -522,8 +529,8 @@ impl<'w> ClassTask<'w> {
         pulled: &[Point],
         cell: Real,
         first: &ClassPlan,
+        t: Instant,
     ) -> Option<ClassPlan> {
-        let t = Instant::now();
         let model = world.model;
         let guard = &self.guard;
         // A round of the dense pass gets the budget of a round at `max_via_points` (its

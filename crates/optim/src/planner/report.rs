@@ -22,7 +22,8 @@ pub struct ClassPlan {
     pub rank: usize,
     /// Homotopy signature (stable text form).
     pub signature: String,
-    /// The class path the seed came from (for `straight`: `S`, midpoint, `T`).
+    /// The class path the seed came from (for `straight`: `S`, midpoint, `T`), or on a scene
+    /// the class's taut path offered in its place and taken (a class path along the bounds).
     pub seed_path: Vec<Point>,
     /// `S`, optimised via-points, `T`.
     pub via_points: Vec<Point>,
@@ -47,7 +48,8 @@ pub struct ClassPlan {
     /// Rounds of the growth loop.
     pub iterations: usize,
     /// Each round's via-points, cost at its end and evaluations (the curve reported is the
-    /// best of them: [`grow`]).
+    /// best of them: [`grow`]; or on a scene the segment `S-T` where it is better,
+    /// `Growth::straight_if_better`).
     pub rounds: Vec<Round>,
     /// Cost evaluations.
     pub evaluations: usize,

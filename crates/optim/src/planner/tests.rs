@@ -199,7 +199,8 @@ fn a_path_along_a_side_of_the_bounds_is_measured_there_only() {
         min: Point::new(0.0, 0.0),
         max: Point::new(60.0, 60.0),
     };
-    // Right along the top, then down the right wall within a cell of it: 10 + 37.
+    // Up to the top (not counted), along it, then down the right wall within a cell of it:
+    // 9.9 + 9.9 + 47.
     let hug = [
         Point::new(10.0, 40.0),
         Point::new(50.0, 59.9),

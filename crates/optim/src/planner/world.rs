@@ -125,10 +125,11 @@ pub fn keeps_dm(
     .is_some()
 }
 
-/// The class `signature`'s exact shortest path, as [`taut_in_class`] gives it, at the
-/// greatest clearance up to `clearance` at which it stays inside the bounds (found to 1/256
-/// of `clearance` by bisection), then at half that clearance: a route between a circle and
-/// a side of the bounds keeps as far from both as that lets it. For a class whose every
+/// The class `signature`'s exact shortest path, as [`taut_in_class`] gives it: at
+/// `clearance` if it stays inside the bounds there; else at half the greatest clearance
+/// below `clearance` at which it does (found to 1/256 of `clearance` by bisection; at that
+/// clearance itself if the path at half of it is not found), so that a route between a
+/// circle and a side of the bounds keeps as far from both as that lets it. For a class whose every
 /// smooth curve came out in collision or out of bounds (a gap of 0.1 between a circle and
 /// the bounds, narrower than the Voronoi grid's cells). `None` when the class has no path
 /// inside the bounds at any clearance tried, or the world has no circles.
@@ -153,7 +154,7 @@ pub fn taut_within_bounds(
             hi = mid;
         }
     }
-    found.and_then(|c| at(0.5 * c))
+    found.and_then(|c| at(0.5 * c).or_else(|| at(c)))
 }
 
 /// [`taut_in_class`] on a tangent graph built for `clearance` alone (not kept), for a
@@ -204,6 +205,17 @@ fn taut_on(
             if out.last() != Some(&p) {
                 out.push(p);
             }
+        }
+    }
+    // The ends are the start and the goal to the bit (a piece's end is computed, and can be
+    // an ulp off).
+    if let (Some(first), Some(last)) = (out.first().copied(), out.last().copied()) {
+        let n = out.len();
+        if n >= 2 && (first - world.start).norm() < 1e-9 * (1.0 + world.start.coords.norm()) {
+            out[0] = world.start;
+        }
+        if n >= 2 && (last - world.goal).norm() < 1e-9 * (1.0 + world.goal.coords.norm()) {
+            out[n - 1] = world.goal;
         }
     }
     // In bounds: every piece's ends and, on an arc, points a degree apart.
