@@ -134,6 +134,23 @@ fn finite(x: f64) -> f64 {
     }
 }
 
+/// Decimals beyond the table's usual ones (2 for lengths, 3 for clearances) that a plan's
+/// lengths need to show their leading digits: a scene a thousandth of a unit wide printed
+/// lengths of `0.00` and clearances of `0.000`. `0` from a longest length of 1 up.
+fn extra_digits(plan: &Plan) -> usize {
+    let longest = plan
+        .classes
+        .iter()
+        .map(|c| c.length)
+        .filter(|l| l.is_finite() && *l > 0.0)
+        .fold(0.0, f64::max);
+    if longest <= 0.0 || longest >= 1.0 {
+        0
+    } else {
+        ((-longest.log10()).ceil() as usize).min(12)
+    }
+}
+
 /// Why a class's curve is not collision-free ([`fault`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Fault {
@@ -288,9 +305,10 @@ pub fn plan_table(plan: &Plan, names: ClassNames) -> String {
         "{:>4}  {:<12} {:>8} {:>9} {:>11} {:>11} {:>6} {:>6} {:>8}  collision-free  safe",
         "rank", "class", "length", "clearance", "roughness", "cost", "rounds", "evals", "time ms"
     );
+    let extra = extra_digits(plan);
     for c in &plan.classes {
         let row = format!(
-            "{:>4}  {:<12} {:>8.2} {:>9.3} {:>11.1} {:>11.2} {:>6} {:>6} {:>8.1}  {:<14}  {:<4}  {}",
+            "{:>4}  {:<12} {:>8.l$} {:>9.m$} {:>11.1} {:>11.2} {:>6} {:>6} {:>8.1}  {:<14}  {:<4}  {}",
             c.rank,
             names.ranked(c.rank, &c.signature),
             c.length,
@@ -308,7 +326,9 @@ pub fn plan_table(plan: &Plan, names: ClassNames) -> String {
                 (true, false) => "pareto",
                 (false, true) => "        pruned",
                 (false, false) => "",
-            }
+            },
+            l = 2 + extra,
+            m = 3 + extra,
         );
         let _ = writeln!(s, "{}", row.trim_end());
     }
@@ -320,7 +340,7 @@ pub fn plan_table(plan: &Plan, names: ClassNames) -> String {
             let after = c.rounds.iter().filter(|r| r.polish).count();
             let _ = writeln!(
                 s,
-                "chosen: rank {b}, class {} (id {}), length {:.2}, minimum clearance {:.3}{}{}",
+                "chosen: rank {b}, class {} (id {}), length {:.l$}, minimum clearance {:.m$}{}{}",
                 class_letter(b),
                 class_id(&c.signature),
                 c.length,
@@ -350,7 +370,9 @@ pub fn plan_table(plan: &Plan, names: ClassNames) -> String {
                         "; {n} of its {} rounds after the ranking (--polish, or the interior-point finish within --finish-within)",
                         c.iterations
                     ),
-                }
+                },
+                l = 2 + extra,
+                m = 3 + extra,
             );
         }
         None => {
@@ -573,5 +595,25 @@ mod tests {
         plan.classes[0] = with(-0.5, -0.5);
         let line = no_plan_line(&plan, ClassNames::default());
         assert!(line.contains("comes 0.500 into an obstacle"), "{line}");
+    }
+
+    #[test]
+    fn a_tiny_scene_s_table_shows_its_lengths_leading_digits() {
+        let scene = Scene::from_str(
+            "bounds: {min: [0, 0], max: [0.002, 0.001]}\nstart: [0.0001, 0.0005]\n\
+             goal: [0.0019, 0.0005]\nobstacles:\n  - circles: [[0.001, 0.0005, 0.0002]]\n",
+            "t.yaml",
+        )
+        .unwrap();
+        let cfg = homospline_optim::PlanConfig {
+            classes: 1,
+            ..Default::default()
+        };
+        let plan = homospline_optim::plan(&scene, &cfg).unwrap();
+        assert_eq!(extra_digits(&plan), 3);
+        let table = plan_table(&plan, ClassNames::default());
+        let length = plan.classes[0].length;
+        assert!(table.contains(&format!("length {length:.5}")), "{table}");
+        assert!(!table.contains(" 0.00 "), "{table}");
     }
 }
