@@ -955,7 +955,7 @@ fn the_class_table_keeps_its_columns() {
 #[test]
 fn a_scene_walled_apart_is_no_plan_naming_the_wall_and_a_narrow_gap_is_planned() {
     // Two discs that, grown by the robot's radius 3, touch each other and the bounds.
-    let closed = tmp("walled.yaml");
+    let closed = tmp("walled-apart.yaml");
     let scene = "bounds: {min: [0, 0], max: [60, 60]}\nstart: [5, 30]\ngoal: [55, 30]\n\
                  robot_radius: 3\nobstacles:\n  - name: top\n    circles: [[30, 45, 12]]\n  \
                  - name: bot\n    circles: [[30, 15, 12]]\n";
