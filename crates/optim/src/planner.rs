@@ -24,7 +24,7 @@
 
 use std::time::Instant;
 
-use homospline_geom::{Real, Scene};
+use homospline_geom::{Point, Real, Scene};
 use homospline_homotopy::Rays;
 use homospline_spline::CircleModel;
 use homospline_voronoi::{BuildError, VoronoiGraph};
@@ -234,6 +234,11 @@ pub fn plan_world<'g>(
         graph: seeded.graph,
         avoided: seeded.avoided,
     })
+}
+
+/// The length of the polyline `poly` (the sum of its segments').
+fn polyline_length(poly: &[Point]) -> Real {
+    poly.windows(2).map(|w| (w[1] - w[0]).norm()).sum()
 }
 
 #[cfg(test)]

@@ -110,7 +110,7 @@ fn taut_seed(
     if clearance.is_nan() || clearance <= 0.0 {
         return None;
     }
-    let length: Real = poly.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    let length = super::polyline_length(poly);
     let taut = taut_at(world, signature, clearance, KEEPS_DM_LENGTH * length)?;
     (taut.len() >= 2 && world.rays.signature(&taut) == *signature).then_some(taut)
 }
@@ -235,15 +235,15 @@ impl<'w> ClassTask<'w> {
         if signature.is_some() {
             *guard.proven.borrow_mut() = Some(seed_poly.clone());
         }
-        let growth = growth.into_owned();
+        let mut growth = growth.into_owned();
         // The taut path offered ([`taut_seed`]) is the seed if a spline through it keeps the
-        // class's target (its target set from the class path, as without it).
-        let held = Guard {
-            clearance_floor: guard.clearance_target.max(guard.clearance_floor),
-            ..guard.clone()
-        };
-        // Its candidates are compared with it (in the class: `taut_seed` checked its word).
+        // class's target (its target set from the class path, as without it); its
+        // candidates are compared with it (in the class: `taut_seed` checked its word).
         let taut_points = taut.and_then(|p| {
+            let held = Guard {
+                clearance_floor: guard.clearance_target.max(guard.clearance_floor),
+                ..guard.clone()
+            };
             *held.proven.borrow_mut() = Some(p.clone());
             let points = seed_points(&p, model, &held, &growth)?;
             *guard.proven.borrow_mut() = Some(p.clone());
@@ -253,26 +253,6 @@ impl<'w> ClassTask<'w> {
             Some((p, points)) => (p, Some(points)),
             None => (seed_poly, None),
         };
-        Self::with_seed(
-            world, seed_poly, seed, signature, graph_cost, graph_cell, t, growth, guard,
-        )
-    }
-
-    /// [`ClassTask::new`] after its setup, from `seed` if given, else from `seed_poly`'s
-    /// via-points.
-    #[allow(clippy::too_many_arguments)]
-    fn with_seed(
-        world: &'w World<'_>,
-        seed_poly: Vec<Point>,
-        seed: Option<Vec<Point>>,
-        signature: Option<&'w Signature>,
-        graph_cost: Real,
-        graph_cell: Option<Real>,
-        t: Instant,
-        mut growth: GrowthConfig,
-        guard: Guard<'w>,
-    ) -> Self {
-        let model = world.model;
         // On scenes the first via-point set that already keeps the floor is preferred.
         let seed_guard = without_floor(&guard);
         let mut resorted = false;
@@ -509,11 +489,7 @@ impl<'w> ClassTask<'w> {
         // side, narrower than the grid's cells): the class's exact taut path inside the
         // bounds, on a scene of circles.
         let sig = self.signature?;
-        let length: Real = self
-            .seed_poly
-            .windows(2)
-            .map(|w| (w[1] - w[0]).norm())
-            .sum();
+        let length = super::polyline_length(&self.seed_poly);
         let clearance = self.growth.cost.dm + cfg.certify_tolerance.max(0.0);
         let taut = taut_within_bounds(world, sig, clearance, KEEPS_DM_LENGTH * length)?;
         let cell = graph_cell.unwrap_or(length / 256.0);
@@ -544,7 +520,7 @@ impl<'w> ClassTask<'w> {
         // at first: a fine grid's cell (`--resolution 10` on 100 x 100) would space them
         // too closely for the cap before a single one is added where the curve needs it.
         let cap = DENSE_SEED_SHARE * (growth.max_via_points + 2);
-        let length: Real = pulled.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+        let length = super::polyline_length(pulled);
         let spacing = cell.max(2.0 * length / (SEED_MAX_GAP * cap as Real));
         let dense = subdivided_seed(
             pulled,
@@ -554,6 +530,8 @@ impl<'w> ClassTask<'w> {
             spacing,
             Some(cap),
         )?;
+        // `grow`, with every round called off by an interrupt (the plan then returns
+        // `Interrupted`: this class's result is never read).
         let mut g = Growth::new(&dense, model, growth, guard).ok()?;
         let interrupted = || cfg.interrupt.is_raised();
         while g.step_unless(model, growth, guard, &interrupted) == Some(true) {}

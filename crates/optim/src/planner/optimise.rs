@@ -79,8 +79,7 @@ pub(super) fn optimise_classes(
 /// the end. Each class is independent, so the order changes no result.
 fn longest_first(seeds: &[SeedPath]) -> Vec<usize> {
     let mut order: Vec<usize> = (0..seeds.len()).collect();
-    let seed_length =
-        |i: usize| -> Real { seeds[i].0.windows(2).map(|w| (w[1] - w[0]).norm()).sum() };
+    let seed_length = |i: usize| -> Real { super::polyline_length(&seeds[i].0) };
     order.sort_by(|&a, &b| seed_length(b).total_cmp(&seed_length(a)).then(a.cmp(&b)));
     order
 }

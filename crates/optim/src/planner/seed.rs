@@ -461,7 +461,7 @@ const SHORTCUT_TRIES: usize = 32;
 /// point up the clearance gradient, a quarter cell at a time, until it is two cells clear or
 /// stops gaining: the seed runs down the middle of passages.
 fn centre(poly: &[Point], model: &dyn ClearanceModel, cell: Real) -> Vec<Point> {
-    let len: Real = poly.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    let len = super::polyline_length(poly);
     let n = ((len / (0.5 * cell)).ceil() as usize).clamp(2, 20_000);
     let mut pts = resample(poly, n - 1);
     if pts.len() < 3 {

@@ -22,7 +22,7 @@ pub(super) fn seed_points(
             guard.cost(&sp, model, cfg).is_finite() && is_collision_free(&sp, model)
         })
     };
-    let len: Real = poly.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    let len = super::polyline_length(poly);
     let mut tol = len / 8.0;
     let limit = cfg.max_via_points + 2;
     for _ in 0..16 {

@@ -114,7 +114,7 @@ pub fn keeps_dm(
     signature: &Signature,
     clearance: Real,
 ) -> bool {
-    let length: Real = poly.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    let length = super::polyline_length(poly);
     taut_in_class(
         world,
         circles,
