@@ -152,21 +152,19 @@ pub(super) fn interior_finish(
             let Some(sp) = build(&to_points(s, t, y), end, cfg) else {
                 return (Real::INFINITY, vec![0.0; y.len()]);
             };
-            // [`guarded_gradient`], with the barrier worked out on the other core while the
-            // cost's gradient is (the finish runs alone after the classes' rounds). Each is
-            // computed as it would be alone, so the values are the same.
+            // [`guarded_gradient`], then the barrier (only for a finite value), on this
+            // thread. Worked out on the other core (`rayon::join`, once an evaluation), it
+            // saved 5 to 11 % of a plan where the machine woke the other thread quickly and
+            // cost 25 to 45 % where it did not (docs/performance.md, *plan*).
             if !admissible(&sp, guard, cfg.guard_samples) {
                 return (Real::INFINITY, vec![0.0; y.len()]);
             }
-            let ((terms, grad), barrier_part) = rayon::join(
-                || gradient(&sp, model, &cfg.cost),
-                || barrier.value_and_gradient(&sp, model),
-            );
+            let (terms, grad) = gradient(&sp, model, &cfg.cost);
             let (v, mut g) = guarded_value(terms, &grad, guard, current);
             if !v.is_finite() {
                 return (v, g);
             }
-            match barrier_part {
+            match barrier.value_and_gradient(&sp, model) {
                 Some((b, bg)) => {
                     for (gi, bv) in g.chunks_exact_mut(2).zip(&bg) {
                         gi[0] += bv.x;
