@@ -409,3 +409,35 @@ fn a_gap_between_a_disc_and_a_side_finer_than_the_grid_is_planned_through() {
     let length = best["length"].as_f64().unwrap();
     assert!(length < 101.0, "{length}");
 }
+
+#[test]
+fn a_gap_of_one_between_a_disc_and_a_side_is_passed_without_following_the_side() {
+    // The same wall with 1 left under the top side. The class path runs along the side from
+    // the gap on, and the curve through it did too, then down a second side to the goal:
+    // 116.67 long (cost 1,247.8). At `dm` the class has no taut path (the gap is narrower),
+    // so none was offered; at the class's own clearance target it has, and the plan from it
+    // is 102.59 long (cost 636.6), and clearer.
+    let scene = tmp("gap-of-one.yaml");
+    std::fs::write(
+        &scene,
+        "bounds: {min: [0, 0], max: [100, 60]}\nstart: [10, 30]\ngoal: [90, 30]\nobstacles:\n\
+         \x20 - circles: [[50, 0, 5], [50, 8, 5], [50, 16, 5], [50, 24, 5], [50, 32, 5], [50, 40, 5], [50, 48, 5], [50, 54, 5]]\n",
+    )
+    .unwrap();
+    let v = plan_json(scene.to_str().unwrap(), &[], "gap-of-one.json");
+    let best = chosen_class(&v);
+    assert_eq!(best["collision_free"], true);
+    let length = best["length"].as_f64().unwrap();
+    assert!(length < 105.0, "{length}");
+    assert!(best["certified_clearance"].as_f64().unwrap() > 0.9);
+    // Near the top side (within a unit of it) only about the gap, not on to the goal's side.
+    let path = best["path"].as_array().unwrap();
+    let xs: Vec<f64> = path
+        .iter()
+        .filter(|p| p[1].as_f64().unwrap() > 59.0)
+        .map(|p| p[0].as_f64().unwrap())
+        .collect();
+    let span =
+        xs.iter().cloned().fold(f64::MIN, f64::max) - xs.iter().cloned().fold(f64::MAX, f64::min);
+    assert!(span < 20.0, "{span}");
+}

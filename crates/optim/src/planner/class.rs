@@ -33,16 +33,17 @@ pub(super) fn start_class<'w>(
     gcost: Real,
     cell: Option<Real>,
 ) -> ClassTask<'w> {
-    let (poly, taut) = match (sig, cell) {
+    let (poly, hugs) = match (sig, cell) {
         (Some(s), Some(cell)) if world.grid_is_exact => {
-            (pull_taut(poly, world.model, &world.rays, cell, s), None)
+            (pull_taut(poly, world.model, &world.rays, cell, s), false)
         }
-        (Some(s), Some(cell)) if !world.grid_is_exact => {
-            (poly.to_vec(), taut_seed(world, cfg, poly, s, cell))
-        }
-        _ => (poly.to_vec(), None),
+        (Some(_), Some(cell)) => (
+            poly.to_vec(),
+            world.circles.is_some() && along_bounds(poly, &world.bounds, cell) >= HUG_CELLS * cell,
+        ),
+        _ => (poly.to_vec(), false),
     };
-    ClassTask::new(world, poly, taut, sig, gcost, cfg, cell)
+    ClassTask::new(world, poly, hugs, sig, gcost, cfg, cell)
 }
 
 /// A scene's class path that runs along the bounds for this many cells or more is offered
@@ -75,15 +76,19 @@ pub(super) fn along_bounds(poly: &[Point], b: &Bounds, cell: Real) -> Real {
 
 /// A scene's class path that runs along the bounds ([`along_bounds`], [`HUG_CELLS`] cells
 /// or more) is offered its class's exact shortest path as a seed ([`taut_at`]) at the
-/// clearance `min(1.1 target, 0.999 ends)` (the target is `dm` and the certification's
-/// tolerance; `ends`, the less clear of the start's and the goal's clearance), if that path
-/// is at most [`KEEPS_DM_LENGTH`] times as long as the class path and in the class. The
-/// optimiser cannot pull a curve off a wall (every candidate across it is out of bounds): a
-/// goal on a room's wall was reached by an L along two walls, 85.8 long, where the straight
-/// line of the class was 62.2 long and 17.3 units clear. [`ClassTask::new`] takes it only if a
-/// spline through it keeps the class's target, else the class path stands (on a scene 20,000
-/// units wide the taut path at `dm` took a class from 39.1 clear to 0.79). `None` otherwise,
-/// or with no circles.
+/// clearance `min(1.1 target, 0.999 ends)` (`target` is the class's clearance target: `dm`
+/// and the certification's tolerance, less through a passage narrower than that, more under
+/// a clearance floor above `dm`, and `dm` under `--soft-dm`; `ends`, the less clear of the
+/// start's and the goal's clearance), if that path is at most [`KEEPS_DM_LENGTH`] times as
+/// long as the class path and in the class. The optimiser cannot pull a curve off a wall
+/// (every candidate across it is out of bounds): a goal on a room's wall was reached by an L
+/// along two walls, 85.8 long, where the straight line of the class was 62.2 long and 17.3
+/// units clear; and through a gap of 1 between a disc and a side, the curve ran on along
+/// that side and down another, 116.67 long, where the taut path at the class's target leads
+/// to 102.59 (at `dm` there is none through the gap). [`ClassTask::new`] takes it only if a
+/// spline through it keeps the class's target and costs less than the class path's seed,
+/// else the class path stands (on a scene 20,000 units wide the taut path at `dm` took a
+/// class from 39.1 clear to 0.79). `None` otherwise, or with no circles.
 ///
 /// Offered also where an end is less clear than the target and the class path is 1.1 times
 /// the taut path or longer (a review's bowed detour, 27.20 against 22.65 long), it shortened
@@ -92,16 +97,10 @@ pub(super) fn along_bounds(poly: &[Point], b: &Bounds, cell: Real) -> Real {
 /// 388 to 643): not kept.
 fn taut_seed(
     world: &World<'_>,
-    cfg: &PlanConfig,
     poly: &[Point],
     signature: &Signature,
-    cell: Real,
+    target: Real,
 ) -> Option<Vec<Point>> {
-    world.circles?;
-    if along_bounds(poly, &world.bounds, cell) < HUG_CELLS * cell {
-        return None;
-    }
-    let target = cfg.growth.cost.dm + cfg.certify_tolerance.max(0.0);
     let ends = world
         .model
         .clearance_value(&world.start)
@@ -181,6 +180,62 @@ fn floor_target(signature: Option<&Signature>, cfg: &PlanConfig) -> Real {
     }
 }
 
+/// The via-points of a class's seed from its class path: on a map its certified subdivision;
+/// on a scene the first admissible set that keeps the floor, else the first that is clear,
+/// else the last resort (`true` with it).
+fn class_path_seed(
+    world: &World<'_>,
+    seed_poly: &[Point],
+    signature: Option<&Signature>,
+    graph_cell: Option<Real>,
+    guard: &Guard<'_>,
+    growth: &GrowthConfig,
+) -> (Vec<Point>, bool) {
+    let model = world.model;
+    let seed_guard = without_floor(guard);
+    match (signature, graph_cell) {
+        (Some(_), Some(cell)) if world.grid_is_exact => (
+            subdivided_seed(seed_poly, model, &seed_guard, growth, cell, None)
+                .unwrap_or_else(|| seed_poly.to_vec()),
+            false,
+        ),
+        (Some(_), _) => guard
+            .clearance_floor
+            .is_finite()
+            .then(|| seed_points(seed_poly, model, guard, growth))
+            .flatten()
+            .or_else(|| seed_points(seed_poly, model, &seed_guard, growth))
+            .map_or_else(|| (last_resort(seed_poly, growth), true), |p| (p, false)),
+        (None, _) => (seed_poly.to_vec(), false),
+    }
+}
+
+/// The class's taut path ([`taut_seed`]) at its clearance target (`dm` where no target holds,
+/// under `--soft-dm`), and the via-points of a spline through it that keeps that target;
+/// `None` if there is no such path or spline.
+fn taut_points(
+    world: &World<'_>,
+    cfg: &PlanConfig,
+    seed_poly: &[Point],
+    signature: &Signature,
+    guard: &Guard<'_>,
+    growth: &GrowthConfig,
+) -> Option<(Vec<Point>, Vec<Point>)> {
+    let target = if guard.clearance_target.is_finite() {
+        guard.clearance_target
+    } else {
+        growth.cost.dm + cfg.certify_tolerance.max(0.0)
+    };
+    let p = taut_seed(world, seed_poly, signature, target)?;
+    let held = Guard {
+        clearance_floor: guard.clearance_target.max(guard.clearance_floor),
+        ..guard.clone()
+    };
+    *held.proven.borrow_mut() = Some(p.clone());
+    let points = seed_points(&p, world.model, &held, growth)?;
+    Some((p, points))
+}
+
 /// A guard that only keeps candidates in the class, in bounds and clear: a seed need only be
 /// collision-free (the growth loop's ratchet raises it to the floor).
 fn without_floor<'w>(guard: &Guard<'w>) -> Guard<'w> {
@@ -221,7 +276,7 @@ impl<'w> ClassTask<'w> {
     fn new(
         world: &'w World<'_>,
         seed_poly: Vec<Point>,
-        taut: Option<Vec<Point>>,
+        hugs: bool,
         signature: Option<&'w Signature>,
         graph_cost: Real,
         cfg: &'w PlanConfig,
@@ -236,44 +291,27 @@ impl<'w> ClassTask<'w> {
             *guard.proven.borrow_mut() = Some(seed_poly.clone());
         }
         let mut growth = growth.into_owned();
-        // The taut path offered ([`taut_seed`]) is the seed if a spline through it keeps the
-        // class's target (its target set from the class path, as without it); its
-        // candidates are compared with it (in the class: `taut_seed` checked its word).
-        let taut_points = taut.and_then(|p| {
-            let held = Guard {
-                clearance_floor: guard.clearance_target.max(guard.clearance_floor),
-                ..guard.clone()
-            };
-            *held.proven.borrow_mut() = Some(p.clone());
-            let points = seed_points(&p, model, &held, &growth)?;
-            *guard.proven.borrow_mut() = Some(p.clone());
-            Some((p, points))
-        });
-        let (seed_poly, seed) = match taut_points {
-            Some((p, points)) => (p, Some(points)),
-            None => (seed_poly, None),
-        };
         // On scenes the first via-point set that already keeps the floor is preferred.
-        let seed_guard = without_floor(&guard);
-        let mut resorted = false;
-        let mut seed = match (seed, signature, graph_cell) {
-            (Some(seed), _, _) => seed,
-            (None, Some(_), Some(cell)) if world.grid_is_exact => {
-                subdivided_seed(&seed_poly, model, &seed_guard, &growth, cell, None)
-                    .unwrap_or_else(|| seed_poly.clone())
+        let (mut seed, mut resorted) =
+            class_path_seed(world, &seed_poly, signature, graph_cell, &guard, &growth);
+        let mut seed_poly = seed_poly;
+        // The taut path offered ([`taut_seed`]) is the seed instead if a spline through it
+        // keeps the class's target (its target set from the class path, as without it) and
+        // costs less than the class path's seed; its candidates are then compared with it
+        // (in the class: `taut_seed` checked its word).
+        if let Some((p, points)) = signature
+            .filter(|_| hugs)
+            .and_then(|sig| taut_points(world, cfg, &seed_poly, sig, &guard, &growth))
+        {
+            let cost = |pts: &[Point]| {
+                homospline_spline::Spline::new(pts, growth.parametrization, growth.end)
+                    .map_or(Real::INFINITY, |sp| guard.cost(&sp, model, &growth))
+            };
+            if resorted || cost(&points) < cost(&seed) {
+                *guard.proven.borrow_mut() = Some(p.clone());
+                (seed_poly, seed, resorted) = (p, points, false);
             }
-            (None, Some(_), _) => guard
-                .clearance_floor
-                .is_finite()
-                .then(|| seed_points(&seed_poly, model, &guard, &growth))
-                .flatten()
-                .or_else(|| seed_points(&seed_poly, model, &seed_guard, &growth))
-                .unwrap_or_else(|| {
-                    resorted = true;
-                    last_resort(&seed_poly, &growth)
-                }),
-            (None, None, _) => seed_poly.clone(),
-        };
+        }
         // The ends are the start and goal to the bit: a map seed's interpolation ended a
         // class's path at 1.9999999999999998 for a goal at 2.
         if let (Some(first), Some(&s)) = (seed.first_mut(), seed_poly.first()) {
