@@ -155,7 +155,7 @@ pub(super) fn interior_finish(
             // [`guarded_gradient`], then the barrier (only for a finite value), on this
             // thread. Worked out on the other core (`rayon::join`, once an evaluation), it
             // saved 5 to 11 % of a plan where the machine woke the other thread quickly and
-            // cost 25 to 45 % where it did not (docs/performance.md, *plan*).
+            // cost 23 to 43 % where it did not (docs/performance.md, *plan*).
             if !admissible(&sp, guard, cfg.guard_samples) {
                 return (Real::INFINITY, vec![0.0; y.len()]);
             }

@@ -74,21 +74,22 @@ pub(super) fn along_bounds(poly: &[Point], b: &Bounds, cell: Real) -> Real {
         .sum()
 }
 
-/// A scene's class path that runs along the bounds ([`along_bounds`], [`HUG_CELLS`] cells
-/// or more) is offered its class's exact shortest path as a seed ([`taut_at`]) at the
-/// clearance `min(1.1 target, 0.999 ends)` (`target` is the class's clearance target: `dm`
-/// and the certification's tolerance, less through a passage narrower than that, more under
-/// a clearance floor above `dm`, and `dm` under `--soft-dm`; `ends`, the less clear of the
-/// start's and the goal's clearance), if that path is at most [`KEEPS_DM_LENGTH`] times as
-/// long as the class path and in the class. The optimiser cannot pull a curve off a wall
-/// (every candidate across it is out of bounds): a goal on a room's wall was reached by an L
-/// along two walls, 85.8 long, where the straight line of the class was 62.2 long and 17.3
-/// units clear; and through a gap of 1 between a disc and a side, the curve ran on along
-/// that side and down another, 116.67 long, where the taut path at the class's target leads
-/// to 102.59 (at `dm` there is none through the gap). [`ClassTask::new`] takes it only if a
-/// spline through it keeps the class's target and costs less than the class path's seed,
-/// else the class path stands (on a scene 20,000 units wide the taut path at `dm` took a
-/// class from 39.1 clear to 0.79). `None` otherwise, or with no circles.
+/// The class's exact shortest path ([`taut_at`]) at the clearance `min(1.1 target, 0.999
+/// ends)` (`ends`, the less clear of the start's and the goal's clearance), if that path is at
+/// most [`KEEPS_DM_LENGTH`] times as long as the class path `poly` and in the class; `None`
+/// otherwise, or with no circles. [`start_class`] offers it to a scene's class path that runs
+/// along the bounds ([`along_bounds`], [`HUG_CELLS`] cells or more), at the class's clearance
+/// target ([`taut_points`]: `dm` and the certification's tolerance, less through a passage
+/// narrower than that, the floor's target above `dm`; `dm` and the tolerance under
+/// `--soft-dm`). The optimiser cannot pull a curve off a wall (every candidate across it is
+/// out of bounds): a goal on a room's wall was reached by an L along two walls, 85.8 long,
+/// where the straight line of the class was 62.2 long and 17.3 units clear; and through a gap
+/// of 1 between a disc and a side, the curve ran on along that side and down another, 116.67
+/// long, where the taut path at the class's target leads to 102.59 (at `dm` there is none
+/// through the gap). [`ClassTask::new`] takes it if a spline through it keeps the class's
+/// target and costs less than the class path's seed (or that seed is the last resort), else
+/// the class path stands (on a scene 20,000 units wide the taut path at `dm` took a class
+/// from 39.1 clear to 0.79).
 ///
 /// Offered also where an end is less clear than the target and the class path is 1.1 times
 /// the taut path or longer (a review's bowed detour, 27.20 against 22.65 long), it shortened
@@ -182,7 +183,8 @@ fn floor_target(signature: Option<&Signature>, cfg: &PlanConfig) -> Real {
 
 /// The via-points of a class's seed from its class path: on a map its certified subdivision;
 /// on a scene the first admissible set that keeps the floor, else the first that is clear,
-/// else the last resort (`true` with it).
+/// else the last resort (`true` with it); without a signature (a straight seed), the path
+/// itself.
 fn class_path_seed(
     world: &World<'_>,
     seed_poly: &[Point],
@@ -210,9 +212,10 @@ fn class_path_seed(
     }
 }
 
-/// The class's taut path ([`taut_seed`]) at its clearance target (`dm` where no target holds,
-/// under `--soft-dm`), and the via-points of a spline through it that keeps that target;
-/// `None` if there is no such path or spline.
+/// The class's taut path ([`taut_seed`]) at its clearance target (`dm` and the certification's
+/// tolerance where no target holds, under `--soft-dm`), and the via-points of a spline
+/// through it that is admissible and keeps the class's target and the plan's floor (under
+/// `--soft-dm` only the floor); `None` if there is no such path or spline.
 fn taut_points(
     world: &World<'_>,
     cfg: &PlanConfig,
@@ -297,8 +300,8 @@ impl<'w> ClassTask<'w> {
         let mut seed_poly = seed_poly;
         // The taut path offered ([`taut_seed`]) is the seed instead if a spline through it
         // keeps the class's target (its target set from the class path, as without it) and
-        // costs less than the class path's seed; its candidates are then compared with it
-        // (in the class: `taut_seed` checked its word).
+        // costs less than the class path's seed, or that seed is the last resort; its
+        // candidates are then compared with it (in the class: `taut_seed` checked its word).
         if let Some((p, points)) = signature
             .filter(|_| hugs)
             .and_then(|sig| taut_points(world, cfg, &seed_poly, sig, &guard, &growth))
