@@ -382,6 +382,22 @@ fn a_class_whose_straight_segment_is_better_reports_the_segment() {
     }
 }
 
+/// The plan (JSON) of a 100 x 60 room split by a wall of discs of radius 5 at x = 50, from
+/// (10, 30) to (90, 30), its top disc centred at `top`: the gap under the top side is
+/// `55 - top` wide. Written to `NAME.yaml`, planned to `NAME.json`.
+fn plan_wall_with_gap(top: f64, name: &str) -> serde_json::Value {
+    let scene = tmp(&format!("{name}.yaml"));
+    std::fs::write(
+        &scene,
+        format!(
+            "bounds: {{min: [0, 0], max: [100, 60]}}\nstart: [10, 30]\ngoal: [90, 30]\nobstacles:\n\
+             \x20 - circles: [[50, 0, 5], [50, 8, 5], [50, 16, 5], [50, 24, 5], [50, 32, 5], [50, 40, 5], [50, 48, 5], [50, {top}, 5]]\n"
+        ),
+    )
+    .unwrap();
+    plan_json(scene.to_str().unwrap(), &[], &format!("{name}.json"))
+}
+
 #[test]
 fn a_gap_between_a_disc_and_a_side_finer_than_the_grid_is_planned_through() {
     // A wall of discs across the room leaves 0.1 between its top disc and the top side:
@@ -389,14 +405,7 @@ fn a_gap_between_a_disc_and_a_side_finer_than_the_grid_is_planned_through() {
     // on the finest grid within the limit, but its path runs along border cells outside
     // the bounds, and every curve came 0.6 into a disc: "no plan" (a review's case). The
     // dense pass now starts from the class's exact taut path inside the bounds.
-    let scene = tmp("gap-at-side.yaml");
-    std::fs::write(
-        &scene,
-        "bounds: {min: [0, 0], max: [100, 60]}\nstart: [10, 30]\ngoal: [90, 30]\nobstacles:\n\
-         \x20 - circles: [[50, 0, 5], [50, 8, 5], [50, 16, 5], [50, 24, 5], [50, 32, 5], [50, 40, 5], [50, 48, 5], [50, 54.9, 5]]\n",
-    )
-    .unwrap();
-    let v = plan_json(scene.to_str().unwrap(), &[], "gap-at-side.json");
+    let v = plan_wall_with_gap(54.9, "gap-at-side");
     let best = chosen_class(&v);
     assert_eq!(best["collision_free"], true);
     let clear = best["certified_clearance"].as_f64().unwrap();
@@ -417,14 +426,7 @@ fn a_gap_of_one_between_a_disc_and_a_side_is_passed_without_following_the_side()
     // 116.67 long (cost 1,247.8). At `dm` the class has no taut path (the gap is narrower),
     // so none was offered; at the class's own clearance target it has, and the plan from it
     // is 102.59 long (cost 636.6), and clearer.
-    let scene = tmp("gap-of-one.yaml");
-    std::fs::write(
-        &scene,
-        "bounds: {min: [0, 0], max: [100, 60]}\nstart: [10, 30]\ngoal: [90, 30]\nobstacles:\n\
-         \x20 - circles: [[50, 0, 5], [50, 8, 5], [50, 16, 5], [50, 24, 5], [50, 32, 5], [50, 40, 5], [50, 48, 5], [50, 54, 5]]\n",
-    )
-    .unwrap();
-    let v = plan_json(scene.to_str().unwrap(), &[], "gap-of-one.json");
+    let v = plan_wall_with_gap(54.0, "gap-of-one");
     let best = chosen_class(&v);
     assert_eq!(best["collision_free"], true);
     let length = best["length"].as_f64().unwrap();

@@ -149,7 +149,7 @@ fn class_setup<'w>(
         // keeps 6 once asked to climb.
         clearance_target: floor_target(signature, cfg).max(match signature {
             Some(sig) if cfg.dm_rule => {
-                let dm = growth.cost.dm + cfg.certify_tolerance.max(0.0);
+                let dm = dm_target(&growth, cfg);
                 let share = DM_RULE_SHARE * bottleneck(seed_poly, world.model);
                 if share >= dm
                     || world
@@ -227,7 +227,7 @@ fn taut_points(
     let target = if guard.clearance_target.is_finite() {
         guard.clearance_target
     } else {
-        growth.cost.dm + cfg.certify_tolerance.max(0.0)
+        dm_target(growth, cfg)
     };
     let p = taut_seed(world, seed_poly, signature, target)?;
     let held = Guard {
@@ -237,6 +237,12 @@ fn taut_points(
     *held.proven.borrow_mut() = Some(p.clone());
     let points = seed_points(&p, world.model, &held, growth)?;
     Some((p, points))
+}
+
+/// `dm` and the certification's tolerance: the dm rule's target (a curve held exactly at `dm`
+/// certifies up to that tolerance below it).
+fn dm_target(growth: &GrowthConfig, cfg: &PlanConfig) -> Real {
+    growth.cost.dm + cfg.certify_tolerance.max(0.0)
 }
 
 /// A guard that only keeps candidates in the class, in bounds and clear: a seed need only be
@@ -531,7 +537,7 @@ impl<'w> ClassTask<'w> {
         // bounds, on a scene of circles.
         let sig = self.signature?;
         let length = super::polyline_length(&self.seed_poly);
-        let clearance = self.growth.cost.dm + cfg.certify_tolerance.max(0.0);
+        let clearance = dm_target(&self.growth, cfg);
         let taut = taut_within_bounds(world, sig, clearance, KEEPS_DM_LENGTH * length)?;
         let cell = graph_cell.unwrap_or(length / 256.0);
         self.dense_from(world, cfg, &taut, cell, first, t)
